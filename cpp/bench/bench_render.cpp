@@ -1,0 +1,62 @@
+// Render benchmarks for the targets: random iteration of the Barnsley fern into a
+// 1024^2 density histogram (points/s on 1 and 2 threads), and point recursive rendering of
+// the Sierpinski triangle at 4096^2. Run: build/cpp/bench/bench_render
+#include <benchmark/benchmark.h>
+
+#include "ifsforge/render/renderer.h"
+
+using namespace ifsforge;
+
+namespace {
+
+Ifs fern() {
+  return Ifs("fern", ChannelLayout("xy"),
+             {AffineMap(2, {0, 0, 0, 0.16}, {0, 0}), AffineMap(2, {0.85, 0.04, -0.04, 0.85}, {0, 1.6}),
+              AffineMap(2, {0.2, -0.26, 0.23, 0.22}, {0, 1.6}), AffineMap(2, {-0.15, 0.28, 0.26, 0.24}, {0, 0.44})},
+             {0.01, 0.85, 0.07, 0.07});
+}
+
+Ifs sierpinski(int dim = 2) {
+  std::vector<AffineMap> maps;
+  const double corners[5][3] = {{0, 0, 0}, {0.5, 0, 0}, {0.25, 0.5, 0}, {0, 0, 0.5}, {0.5, 0, 0.5}};
+  for (int i = 0; i < (dim == 2 ? 3 : 4); ++i) {
+    std::vector<double> a(dim * dim, 0.0), b(corners[i], corners[i] + dim);
+    for (int k = 0; k < dim; ++k) a[k * dim + k] = 0.5;
+    maps.emplace_back(dim, a, b);
+  }
+  return Ifs("sierpinski", ChannelLayout(dim == 2 ? "xy" : "xyz"), maps, std::vector<double>(maps.size(), 1.0));
+}
+
+void ChaosFern1024(benchmark::State& state) {
+  const Ifs s = fern();
+  RenderOptions o;
+  o.iterations = 200'000'000;
+  o.threads = static_cast<int>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(renderer("chaos").render(s, o));
+  state.counters["points/s"] = benchmark::Counter(double(o.iterations) * state.iterations(), benchmark::Counter::kIsRate);
+}
+BENCHMARK(ChaosFern1024)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void ChaosTetrahedron3D(benchmark::State& state) {
+  const Ifs s = sierpinski(3);
+  RenderOptions o;
+  o.iterations = 20'000'000;
+  o.view = View{30, 20};
+  o.threads = static_cast<int>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(renderer("chaos").render(s, o));
+  state.counters["points/s"] = benchmark::Counter(double(o.iterations) * state.iterations(), benchmark::Counter::kIsRate);
+}
+BENCHMARK(ChaosTetrahedron3D)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void PrrSierpinski4096(benchmark::State& state) {
+  const Ifs s = sierpinski();
+  RenderOptions o;
+  o.width = o.height = 4096;
+  o.threads = static_cast<int>(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(renderer("prr").render(s, o));
+}
+BENCHMARK(PrrSierpinski4096)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,31 @@
+#pragma once
+/// @file Writes that never leave a partial file: write a temporary beside the target, then
+/// rename it over the target. A failure removes the temporary.
+#include <cstdio>
+#include <string>
+
+namespace ifsforge {
+
+class AtomicFile {
+ public:
+  /// @brief Opens a temporary beside `path`; FileError names the path when it cannot.
+  explicit AtomicFile(const std::string& path);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  std::FILE* file() { return file_; }
+  const std::string& temporary_path() const { return temporary_; }
+  /// @brief Flushes, closes and renames onto the target; FileError when any step fails.
+  void commit();
+
+ private:
+  std::string path_, temporary_;
+  std::FILE* file_ = nullptr;
+  bool committed_ = false;
+};
+
+/// @brief FileError unless `path` can be created (its folder exists and is writable).
+void check_writable(const std::string& path);
+
+}  // namespace ifsforge

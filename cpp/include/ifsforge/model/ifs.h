@@ -1,0 +1,98 @@
+#pragma once
+/// @file The nD iterated function system with probabilities (seed Definition 10, Eq. 22).
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ifsforge/model/affine_map.h"
+#include "ifsforge/model/channel_layout.h"
+
+namespace ifsforge {
+
+/// @brief Hyperbolic: every map contracts. AverageContractive: Eq. 14 holds. Eventually
+/// contractive: neither, but the random matrix products contract (negative top Lyapunov
+/// exponent), so random iteration still converges. Divergent: none of these.
+enum class Classification { Hyperbolic, AverageContractive, EventuallyContractive, Divergent };
+const char* to_string(Classification c);
+
+/// @brief Optional rendering hints stored with a system (the JSON "render" object).
+struct RenderDefaults {
+  std::vector<double> window;  ///< empty, or xmin ymin xmax ymax
+  std::vector<double> view;    ///< empty, or yaw pitch (degrees, 3D systems)
+  std::string algorithm;       ///< empty: the caller's default
+  int width = 0, height = 0;   ///< 0: the caller's default
+};
+
+/// @brief A closed interval per channel.
+struct Bounds {
+  std::vector<double> lo, hi;
+};
+
+class Ifs {
+ public:
+  Ifs() = default;
+  /// @brief Validates: 1..kMaxDim dimensions matching the layout, finite coefficients,
+  /// probabilities finite, >= 0 and summing to a positive number (they are normalised).
+  /// Empty `probabilities` means Jacobian-proportional (Eq. 46).
+  Ifs(std::string name, ChannelLayout layout, std::vector<AffineMap> maps,
+      std::vector<double> probabilities = {});
+
+  const std::string& name() const { return name_; }
+  void set_name(std::string name) { name_ = std::move(name); }
+  const std::string& description() const { return description_; }
+  void set_description(std::string d) { description_ = std::move(d); }
+  const RenderDefaults& render_defaults() const { return render_defaults_; }
+  void set_render_defaults(RenderDefaults d) { render_defaults_ = std::move(d); }
+  const ChannelLayout& layout() const { return layout_; }
+  int dim() const { return layout_.dim(); }
+  int spatial_dims() const { return layout_.spatial_dims(); }
+  std::size_t size() const { return maps_.size(); }
+  const std::vector<AffineMap>& maps() const { return maps_; }
+  const AffineMap& map(std::size_t i) const { return maps_[i]; }
+  const std::vector<double>& probabilities() const { return probabilities_; }
+
+  /// @brief Spectral norm of each map's whole linear part (Eq. 8-9 in 2D).
+  std::vector<double> contraction_factors() const;
+  /// @brief Spectral norm of each map's spatial block.
+  std::vector<double> spatial_contraction_factors() const;
+  /// @brief Eq. 10 read as the seed intends (see SEED-NOTES): max_i s_i.
+  double contraction_ratio() const;
+  /// @brief Eq. 14 in log form: sum_i p_i log s_i (negative means contractive on average).
+  double average_log_contraction() const;
+  /// @brief Estimated top Lyapunov exponent of the random products of the linear parts.
+  double lyapunov_exponent(std::size_t steps = 20000, std::uint64_t seed = 1) const;
+  Classification classify() const;
+  /// @brief Throws DivergentSystemError unless the system has an attractor.
+  void require_attractor() const;
+  /// @brief Fixed point of map i (if any).
+  std::vector<Point> fixed_points() const;
+  /// @brief A point on (or, for non-hyperbolic systems, near) the attractor.
+  Point start_point() const;
+  /// @brief Bounds of the attractor per channel, from a seeded sample of `samples` points.
+  /// Hyperbolic: min/max. Otherwise the 0.1% / 99.9% quantiles (the measure's bulk; the
+  /// support may be unbounded).
+  Bounds attractor_bounds(std::size_t samples = 1u << 20) const;
+
+ private:
+  std::string name_ = "untitled";
+  std::string description_;
+  RenderDefaults render_defaults_;
+  ChannelLayout layout_;
+  std::vector<AffineMap> maps_;
+  std::vector<double> probabilities_;
+};
+
+/// @brief Calls `visit` with `count` points of a seeded random iteration (5.1.1) that starts
+/// on the attractor and skips 100 points; throws DivergentSystemError if the orbit escapes.
+void sample_attractor(const Ifs& ifs, std::size_t count, std::uint64_t seed,
+                      const std::function<void(const Point&)>& visit);
+
+/// @brief The q-quantile of `values` (reorders them).
+double quantile(std::vector<double>& values, double q);
+
+/// @brief Eq. 46: probabilities proportional to |det| of the spatial block, with a floor
+/// of 1% of the largest so that degenerate maps (det 0, like the fern's stem) still appear.
+std::vector<double> jacobian_probabilities(const std::vector<AffineMap>& maps, int spatial_dims);
+
+}  // namespace ifsforge

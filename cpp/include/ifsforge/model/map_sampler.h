@@ -1,0 +1,24 @@
+#pragma once
+/// @file Drawing a map index with the system's probabilities in O(1) (Walker's alias method).
+#include <cstdint>
+#include <vector>
+
+namespace ifsforge {
+
+class MapSampler {
+ public:
+  explicit MapSampler(const std::vector<double>& probabilities);
+  /// @brief A map index for one 64-bit uniform random word.
+  std::uint32_t operator()(std::uint64_t random) const {
+    const std::uint32_t column = static_cast<std::uint32_t>(((random >> 32) * size_) >> 32);
+    return static_cast<std::uint32_t>(random) < threshold_[column] ? column : alias_[column];
+  }
+  std::size_t size() const { return size_; }
+
+ private:
+  std::uint64_t size_;
+  std::vector<std::uint32_t> threshold_;  ///< keep `column` when the low word is below this
+  std::vector<std::uint32_t> alias_;
+};
+
+}  // namespace ifsforge

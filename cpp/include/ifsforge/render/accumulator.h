@@ -1,0 +1,59 @@
+#pragma once
+/// @file Per-worker integer accumulation of hits, measure and channel values. Integer sums
+/// are associative, so merging workers in any order gives the same bytes: this is what keeps
+/// every renderer's output independent of the thread count.
+#include <cstdint>
+#include <vector>
+
+#include "ifsforge/model/ifs.h"
+#include "ifsforge/render/raster.h"
+
+namespace ifsforge {
+
+class Accumulator {
+ public:
+  /// Channel values are quantised to 2^20 steps of [lo, hi] (clamped).
+  static constexpr double kChannelSteps = 1048576.0;
+  /// Measure is fixed point: 2^62 units are the whole mass of the attractor.
+  static constexpr double kMassUnit = 4611686018427387904.0;
+
+  Accumulator(int width, int height, bool measure, std::vector<double> channel_lo,
+              std::vector<double> channel_hi);
+
+  /// @brief Bytes one accumulator of this shape takes (for the memory budget).
+  static double bytes(int width, int height, bool measure, int channels);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int channels() const { return channels_; }
+  std::uint64_t* hits() { return hits_.data(); }
+
+  /// @brief One point (its channel values `values`, if any) lands in `pixel`, with `mass`
+  /// (fraction of the total measure; ignored unless measure is on).
+  void add(std::size_t pixel, const double* values, double mass = 0.0) {
+    ++hits_[pixel];
+    if (!mass_.empty()) mass_[pixel] += static_cast<std::uint64_t>(mass * kMassUnit + 0.5);
+    for (int c = 0; c < channels_; ++c) {
+      double q = (values[c] - lo_[c]) * scale_[c];
+      q = q < 0.0 ? 0.0 : (q > kChannelSteps ? kChannelSteps : q);
+      sums_[pixel * channels_ + c] += static_cast<std::uint64_t>(q + 0.5);
+    }
+  }
+  void merge(const Accumulator& other);
+  /// @brief Density = mass (measure on) or hits; channel means from the sums.
+  void finish(Raster& raster) const;
+
+ private:
+  int width_, height_, channels_;
+  std::vector<std::uint64_t> hits_, mass_, sums_;
+  std::vector<double> lo_, scale_;
+};
+
+/// @brief The channel ranges renderers quantise with: the attractor's bounds of every
+/// non-spatial channel (empty for a purely spatial system).
+void channel_ranges(const Ifs& ifs, std::vector<double>& lo, std::vector<double>& hi);
+
+/// @brief Fills the raster's channel metadata from the system's layout.
+void describe_channels(const Ifs& ifs, Raster& raster);
+
+}  // namespace ifsforge

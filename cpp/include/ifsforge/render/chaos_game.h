@@ -1,0 +1,21 @@
+#pragma once
+/// @file Random iteration (seed 5.1.1): the chaos game, into a hit histogram.
+#include "ifsforge/render/renderer.h"
+
+namespace ifsforge {
+
+/// Work is cut into jobs of 2^22 points, each with its own random stream derived from
+/// (seed, job): the image depends on the seed and the point count, never on the threads.
+/// Purely spatial 2D systems with at most 8 maps take an 8-lane AVX2 path in single
+/// precision, iterating directly in pixel coordinates (the maps are conjugated by the
+/// world-to-pixel transform); everything else takes the general nD path.
+class ChaosGame : public Renderer {
+ public:
+  std::string name() const override { return "chaos"; }
+  std::string description() const override {
+    return "random iteration algorithm (5.1.1): density histogram of the chaos game";
+  }
+  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+};
+
+}  // namespace ifsforge

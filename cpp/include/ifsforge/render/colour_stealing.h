@@ -1,0 +1,24 @@
+#pragma once
+/// @file Colour-stealing random iteration (seed 5.1.2).
+#include "ifsforge/render/renderer.h"
+
+namespace ifsforge {
+
+/// Two systems with the same number of maps iterate with one random sequence: the target
+/// system draws the attractor, the reference system walks a reference picture (its unit
+/// square stretched over the picture), and each plotted point takes the picture's colour
+/// (bilinear) under the reference point. Pixels show the mean stolen colour.
+class ColourStealing : public Renderer {
+ public:
+  std::string name() const override { return "colour-stealing"; }
+  std::string description() const override {
+    return "colour-stealing random iteration (5.1.2): colours taken from a reference image";
+  }
+  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+};
+
+/// @brief The default reference system: map i sends the unit square onto cell i of a
+/// ceil(sqrt N) x ceil(N / ceil(sqrt N)) grid.
+Ifs grid_reference_system(std::size_t maps);
+
+}  // namespace ifsforge

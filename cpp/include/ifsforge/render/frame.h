@@ -1,0 +1,61 @@
+#pragma once
+/// @file Where an image sits in the space of an IFS: a projection of the spatial
+/// coordinates onto a plane, a window on that plane, and the pixel grid.
+#include <array>
+#include <optional>
+
+#include "ifsforge/model/ifs.h"
+
+namespace ifsforge {
+
+/// @brief [xmin, xmax] x [ymin, ymax] on the image plane.
+struct Window {
+  double xmin = 0, ymin = 0, xmax = 1, ymax = 1;
+};
+
+/// @brief Orthographic view of a 3D system (degrees): u = cos(yaw) x + sin(yaw) y,
+/// v = -sin(pitch) (-sin(yaw) x + cos(yaw) y) + cos(pitch) z. 2D systems ignore it.
+struct View {
+  double yaw = 0, pitch = 0;
+};
+
+class Frame {
+ public:
+  /// @brief Image plane coordinates (u, v) of the spatial part of p.
+  std::array<double, 2> project(const Point& p) const {
+    double u = 0, v = 0;
+    for (int c = 0; c < spatial_; ++c) {
+      u += projection_[0][c] * p[c];
+      v += projection_[1][c] * p[c];
+    }
+    return {u, v};
+  }
+  /// @brief Continuous pixel coordinates (x right, y down; pixel (i, j) covers [i, i+1) x [j, j+1)).
+  std::array<double, 2> to_pixel(const Point& p) const {
+    const auto uv = project(p);
+    return {(uv[0] - window_.xmin) * sx_, (window_.ymax - uv[1]) * sy_};
+  }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  const Window& window() const { return window_; }
+  int spatial_dims() const { return spatial_; }
+  const std::array<std::array<double, 3>, 2>& projection() const { return projection_; }
+  /// @brief Width of one pixel on the image plane.
+  double pixel_size() const { return 1.0 / sx_; }
+
+  /// @brief A frame for `ifs`: the given window (stretched to the image's aspect ratio) or,
+  /// without one, the attractor's projected bounds with a relative `margin` on each side.
+  static Frame fit(const Ifs& ifs, int width, int height, const std::optional<Window>& window,
+                   const View& view = {}, double margin = 0.03);
+
+ private:
+  int width_ = 0, height_ = 0, spatial_ = 2;
+  Window window_;
+  std::array<std::array<double, 3>, 2> projection_{};
+  double sx_ = 1, sy_ = 1;
+};
+
+/// @brief Refuses image sizes outside 1..65535 per side (PNG's practical limit).
+void check_image_size(int width, int height);
+
+}  // namespace ifsforge

@@ -1,0 +1,19 @@
+#pragma once
+/// @file A plain image: interleaved float channels in [0, 1], row 0 at the top.
+#include <vector>
+
+namespace ifsforge {
+
+struct Image {
+  int width = 0, height = 0, channels = 0;  ///< 1 gray, 2 gray+alpha, 3 RGB, 4 RGBA
+  std::vector<float> pixels;
+
+  Image() = default;
+  Image(int w, int h, int c) : width(w), height(h), channels(c), pixels(std::size_t(w) * h * c) {}
+  float& at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+  float at(int x, int y, int c) const { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+  /// @brief Bilinear sample at continuous pixel coordinates (clamped to the edges).
+  void sample(double x, double y, float* out) const;
+};
+
+}  // namespace ifsforge

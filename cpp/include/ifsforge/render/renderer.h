@@ -1,0 +1,56 @@
+#pragma once
+/// @file The common interface of the 2D rendering algorithms (seed chapter 5) and their
+/// registry, so that Python and the CLI choose one by name.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ifsforge/core/progress.h"
+#include "ifsforge/model/ifs.h"
+#include "ifsforge/render/frame.h"
+#include "ifsforge/render/image.h"
+#include "ifsforge/render/raster.h"
+
+namespace ifsforge {
+
+struct RenderOptions {
+  int width = 1024, height = 1024;
+  std::optional<Window> window;  ///< default: the attractor's bounds
+  View view;                     ///< for 3D systems
+  /// Random iteration: points to plot; 0 picks Eq. 44 (density) or Eq. 45 (binary).
+  std::uint64_t iterations = 0;
+  bool binary = false;            ///< only coverage matters (sets the default counts)
+  double points_per_pixel = 16;   ///< PEPP of Eq. 44
+  std::uint64_t skip = 100;       ///< min_no_of_iterations (5.1.1)
+  int depth = 0;                  ///< recursive renderers: 0 picks Eq. 59 and a pixel-size cut
+  std::uint64_t seed = 0;
+  int threads = 0;                ///< 0: every core; the output never depends on it
+  ProgressCallback progress;
+  /// Colour stealing (5.1.2): the picture colours are taken from, and the system that walks
+  /// it (same number of maps; default: a grid of cells over the unit square).
+  std::shared_ptr<const Image> reference_image;
+  std::shared_ptr<const Ifs> reference_system;
+};
+
+class Renderer {
+ public:
+  virtual ~Renderer() = default;
+  virtual std::string name() const = 0;
+  virtual std::string description() const = 0;
+  /// @brief Renders `ifs` (which must have an attractor) into a raster.
+  virtual Raster render(const Ifs& ifs, const RenderOptions& options) const = 0;
+};
+
+/// @brief The renderer called `name` (or one of its aliases); InputError lists the choices.
+const Renderer& renderer(const std::string& name);
+/// @brief Every renderer, in the order of the seed's chapter 5.
+std::vector<const Renderer*> renderers();
+
+/// @brief Eq. 44 (density: H V 8 PEPP) or Eq. 45 (binary: H V ln(mu H V), mu = e^gamma).
+std::uint64_t default_iterations(int width, int height, bool binary, double points_per_pixel);
+/// @brief Eq. 59: the smallest L with N^L >= H V.
+int default_depth(std::size_t maps, int width, int height);
+
+}  // namespace ifsforge

@@ -1,0 +1,166 @@
+// The model: affine maps, their parameters, channel layouts, systems and their analysis.
+#include "bindings.h"
+#include "ifsforge/core/error.h"
+#include "ifsforge/model/map_params.h"
+
+namespace ifsforge::python {
+namespace {
+
+AffineMap map_from_numpy(py::array_t<double, py::array::c_style | py::array::forcecast> matrix,
+                         py::array_t<double, py::array::c_style | py::array::forcecast> offset) {
+  if (matrix.ndim() != 2 || matrix.shape(0) != matrix.shape(1))
+    throw InputError("the matrix must be square (n x n)");
+  const int n = static_cast<int>(matrix.shape(0));
+  if (offset.ndim() != 1 || offset.shape(0) != n)
+    throw InputError("the offset must have " + std::to_string(n) + " numbers");
+  return AffineMap(n, std::vector<double>(matrix.data(), matrix.data() + n * n),
+                   std::vector<double>(offset.data(), offset.data() + n));
+}
+
+py::array_t<double> matrix_of(const AffineMap& map) {
+  py::array_t<double> out({map.dim(), map.dim()});
+  auto v = map.matrix();
+  std::copy(v.begin(), v.end(), out.mutable_data());
+  return out;
+}
+
+py::array_t<double> points_of(const std::vector<Point>& points, int dim) {
+  py::array_t<double> out({static_cast<py::ssize_t>(points.size()), static_cast<py::ssize_t>(dim)});
+  auto r = out.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < points.size(); ++i)
+    for (int c = 0; c < dim; ++c) r(i, c) = points[i][c];
+  return out;
+}
+
+py::array_t<double> apply_points(const AffineMap& map, py::array_t<double, py::array::c_style | py::array::forcecast> points) {
+  const int n = map.dim();
+  const bool single = points.ndim() == 1;
+  if ((single && points.shape(0) != n) || (!single && (points.ndim() != 2 || points.shape(1) != n)))
+    throw InputError("points must have " + std::to_string(n) + " coordinates (shape (n,) or (k, n))");
+  py::array_t<double> out(std::vector<py::ssize_t>(points.shape(), points.shape() + points.ndim()));
+  const py::ssize_t count = single ? 1 : points.shape(0);
+  for (py::ssize_t i = 0; i < count; ++i) map.apply(points.data() + i * n, out.mutable_data() + i * n);
+  return out;
+}
+
+}  // namespace
+
+namespace {
+
+void bind_model(py::module_& m) {
+  py::class_<AffineMap>(m, "AffineMap", "An affine map x' = A x + b on R^n (n = 1..8).")
+      .def(py::init(&map_from_numpy), py::arg("matrix"), py::arg("offset"))
+      .def(py::init<int>(), py::arg("dim"), "The identity on R^dim.")
+      .def_property_readonly("dim", &AffineMap::dim)
+      .def_property_readonly("matrix", &matrix_of)
+      .def_property_readonly("offset", [](const AffineMap& a) { return py::array_t<double>(a.dim(), a.offset().data()); })
+      .def("__call__", &apply_points, py::arg("points"), "Apply to one point (n,) or many (k, n).")
+      .def("compose", &AffineMap::compose, py::arg("inner"), "self o inner")
+      .def("inverse", [](const AffineMap& a) {
+        auto inv = a.inverse();
+        if (!inv) throw InputError("the map is singular and has no inverse");
+        return *inv;
+      })
+      .def("determinant", &AffineMap::determinant, py::arg("k") = 0)
+      .def("contraction_factor", &AffineMap::contraction_factor, py::arg("k") = 0,
+           "Spectral norm of the leading k x k block (Eq. 8-9 in 2D); k=0: all of it.")
+      .def("fixed_point", [](const AffineMap& a) -> py::object {
+        auto p = a.fixed_point();
+        if (!p) return py::none();
+        return py::array_t<double>(a.dim(), p->data());
+      })
+      .def("params", &params_from_map, py::arg("spatial_dims"),
+           "Scale, rotation, shear, reflection, translation of the spatial block.")
+      .def_static("from_params", &map_from_params, py::arg("params"))
+      .def("__repr__", [](const AffineMap& a) {
+        return "AffineMap(" + py::repr(matrix_of(a)).cast<std::string>() + ", " +
+               py::repr(py::array_t<double>(a.dim(), a.offset().data())).cast<std::string>() + ")";
+      });
+
+  py::class_<MapParams>(m, "MapParams",
+                        "2D: A = [[Mx cos tx, -My sin ty], [Mx sin tx, My cos ty]] [[1, h], [0, 1]] F "
+                        "(Eq. 5); 3D: A = Rz Ry Rx diag(M) Shear F. Angles in degrees.")
+      .def(py::init([](int dim, std::array<double, 3> scale, std::array<double, 3> rotation,
+                       std::array<double, 3> shear, std::array<bool, 3> reflect,
+                       std::array<double, 3> translation) {
+             return MapParams{dim, scale, rotation, shear, reflect, translation};
+           }),
+           py::arg("dim") = 2, py::arg("scale") = std::array<double, 3>{1, 1, 1},
+           py::arg("rotation") = std::array<double, 3>{0, 0, 0}, py::arg("shear") = std::array<double, 3>{0, 0, 0},
+           py::arg("reflect") = std::array<bool, 3>{false, false, false},
+           py::arg("translation") = std::array<double, 3>{0, 0, 0})
+      .def_readwrite("dim", &MapParams::dim)
+      .def_readwrite("scale", &MapParams::scale)
+      .def_readwrite("rotation", &MapParams::rotation)
+      .def_readwrite("shear", &MapParams::shear)
+      .def_readwrite("reflect", &MapParams::reflect)
+      .def_readwrite("translation", &MapParams::translation);
+
+  py::class_<ChannelLayout>(m, "ChannelLayout", "What each dimension means, e.g. 'xyz+rgb'.")
+      .def(py::init<const std::string&>(), py::arg("text"))
+      .def_property_readonly("text", &ChannelLayout::text)
+      .def_property_readonly("dim", &ChannelLayout::dim)
+      .def_property_readonly("spatial_dims", &ChannelLayout::spatial_dims)
+      .def_property_readonly("names", &ChannelLayout::names)
+      .def("index", &ChannelLayout::index, py::arg("name"))
+      .def("__repr__", [](const ChannelLayout& l) { return "ChannelLayout('" + l.text() + "')"; });
+
+  py::class_<Ifs>(m, "Ifs", "An nD iterated function system with probabilities (Eq. 22).")
+      .def(py::init([](std::vector<AffineMap> maps, std::optional<std::vector<double>> probabilities,
+                       const std::string& layout, const std::string& name) {
+             return Ifs(name, ChannelLayout(layout), std::move(maps), probabilities.value_or(std::vector<double>{}));
+           }),
+           py::arg("maps"), py::arg("probabilities") = py::none(), py::arg("layout") = "xy",
+           py::arg("name") = "untitled",
+           "probabilities=None gives Jacobian-proportional probabilities (Eq. 46).")
+      .def_property("name", &Ifs::name, &Ifs::set_name)
+      .def_property("description", &Ifs::description, &Ifs::set_description)
+      .def_property_readonly("layout", [](const Ifs& s) { return s.layout().text(); })
+      .def_property_readonly("channel_names", [](const Ifs& s) { return s.layout().names(); })
+      .def_property_readonly("dim", &Ifs::dim)
+      .def_property_readonly("spatial_dims", &Ifs::spatial_dims)
+      .def_property_readonly("maps", &Ifs::maps)
+      .def_property_readonly("probabilities", [](const Ifs& s) {
+        return py::array_t<double>(s.probabilities().size(), s.probabilities().data());
+      })
+      .def("__len__", &Ifs::size)
+      .def("contraction_factors", [](const Ifs& s) { auto v = s.contraction_factors(); return py::array_t<double>(v.size(), v.data()); })
+      .def("spatial_contraction_factors", [](const Ifs& s) { auto v = s.spatial_contraction_factors(); return py::array_t<double>(v.size(), v.data()); })
+      .def("contraction_ratio", &Ifs::contraction_ratio, "max_i s_i (Eq. 10 as SEED-NOTES reads it)")
+      .def("average_log_contraction", &Ifs::average_log_contraction, "sum_i p_i log s_i (Eq. 14: < 0)")
+      .def("lyapunov_exponent", &Ifs::lyapunov_exponent, py::arg("steps") = 20000, py::arg("seed") = 1)
+      .def("classify", [](const Ifs& s) { return std::string(to_string(s.classify())); },
+           "'hyperbolic', 'average-contractive', 'eventually-contractive' or 'divergent'")
+      .def("require_attractor", &Ifs::require_attractor)
+      .def("fixed_points", [](const Ifs& s) { return points_of(s.fixed_points(), s.dim()); })
+      .def("start_point", [](const Ifs& s) { auto p = s.start_point(); return py::array_t<double>(s.dim(), p.data()); })
+      .def("attractor_bounds", [](const Ifs& s, std::size_t samples) {
+             py::gil_scoped_release release;
+             Bounds b = s.attractor_bounds(samples);
+             py::gil_scoped_acquire gil;
+             return py::make_tuple(py::array_t<double>(b.lo.size(), b.lo.data()), py::array_t<double>(b.hi.size(), b.hi.data()));
+           }, py::arg("samples") = 1u << 20, "(lo, hi) per channel")
+      .def_property_readonly("render_defaults", [](const Ifs& s) {
+        const RenderDefaults& d = s.render_defaults();
+        py::dict out;
+        if (!d.window.empty()) out["window"] = d.window;
+        if (!d.view.empty()) out["view"] = d.view;
+        if (!d.algorithm.empty()) out["algorithm"] = d.algorithm;
+        if (d.width > 0) out["size"] = py::make_tuple(d.width, d.height);
+        return out;
+      })
+      .def("__repr__", [](const Ifs& s) {
+        return "<Ifs '" + s.name() + "' " + s.layout().text() + ", " + std::to_string(s.size()) + " maps>";
+      });
+
+  m.def("jacobian_probabilities", [](const std::vector<AffineMap>& maps, int spatial_dims) {
+    auto v = jacobian_probabilities(maps, spatial_dims);
+    return py::array_t<double>(v.size(), v.data());
+  }, py::arg("maps"), py::arg("spatial_dims"), "Eq. 46: p_i proportional to |det A_i|, floored at 1% of the largest.");
+  m.def("contraction_factor_2d", &contraction_factor_2d, "Eq. 8-9.");
+}
+
+const Binding registered(10, &bind_model);
+
+}  // namespace
+}  // namespace ifsforge::python

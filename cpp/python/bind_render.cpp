@@ -1,0 +1,97 @@
+// The 2D renderers, tone mapping and box counting.
+#include "bindings.h"
+#include "ifsforge/core/error.h"
+#include "ifsforge/render/box_counting.h"
+#include "ifsforge/render/renderer.h"
+#include "ifsforge/render/tone_map.h"
+
+namespace ifsforge::python {
+
+namespace {
+
+void bind_render(py::module_& m) {
+  py::class_<Raster>(m, "Raster", "Density (hits or measure) and mean channel values per pixel.")
+      .def_readonly("width", &Raster::width)
+      .def_readonly("height", &Raster::height)
+      .def_readonly("points", &Raster::points, "points plotted or leaves visited")
+      .def_readonly("channel_names", &Raster::channel_names)
+      .def_property_readonly("density", [](const Raster& r) { return to_numpy(r.density, {r.height, r.width}); })
+      .def_property_readonly("channels", [](const Raster& r) {
+        return to_numpy(r.channels, {r.height, r.width, static_cast<py::ssize_t>(r.channel_count())});
+      })
+      .def_property_readonly("mask", [](const Raster& r) {
+        py::array_t<bool> out({r.height, r.width});
+        for (std::size_t i = 0; i < r.density.size(); ++i) out.mutable_data()[i] = r.density[i] > 0.0f;
+        return out;
+      }, "pixels the attractor covers")
+      .def("covered", &Raster::covered)
+      .def("to_image", [](const Raster& r, const std::string& mode, double gamma, bool invert) {
+        return image_to_numpy(tone_map(r, ToneOptions{mode, gamma, invert}));
+      }, py::arg("mode") = "auto", py::arg("gamma") = 2.2, py::arg("invert") = false,
+         "mode: auto, binary, density or color (Eq. 101 normalisation; HSI converted to RGB).");
+
+  m.def("render",
+        [](const Ifs& ifs, const std::string& algorithm, int width, std::optional<int> height,
+           std::optional<std::array<double, 4>> window, std::optional<std::array<double, 2>> view,
+           std::uint64_t iterations, int depth, std::uint64_t seed, int threads, bool binary,
+           double points_per_pixel, std::uint64_t skip, const py::object& progress,
+           std::optional<py::array> reference_image, std::optional<Ifs> reference_system) {
+          RenderOptions o;
+          o.width = width;
+          o.height = height.value_or(width);
+          if (window) o.window = Window{(*window)[0], (*window)[1], (*window)[2], (*window)[3]};
+          if (view) o.view = View{(*view)[0], (*view)[1]};
+          o.iterations = iterations;
+          o.depth = depth;
+          o.seed = seed;
+          o.threads = threads;
+          o.binary = binary;
+          o.points_per_pixel = points_per_pixel;
+          o.skip = skip;
+          o.progress = wrap_progress(progress);
+          if (reference_image) o.reference_image = std::make_shared<Image>(image_from_numpy(*reference_image));
+          if (reference_system) o.reference_system = std::make_shared<Ifs>(*reference_system);
+          const Renderer& r = renderer(algorithm);
+          py::gil_scoped_release release;
+          return r.render(ifs, o);
+        },
+        py::arg("ifs"), py::arg("algorithm") = "chaos", py::arg("width") = 1024, py::arg("height") = py::none(),
+        py::arg("window") = py::none(), py::arg("view") = py::none(), py::arg("iterations") = 0,
+        py::arg("depth") = 0, py::arg("seed") = 0, py::arg("threads") = 0, py::arg("binary") = false,
+        py::arg("points_per_pixel") = 16.0, py::arg("skip") = 100, py::arg("progress") = py::none(),
+        py::arg("reference_image") = py::none(), py::arg("reference_system") = py::none(),
+        "Render a system with a chapter-5 algorithm. window = (xmin, ymin, xmax, ymax); view = (yaw, pitch) "
+        "for 3D; iterations=0 and depth=0 pick Eq. 44/45 and Eq. 59; progress(fraction) returning False cancels.");
+
+  m.def("renderers", [] {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const Renderer* r : renderers()) out.emplace_back(r->name(), r->description());
+    return out;
+  }, "(name, description) of every algorithm");
+  m.def("default_iterations", &default_iterations, py::arg("width"), py::arg("height"), py::arg("binary") = false,
+        py::arg("points_per_pixel") = 16.0, "Eq. 44 (density) or Eq. 45 (binary)");
+  m.def("default_depth", &default_depth, py::arg("maps"), py::arg("width"), py::arg("height"), "Eq. 59");
+  m.def("hsi_to_rgb", [](double h, double s, double i) {
+    float rgb[3];
+    hsi_to_rgb(h, s, i, rgb);
+    return py::make_tuple(rgb[0], rgb[1], rgb[2]);
+  });
+
+  py::class_<BoxCounting>(m, "BoxCounting")
+      .def_readonly("box_sizes", &BoxCounting::box_sizes)
+      .def_readonly("box_counts", &BoxCounting::box_counts)
+      .def_readonly("dimension", &BoxCounting::dimension);
+  m.def("box_counting", [](const Raster& r, int min_box, int max_box) { return box_counting(r, min_box, max_box); },
+        py::arg("raster"), py::arg("min_box") = 2, py::arg("max_box") = 0);
+  m.def("box_counting", [](py::array_t<bool, py::array::c_style | py::array::forcecast> mask, int min_box, int max_box) {
+        if (mask.ndim() != 2) throw InputError("the mask must be 2D");
+        std::vector<std::uint8_t> v(mask.data(), mask.data() + mask.size());
+        return box_counting(v, static_cast<int>(mask.shape(1)), static_cast<int>(mask.shape(0)), min_box, max_box);
+      }, py::arg("mask"), py::arg("min_box") = 2, py::arg("max_box") = 0,
+      "Box-counting dimension: least-squares slope over boxes of 2^k pixels.");
+}
+
+const Binding registered(30, &bind_render);
+
+}  // namespace
+}  // namespace ifsforge::python

@@ -1,0 +1,36 @@
+#pragma once
+// Shared by the bind_<area>.cpp files: one function per area, called from module.cpp.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "ifsforge/core/progress.h"
+#include "ifsforge/model/ifs.h"
+#include "ifsforge/render/image.h"
+
+namespace ifsforge::python {
+
+namespace py = pybind11;
+
+/// @brief Each bind_<area>.cpp registers its area with a static Binding, so adding an area
+/// touches no shared file. `order` sets the sequence (types before functions using them).
+struct Binding {
+  Binding(int order, void (*bind)(py::module_&));
+};
+/// @brief Runs every registered binding in order (called once by the module).
+void bind_all(py::module_& m);
+
+/// @brief A C++ progress callback around a Python callable f(fraction) -> bool | None
+/// (False cancels). Ctrl-C also cancels. Empty when `callback` is None.
+ProgressCallback wrap_progress(const py::object& callback);
+
+/// @brief A float32 numpy array (copy) of shape `shape` from contiguous data.
+py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssize_t> shape);
+
+/// @brief An Image from a (h, w) or (h, w, c) array: floats in [0, 1], or uint8 / uint16.
+Image image_from_numpy(const py::array& array);
+/// @brief (h, w) for one channel, else (h, w, c), float32.
+py::array_t<float> image_to_numpy(const Image& image);
+
+}  // namespace ifsforge::python

@@ -1,0 +1,5 @@
+import sys
+
+from ifsforge.cli import main
+
+sys.exit(main())

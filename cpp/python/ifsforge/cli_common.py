@@ -1,0 +1,34 @@
+"""Arguments and helpers shared by the CLI sub-commands."""
+import os
+
+import ifsforge
+
+SYSTEM_HELP = "a system: file.json, file.ifs (its first entry) or file.ifs:entry"
+
+
+def add_system_argument(parser):
+    parser.add_argument("system", help=SYSTEM_HELP)
+
+
+def load_system(spec):
+    return ifsforge.load(spec)
+
+
+def parse_size(text):
+    """'1024' or '1920x1080' -> (width, height)."""
+    parts = text.lower().split("x")
+    try:
+        values = [int(p) for p in parts]
+    except ValueError:
+        raise ifsforge.InputError(f"--size expects N or WxH, got '{text}'") from None
+    if len(values) == 1:
+        values *= 2
+    if len(values) != 2 or min(values) < 1 or max(values) > 65535:
+        raise ifsforge.InputError(f"--size expects 1..65535 pixels per side, got '{text}'")
+    return tuple(values)
+
+
+def ensure_output_folder(path):
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise ifsforge.FileError(f"cannot write '{path}': folder '{folder}' does not exist")

@@ -1,0 +1,1 @@
+"""Sub-commands of the ifsforge CLI, one module each (see ifsforge.cli)."""

@@ -1,0 +1,37 @@
+"""ifsforge convert: Fractint .ifs (or any system) to ifsforge/1 JSON files."""
+import os
+import re
+
+import ifsforge
+from ifsforge import cli_common as common
+
+
+def register(subparsers):
+    p = subparsers.add_parser("convert", help="Fractint .ifs entries to one JSON file each")
+    p.add_argument("source", help="file.ifs (every entry), file.ifs:entry, or file.json")
+    p.add_argument("-o", "--output", required=True, help="folder to write the JSON files into")
+    p.set_defaults(run=run)
+
+
+def slug(name):
+    text = re.sub(r"[^A-Za-z0-9]+", "_", name).strip("_").lower()
+    return text or "system"
+
+
+def run(args):
+    source = args.source
+    if source.lower().endswith(".ifs") and os.path.exists(source):
+        systems = ifsforge.read_fractint(source)
+    else:
+        systems = [common.load_system(source)]
+    os.makedirs(args.output, exist_ok=True)
+    used = set()
+    for system in systems:
+        name = slug(system.name)
+        while name in used:
+            name += "_"
+        used.add(name)
+        path = os.path.join(args.output, name + ".json")
+        ifsforge.write_json(path, system)
+        print(f"{path}: {system.name} ({system.layout}, {len(system)} maps)")
+    return 0

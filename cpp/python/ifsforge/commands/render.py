@@ -1,0 +1,55 @@
+"""ifsforge render: a 2D image of a system with any chapter-5 algorithm."""
+import ifsforge
+from ifsforge import cli_common as common
+from ifsforge.progress import ProgressBar
+
+
+def register(subparsers):
+    p = subparsers.add_parser("render", help="render a system to a PNG image",
+                              description="Render a system to PNG. Defaults come from the system's "
+                              "'render' object, then from the options' defaults.")
+    common.add_system_argument(p)
+    p.add_argument("-o", "--output", required=True, help="PNG file to write")
+    p.add_argument("--algorithm", "-a", default=None,
+                   help="rendering algorithm (see `ifsforge algorithms`; default chaos)")
+    p.add_argument("--size", default=None, help="N or WxH pixels (default 1024)")
+    p.add_argument("--iterations", type=int, default=0, help="points for random iteration (0: Eq. 44/45)")
+    p.add_argument("--depth", type=int, default=0, help="recursion depth (0: automatic, Eq. 59)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--threads", type=int, default=0, help="0: every core (the image never depends on it)")
+    p.add_argument("--mode", default="auto", choices=["auto", "binary", "density", "color"],
+                   help="binary coverage, log density, or the colour channels")
+    p.add_argument("--gamma", type=float, default=2.2)
+    p.add_argument("--invert", action="store_true", help="dark attractor on white")
+    p.add_argument("--bits", type=int, default=8, choices=[8, 16])
+    p.add_argument("--points-per-pixel", type=float, default=16.0, help="PEPP of Eq. 44")
+    p.add_argument("--window", type=float, nargs=4, metavar=("XMIN", "YMIN", "XMAX", "YMAX"))
+    p.add_argument("--view", type=float, nargs=2, metavar=("YAW", "PITCH"), help="3D systems: degrees")
+    p.add_argument("--reference", help="colour-stealing: the picture colours come from")
+    p.add_argument("--reference-system", help="colour-stealing: the system that walks the picture")
+    p.set_defaults(run=run)
+
+
+def run(args):
+    system = common.load_system(args.system)
+    defaults = system.render_defaults
+    algorithm = args.algorithm or defaults.get("algorithm", "chaos")
+    width, height = common.parse_size(args.size) if args.size else defaults.get("size", (1024, 1024))
+    window = args.window or defaults.get("window")
+    view = args.view or defaults.get("view")
+    common.ensure_output_folder(args.output)
+    extra = {}
+    if args.reference:
+        extra["reference_image"] = ifsforge.read_png(args.reference)
+        if args.reference_system:
+            extra["reference_system"] = common.load_system(args.reference_system)
+        if not args.algorithm:
+            algorithm = "colour-stealing"
+    raster = ifsforge.render(
+        system, algorithm, width, height, window=window, view=view, iterations=args.iterations,
+        depth=args.depth, seed=args.seed, threads=args.threads, binary=args.mode == "binary",
+        points_per_pixel=args.points_per_pixel, progress=ProgressBar(f"render {system.name}"), **extra)
+    image = raster.to_image(args.mode, args.gamma, args.invert)
+    ifsforge.write_png(args.output, image, args.bits)
+    print(f"{args.output}: {width}x{height} {algorithm}, {raster.points} points, "
+          f"{raster.covered()} pixels covered")

@@ -1,0 +1,293 @@
+#include "ifsforge/io/ifs_json.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/io/atomic_file.h"
+#include "ifsforge/io/fractint.h"
+#include "ifsforge/model/map_params.h"
+
+namespace ifsforge {
+namespace {
+
+using nlohmann::json;
+
+/// Reads fields of one JSON object and names the path of anything wrong in it.
+class Reader {
+ public:
+  Reader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
+    throw InputError(source_ + ": " + (path.empty() ? "/" : path) + ": " + what);
+  }
+
+  double number(const json& j, const std::string& path) const {
+    if (!j.is_number()) fail(path, "expected a number, found " + describe(j));
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) fail(path, "the number is not finite");
+    return v;
+  }
+
+  std::vector<double> numbers(const json& j, const std::string& path, std::size_t count) const {
+    if (!j.is_array()) fail(path, "expected an array of " + std::to_string(count) + " numbers, found " + describe(j));
+    if (j.size() != count)
+      fail(path, "expected " + std::to_string(count) + " numbers, found " + std::to_string(j.size()));
+    std::vector<double> out;
+    for (std::size_t i = 0; i < j.size(); ++i) out.push_back(number(j[i], path + "/" + std::to_string(i)));
+    return out;
+  }
+
+  /// One number for every component, or an array of `count`.
+  std::vector<double> per_axis(const json& j, const std::string& path, std::size_t count) const {
+    if (j.is_number()) return std::vector<double>(count, number(j, path));
+    return numbers(j, path, count);
+  }
+
+  std::string text(const json& j, const std::string& path) const {
+    if (!j.is_string()) fail(path, "expected a string, found " + describe(j));
+    return j.get<std::string>();
+  }
+
+  static std::string describe(const json& j) {
+    std::string s = j.dump();
+    if (s.size() > 40) s = s.substr(0, 37) + "...";
+    return std::string(j.type_name()) + " " + s;
+  }
+
+ private:
+  std::string source_;
+};
+
+AffineMap read_map(const Reader& r, const json& m, const std::string& path, const ChannelLayout& layout) {
+  if (!m.is_object()) r.fail(path, "a map must be an object, found " + Reader::describe(m));
+  const int n = layout.dim(), k = layout.spatial_dims();
+  static const char* kParamKeys[] = {"scale", "rotation", "shear", "reflect", "translation"};
+  bool has_params = false;
+  for (const char* key : kParamKeys) has_params |= m.contains(key);
+  for (auto it = m.begin(); it != m.end(); ++it) {
+    static const char* kKnown[] = {"matrix", "offset", "probability", "channels", "scale",
+                                   "rotation", "shear", "reflect", "translation", "name"};
+    bool known = false;
+    for (const char* key : kKnown) known |= it.key() == key;
+    if (!known) r.fail(path + "/" + it.key(), "unknown field (a map has matrix + offset, or scale, "
+                                              "rotation, shear, reflect, translation)");
+  }
+  if (m.contains("matrix")) {
+    if (has_params) r.fail(path, "give either matrix + offset or parameters, not both");
+    const json& rows = m["matrix"];
+    if (!rows.is_array() || rows.size() != static_cast<std::size_t>(n))
+      r.fail(path + "/matrix", "expected " + std::to_string(n) + " rows for layout '" + layout.text() + "'");
+    std::vector<double> a;
+    for (int i = 0; i < n; ++i) {
+      auto row = r.numbers(rows[i], path + "/matrix/" + std::to_string(i), n);
+      a.insert(a.end(), row.begin(), row.end());
+    }
+    if (!m.contains("offset")) r.fail(path, "a matrix needs an offset");
+    return AffineMap(n, a, r.numbers(m["offset"], path + "/offset", n));
+  }
+  if (!has_params) r.fail(path, "a map needs a matrix and offset, or parameters (scale, rotation, ...)");
+  MapParams p;
+  p.dim = k;
+  if (m.contains("scale")) {
+    auto s = r.per_axis(m["scale"], path + "/scale", k);
+    std::copy(s.begin(), s.end(), p.scale.begin());
+  }
+  if (m.contains("rotation")) {
+    if (k == 2 && m["rotation"].is_number()) {
+      p.rotation[0] = p.rotation[1] = r.number(m["rotation"], path + "/rotation");
+    } else {
+      auto s = r.numbers(m["rotation"], path + "/rotation", k);
+      std::copy(s.begin(), s.end(), p.rotation.begin());
+    }
+  }
+  if (m.contains("shear")) {
+    if (k == 2) {
+      p.shear[0] = r.number(m["shear"], path + "/shear");
+    } else {
+      auto s = r.numbers(m["shear"], path + "/shear", 3);
+      std::copy(s.begin(), s.end(), p.shear.begin());
+    }
+  }
+  if (m.contains("reflect")) {
+    const json& f = m["reflect"];
+    if (!f.is_array() || f.size() != static_cast<std::size_t>(k))
+      r.fail(path + "/reflect", "expected " + std::to_string(k) + " booleans");
+    for (int i = 0; i < k; ++i) {
+      if (!f[i].is_boolean()) r.fail(path + "/reflect/" + std::to_string(i), "expected true or false");
+      p.reflect[i] = f[i].get<bool>();
+    }
+  }
+  if (m.contains("translation")) {
+    auto t = r.numbers(m["translation"], path + "/translation", k);
+    std::copy(t.begin(), t.end(), p.translation.begin());
+  }
+  const AffineMap spatial = map_from_params(p);
+  AffineMap map(n);
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; j < k; ++j) map.a(i, j) = spatial.a(i, j);
+    map.b(i) = spatial.b(i);
+  }
+  if (n > k) {
+    // Rows of the non-spatial channels: n coefficients then the offset.
+    if (!m.contains("channels"))
+      r.fail(path, "layout '" + layout.text() + "' needs 'channels': one row of " + std::to_string(n + 1) +
+                       " numbers (coefficients, offset) per channel after the spatial ones");
+    const json& rows = m["channels"];
+    if (!rows.is_array() || rows.size() != static_cast<std::size_t>(n - k))
+      r.fail(path + "/channels", "expected " + std::to_string(n - k) + " rows");
+    for (int i = k; i < n; ++i) {
+      auto row = r.numbers(rows[i - k], path + "/channels/" + std::to_string(i - k), n + 1);
+      for (int j = 0; j < n; ++j) map.a(i, j) = row[j];
+      map.b(i) = row[n];
+    }
+  } else if (m.contains("channels")) {
+    r.fail(path + "/channels", "layout '" + layout.text() + "' has no extra channels");
+  }
+  return map;
+}
+
+}  // namespace
+
+Ifs parse_ifs_json(const std::string& text, const std::string& source) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::out_of_range& e) {
+    throw InputError(source + ": a number is out of range: " + std::string(e.what()).substr(std::string(e.what()).find(']') + 2));
+  } catch (const json::parse_error& e) {
+    // Turn the byte offset into line:column.
+    int line = 1, column = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    std::string what = e.what();
+    const auto colon = what.rfind(": ");
+    throw InputError(source + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                     ": malformed JSON: " + (colon == std::string::npos ? what : what.substr(colon + 2)));
+  }
+  const Reader r(source);
+  if (!doc.is_object()) r.fail("", "expected a JSON object holding one system");
+  if (doc.contains("format") && r.text(doc["format"], "/format") != kFormatVersion)
+    r.fail("/format", "unsupported format '" + doc["format"].get<std::string>() + "' (this is " + kFormatVersion + ")");
+  for (auto it = doc.begin(); it != doc.end(); ++it) {
+    static const char* kKnown[] = {"format", "name", "description", "layout", "maps", "probabilities", "render"};
+    bool known = false;
+    for (const char* key : kKnown) known |= it.key() == key;
+    if (!known) r.fail("/" + it.key(), "unknown field");
+  }
+  ChannelLayout layout("xy");
+  if (doc.contains("layout")) {
+    try {
+      layout = ChannelLayout(r.text(doc["layout"], "/layout"));
+    } catch (const InputError& e) {
+      r.fail("/layout", e.what());
+    }
+  }
+  if (!doc.contains("maps") || !doc["maps"].is_array() || doc["maps"].empty())
+    r.fail("/maps", "expected a non-empty array of maps");
+  std::vector<AffineMap> maps;
+  std::vector<double> probabilities;
+  std::size_t with_probability = 0;
+  const json& list = doc["maps"];
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string path = "/maps/" + std::to_string(i);
+    maps.push_back(read_map(r, list[i], path, layout));
+    if (list[i].contains("probability")) {
+      ++with_probability;
+      probabilities.push_back(r.number(list[i]["probability"], path + "/probability"));
+    }
+  }
+  if (with_probability != 0 && with_probability != maps.size())
+    r.fail("/maps", "either every map has a probability or none does");
+  if (with_probability == 0) {
+    const std::string rule = doc.contains("probabilities") ? r.text(doc["probabilities"], "/probabilities") : "jacobian";
+    if (rule == "uniform")
+      probabilities.assign(maps.size(), 1.0);
+    else if (rule != "jacobian")
+      r.fail("/probabilities", "expected \"uniform\" or \"jacobian\"");
+  } else if (doc.contains("probabilities")) {
+    r.fail("/probabilities", "the maps already give their probabilities");
+  }
+  std::string name = doc.contains("name") ? r.text(doc["name"], "/name") : "untitled";
+  Ifs ifs;
+  try {
+    ifs = Ifs(name, layout, maps, probabilities);
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + e.what());
+  }
+  if (doc.contains("description")) ifs.set_description(r.text(doc["description"], "/description"));
+  if (doc.contains("render")) {
+    const json& j = doc["render"];
+    if (!j.is_object()) r.fail("/render", "expected an object");
+    RenderDefaults d;
+    if (j.contains("window") && !j["window"].is_null()) {
+      d.window = r.numbers(j["window"], "/render/window", 4);
+      if (!(d.window[2] > d.window[0] && d.window[3] > d.window[1]))
+        r.fail("/render/window", "expected xmin ymin xmax ymax with xmin < xmax and ymin < ymax");
+    }
+    if (j.contains("view")) {
+      const json& v = j["view"];
+      if (!v.is_object()) r.fail("/render/view", "expected {\"yaw\": degrees, \"pitch\": degrees}");
+      d.view = {v.contains("yaw") ? r.number(v["yaw"], "/render/view/yaw") : 0.0,
+                v.contains("pitch") ? r.number(v["pitch"], "/render/view/pitch") : 0.0};
+    }
+    if (j.contains("algorithm")) d.algorithm = r.text(j["algorithm"], "/render/algorithm");
+    if (j.contains("size")) {
+      const auto size = r.per_axis(j["size"], "/render/size", 2);
+      if (size[0] < 1 || size[1] < 1 || size[0] > 65535 || size[1] > 65535)
+        r.fail("/render/size", "expected 1..65535 pixels per side");
+      d.width = static_cast<int>(size[0]);
+      d.height = static_cast<int>(size[1]);
+    }
+    ifs.set_render_defaults(d);
+  }
+  return ifs;
+}
+
+Ifs read_ifs_json(const std::string& path) { return parse_ifs_json(read_text_file(path), path); }
+
+std::string to_ifs_json(const Ifs& ifs) {
+  const int n = ifs.dim();
+  std::ostringstream out;
+  out << "{\n  \"format\": \"" << kFormatVersion << "\",\n  \"name\": " << json(ifs.name()).dump() << ",\n";
+  if (!ifs.description().empty()) out << "  \"description\": " << json(ifs.description()).dump() << ",\n";
+  out << "  \"layout\": " << json(ifs.layout().text()).dump() << ",\n  \"maps\": [\n";
+  for (std::size_t i = 0; i < ifs.size(); ++i) {
+    const AffineMap& m = ifs.map(i);
+    json matrix = json::array();
+    for (int r = 0; r < n; ++r) {
+      json row = json::array();
+      for (int c = 0; c < n; ++c) row.push_back(m.a(r, c));
+      matrix.push_back(row);
+    }
+    out << "    {\"matrix\": " << matrix.dump() << ", \"offset\": " << json(m.offset()).dump()
+        << ", \"probability\": " << json(ifs.probabilities()[i]).dump() << "}"
+        << (i + 1 < ifs.size() ? ",\n" : "\n");
+  }
+  out << "  ]";
+  const RenderDefaults& d = ifs.render_defaults();
+  json render = json::object();
+  if (!d.window.empty()) render["window"] = d.window;
+  if (!d.view.empty()) render["view"] = {{"yaw", d.view[0]}, {"pitch", d.view[1]}};
+  if (!d.algorithm.empty()) render["algorithm"] = d.algorithm;
+  if (d.width > 0) render["size"] = {d.width, d.height};
+  if (!render.empty()) out << ",\n  \"render\": " << render.dump();
+  out << "\n}\n";
+  return out.str();
+}
+
+void write_ifs_json(const std::string& path, const Ifs& ifs) {
+  const std::string text = to_ifs_json(ifs);
+  AtomicFile out(path);
+  std::fwrite(text.data(), 1, text.size(), out.file());
+  out.commit();
+}
+
+}  // namespace ifsforge

@@ -1,0 +1,72 @@
+#include "ifsforge/render/accumulator.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace ifsforge {
+
+Accumulator::Accumulator(int width, int height, bool measure, std::vector<double> lo,
+                         std::vector<double> hi)
+    : width_(width), height_(height), channels_(static_cast<int>(lo.size())),
+      hits_(std::size_t(width) * height + 1),  // +1: a slot that off-image points may hit
+      mass_(measure ? hits_.size() : 0),
+      sums_(hits_.size() * channels_),
+      lo_(std::move(lo)),
+      scale_(channels_) {
+  for (int c = 0; c < channels_; ++c) {
+    const double range = hi[c] - lo_[c];
+    scale_[c] = range > 0 ? kChannelSteps / range : 0.0;
+  }
+}
+
+double Accumulator::bytes(int width, int height, bool measure, int channels) {
+  return static_cast<double>(width) * height * 8.0 * (1 + (measure ? 1 : 0) + channels);
+}
+
+void Accumulator::merge(const Accumulator& other) {
+  for (std::size_t i = 0; i < hits_.size(); ++i) hits_[i] += other.hits_[i];
+  for (std::size_t i = 0; i < mass_.size(); ++i) mass_[i] += other.mass_[i];
+  for (std::size_t i = 0; i < sums_.size(); ++i) sums_[i] += other.sums_[i];
+}
+
+void Accumulator::finish(Raster& raster) const {
+  const std::size_t pixels = std::size_t(width_) * height_;
+  raster.width = width_;
+  raster.height = height_;
+  raster.density.assign(pixels, 0.0);
+  raster.channels.assign(pixels * channels_, 0.0);
+  for (std::size_t i = 0; i < pixels; ++i) {
+    if (hits_[i] == 0) continue;
+    const double d = mass_.empty() ? static_cast<double>(hits_[i]) : mass_[i] / kMassUnit;
+    raster.density[i] = std::max(static_cast<float>(d), std::numeric_limits<float>::denorm_min());
+    for (int c = 0; c < channels_; ++c) {
+      const double mean = static_cast<double>(sums_[i * channels_ + c]) / hits_[i];
+      raster.channels[i * channels_ + c] =
+          static_cast<float>(scale_[c] > 0 ? lo_[c] + mean / scale_[c] : lo_[c]);
+    }
+  }
+}
+
+void channel_ranges(const Ifs& ifs, std::vector<double>& lo, std::vector<double>& hi) {
+  lo.clear();
+  hi.clear();
+  if (ifs.dim() == ifs.spatial_dims()) return;
+  const Bounds b = ifs.attractor_bounds(1u << 16);
+  lo.assign(b.lo.begin() + ifs.spatial_dims(), b.lo.end());
+  hi.assign(b.hi.begin() + ifs.spatial_dims(), b.hi.end());
+}
+
+void describe_channels(const Ifs& ifs, Raster& raster) {
+  const auto& names = ifs.layout().names();
+  raster.channel_names.assign(names.begin() + ifs.spatial_dims(), names.end());
+  raster.color_model = ifs.layout().color_model();
+  raster.channels_in_unit_range = false;
+}
+
+std::size_t Raster::covered() const {
+  std::size_t n = 0;
+  for (double d : density) n += d > 0.0;
+  return n;
+}
+
+}  // namespace ifsforge

@@ -1,0 +1,262 @@
+#include "ifsforge/render/chaos_game.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#define IFSFORGE_CHAOS_AVX2 1
+#endif
+
+#include "ifsforge/core/memory.h"
+#include "ifsforge/core/parallel.h"
+#include "ifsforge/core/random.h"
+#include "ifsforge/model/map_sampler.h"
+#include "ifsforge/render/accumulator.h"
+
+namespace ifsforge {
+namespace {
+
+constexpr std::uint64_t kPointsPerJob = 1u << 22;
+
+struct JobPlan {
+  std::uint64_t jobs, points_per_job;
+};
+
+JobPlan plan_jobs(std::uint64_t total, std::uint64_t lanes) {
+  const std::uint64_t jobs = std::max<std::uint64_t>(1, (total + kPointsPerJob - 1) / kPointsPerJob);
+  std::uint64_t per_job = (total + jobs - 1) / jobs;
+  per_job = (per_job + lanes - 1) / lanes * lanes;
+  return {jobs, per_job};
+}
+
+/// The general nD path: double precision, any layout, channels carried.
+void chaos_job_scalar(const Ifs& ifs, const Frame& frame, const MapSampler& sampler,
+                      std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
+                      std::uint64_t job, Accumulator& acc) {
+  Rng rng(seed, job);
+  Point p = ifs.start_point();
+  for (std::uint64_t i = 0; i < skip; ++i) p = ifs.map(sampler(rng.next()))(p);
+  const std::size_t trash = std::size_t(frame.width()) * frame.height();
+  const int spatial = ifs.spatial_dims();
+  const double w = frame.width(), h = frame.height();
+  Point q;
+  for (std::uint64_t i = 0; i < points; ++i) {
+    ifs.map(sampler(rng.next())).apply(p.data(), q.data());
+    p = q;
+    const auto px = frame.to_pixel(p);
+    const bool inside = px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h;
+    const std::size_t pixel = inside ? std::size_t(px[1]) * frame.width() + std::size_t(px[0]) : trash;
+    acc.add(pixel, p.data() + spatial);
+  }
+}
+
+#ifdef IFSFORGE_CHAOS_AVX2
+
+/// Up to 8 maps in pixel space, one coefficient per lane of each register.
+struct PixelMaps {
+  __m256 a, b, c, d, e, f;
+  __m256i thresholds[7];  ///< cumulative probability - 1, 24-bit
+  int count;
+};
+
+PixelMaps pixel_maps(const Ifs& ifs, const Frame& frame) {
+  // World-to-pixel transform T: px = (u - xmin) sx, py = (ymax - v) sy.
+  const Window& win = frame.window();
+  const double s = 1.0 / frame.pixel_size();
+  AffineMap to_pixel(2, {s, 0, 0, -s}, {-win.xmin * s, win.ymax * s});
+  const AffineMap from_pixel = *to_pixel.inverse();
+  alignas(32) float a[8] = {}, b[8] = {}, c[8] = {}, d[8] = {}, e[8] = {}, f[8] = {};
+  PixelMaps m;
+  m.count = static_cast<int>(ifs.size());
+  double cumulative = 0.0;
+  for (int i = 0; i < m.count; ++i) {
+    const AffineMap w = to_pixel.compose(ifs.map(i)).compose(from_pixel);
+    a[i] = static_cast<float>(w.a(0, 0));
+    b[i] = static_cast<float>(w.a(0, 1));
+    c[i] = static_cast<float>(w.a(1, 0));
+    d[i] = static_cast<float>(w.a(1, 1));
+    e[i] = static_cast<float>(w.b(0));
+    f[i] = static_cast<float>(w.b(1));
+    if (i + 1 < m.count) {
+      cumulative += ifs.probabilities()[i];
+      const int t = static_cast<int>(std::lround(cumulative * 16777216.0));
+      m.thresholds[i] = _mm256_set1_epi32(t - 1);
+    }
+  }
+  m.a = _mm256_load_ps(a);
+  m.b = _mm256_load_ps(b);
+  m.c = _mm256_load_ps(c);
+  m.d = _mm256_load_ps(d);
+  m.e = _mm256_load_ps(e);
+  m.f = _mm256_load_ps(f);
+  return m;
+}
+
+/// Eight chaos games at once; xoshiro128+ per lane.
+struct Lanes {
+  __m256 x, y;
+  __m256i s0, s1, s2, s3;
+
+  __m256i next() {
+    const __m256i result = _mm256_add_epi32(s0, s3);
+    const __m256i t = _mm256_slli_epi32(s1, 9);
+    s2 = _mm256_xor_si256(s2, s0);
+    s3 = _mm256_xor_si256(s3, s1);
+    s1 = _mm256_xor_si256(s1, s2);
+    s0 = _mm256_xor_si256(s0, s3);
+    s2 = _mm256_xor_si256(s2, t);
+    s3 = _mm256_or_si256(_mm256_slli_epi32(s3, 11), _mm256_srli_epi32(s3, 21));
+    return result;
+  }
+
+  void step(const PixelMaps& m) {
+    const __m256i u = _mm256_srli_epi32(next(), 8);  // top 24 bits
+    __m256i index = _mm256_setzero_si256();
+    for (int j = 0; j + 1 < m.count; ++j)
+      index = _mm256_sub_epi32(index, _mm256_cmpgt_epi32(u, m.thresholds[j]));
+    const __m256 a = _mm256_permutevar8x32_ps(m.a, index);
+    const __m256 b = _mm256_permutevar8x32_ps(m.b, index);
+    const __m256 c = _mm256_permutevar8x32_ps(m.c, index);
+    const __m256 d = _mm256_permutevar8x32_ps(m.d, index);
+    const __m256 e = _mm256_permutevar8x32_ps(m.e, index);
+    const __m256 f = _mm256_permutevar8x32_ps(m.f, index);
+    const __m256 nx = _mm256_fmadd_ps(a, x, _mm256_fmadd_ps(b, y, e));
+    y = _mm256_fmadd_ps(c, x, _mm256_fmadd_ps(d, y, f));
+    x = nx;
+  }
+
+  /// Histogram slots of the eight points (the trash slot for points off the image).
+  __m256i slots(__m256i width, __m256i height, __m256i trash) const {
+    const __m256i ix = _mm256_cvttps_epi32(_mm256_floor_ps(x));
+    const __m256i iy = _mm256_cvttps_epi32(_mm256_floor_ps(y));
+    const __m256i minus1 = _mm256_set1_epi32(-1);
+    const __m256i inside = _mm256_and_si256(
+        _mm256_and_si256(_mm256_cmpgt_epi32(ix, minus1), _mm256_cmpgt_epi32(width, ix)),
+        _mm256_and_si256(_mm256_cmpgt_epi32(iy, minus1), _mm256_cmpgt_epi32(height, iy)));
+    const __m256i slot = _mm256_add_epi32(_mm256_mullo_epi32(iy, width), ix);
+    return _mm256_blendv_epi8(trash, slot, inside);
+  }
+};
+
+constexpr int kGroups = 4;  // independent lane groups in flight, to hide FMA latency
+constexpr std::uint64_t kLanes = 8 * kGroups;
+
+void chaos_job_avx2(const PixelMaps& maps, const Frame& frame, const Point& start,
+                    std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
+                    std::uint64_t job, std::uint32_t* histogram) {
+  Lanes lanes[kGroups];
+  const float px = static_cast<float>((start[0] - frame.window().xmin) / frame.pixel_size());
+  const float py = static_cast<float>((frame.window().ymax - start[1]) / frame.pixel_size());
+  for (int g = 0; g < kGroups; ++g) {
+    alignas(32) std::uint32_t s[4][8];
+    for (int lane = 0; lane < 8; ++lane) {
+      Rng rng(seed, job * kLanes + g * 8 + lane);
+      for (auto& word : s) {
+        std::uint32_t v;
+        do v = static_cast<std::uint32_t>(rng.next() >> 32);
+        while (v == 0);  // xoshiro's state must not be all zero
+        word[lane] = v;
+      }
+    }
+    lanes[g] = {_mm256_set1_ps(px), _mm256_set1_ps(py),
+                _mm256_load_si256(reinterpret_cast<const __m256i*>(s[0])),
+                _mm256_load_si256(reinterpret_cast<const __m256i*>(s[1])),
+                _mm256_load_si256(reinterpret_cast<const __m256i*>(s[2])),
+                _mm256_load_si256(reinterpret_cast<const __m256i*>(s[3]))};
+  }
+  for (std::uint64_t i = 0; i < skip; ++i)
+    for (auto& l : lanes) l.step(maps);
+  const __m256i width = _mm256_set1_epi32(frame.width());
+  const __m256i height = _mm256_set1_epi32(frame.height());
+  const __m256i trash = _mm256_set1_epi32(frame.width() * frame.height());
+  alignas(32) std::uint32_t slot[kGroups][8];
+  for (std::uint64_t i = 0; i < points / kLanes; ++i) {
+    for (int g = 0; g < kGroups; ++g) {
+      lanes[g].step(maps);
+      _mm256_store_si256(reinterpret_cast<__m256i*>(slot[g]), lanes[g].slots(width, height, trash));
+    }
+    for (int g = 0; g < kGroups; ++g)
+      for (int k = 0; k < 8; ++k) ++histogram[slot[g][k]];
+  }
+}
+
+#endif  // IFSFORGE_CHAOS_AVX2
+
+}  // namespace
+
+Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
+  ifs.require_attractor();
+  const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
+  const std::uint64_t total = options.iterations ? options.iterations
+                                                 : default_iterations(options.width, options.height,
+                                                                      options.binary,
+                                                                      options.points_per_pixel);
+  std::vector<double> lo, hi;
+  channel_ranges(ifs, lo, hi);
+  const int threads = resolve_threads(options.threads);
+  const std::size_t pixels = std::size_t(frame.width()) * frame.height();
+#ifdef IFSFORGE_CHAOS_AVX2
+  const bool simd = ifs.dim() == 2 && ifs.size() <= 8;
+#else
+  const bool simd = false;
+#endif
+  check_memory(threads * (Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) +
+                          (simd ? 4.0 * pixels : 0.0)),
+               "a " + std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
+                   " random-iteration image on " + std::to_string(threads) + " threads");
+
+  const JobPlan plan = plan_jobs(total, simd ? 32 : 1);
+  std::vector<Accumulator> acc;
+  for (int t = 0; t < threads; ++t) acc.emplace_back(frame.width(), frame.height(), false, lo, hi);
+  const MapSampler sampler(ifs.probabilities());
+
+#ifdef IFSFORGE_CHAOS_AVX2
+  std::vector<std::vector<std::uint32_t>> histograms(simd ? threads : 0);
+  std::vector<std::uint64_t> pending(threads, 0);
+  auto flush = [&](int worker) {
+    auto& h = histograms[worker];
+    std::uint64_t* hits = acc[worker].hits();
+    for (std::size_t i = 0; i < h.size(); ++i) hits[i] += h[i];
+    std::fill(h.begin(), h.end(), 0u);
+    pending[worker] = 0;
+  };
+  PixelMaps maps{};
+  if (simd) maps = pixel_maps(ifs, frame);
+  const Point start = ifs.start_point();
+#endif
+
+  parallel_jobs(
+      plan.jobs, threads,
+      [&](std::size_t job, int worker) {
+#ifdef IFSFORGE_CHAOS_AVX2
+        if (simd) {
+          auto& h = histograms[worker];
+          if (h.empty()) h.assign(pixels + 1, 0u);
+          // A 32-bit counter could overflow if one pixel took every point: flush first.
+          if (pending[worker] + plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
+          chaos_job_avx2(maps, frame, start, plan.points_per_job, options.skip, options.seed, job,
+                         h.data());
+          pending[worker] += plan.points_per_job;
+          return;
+        }
+#endif
+        chaos_job_scalar(ifs, frame, sampler, plan.points_per_job, options.skip, options.seed, job,
+                         acc[worker]);
+      },
+      options.progress);
+
+#ifdef IFSFORGE_CHAOS_AVX2
+  for (int t = 0; t < threads; ++t)
+    if (simd && !histograms[t].empty()) flush(t);
+#endif
+  for (int t = 1; t < threads; ++t) acc[0].merge(acc[t]);
+  Raster raster;
+  describe_channels(ifs, raster);
+  acc[0].finish(raster);
+  raster.points = plan.jobs * plan.points_per_job;
+  return raster;
+}
+
+}  // namespace ifsforge

@@ -1,0 +1,87 @@
+#include "ifsforge/render/colour_stealing.h"
+
+#include <cmath>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
+#include "ifsforge/core/parallel.h"
+#include "ifsforge/core/random.h"
+#include "ifsforge/model/map_sampler.h"
+#include "ifsforge/render/accumulator.h"
+
+namespace ifsforge {
+
+Ifs grid_reference_system(std::size_t n) {
+  const std::size_t columns = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(n))));
+  const std::size_t rows = (n + columns - 1) / columns;
+  std::vector<AffineMap> maps;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double sx = 1.0 / columns, sy = 1.0 / rows;
+    maps.emplace_back(2, std::vector<double>{sx, 0, 0, sy},
+                      std::vector<double>{sx * (i % columns), sy * (i / columns)});
+  }
+  return Ifs("grid reference", ChannelLayout("xy"), maps, std::vector<double>(n, 1.0));
+}
+
+Raster ColourStealing::render(const Ifs& ifs, const RenderOptions& options) const {
+  if (!options.reference_image || options.reference_image->width < 1)
+    throw InputError("colour stealing needs a reference image");
+  const Image& picture = *options.reference_image;
+  const Ifs reference = options.reference_system ? *options.reference_system
+                                                 : grid_reference_system(ifs.size());
+  if (reference.size() != ifs.size())
+    throw InputError("the reference system has " + std::to_string(reference.size()) +
+                     " maps but the system has " + std::to_string(ifs.size()) +
+                     "; colour stealing pairs them one to one");
+  if (reference.dim() != 2) throw InputError("the reference system must be 2D (xy)");
+  ifs.require_attractor();
+  reference.require_attractor();
+  const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
+  const std::uint64_t total = options.iterations ? options.iterations
+                                                 : default_iterations(options.width, options.height,
+                                                                      true, 1.0);  // Eq. 47
+  const int threads = resolve_threads(options.threads);
+  check_memory(threads * Accumulator::bytes(frame.width(), frame.height(), false, 3),
+               "a colour-stealing image");
+  std::vector<Accumulator> acc;
+  for (int t = 0; t < threads; ++t)
+    acc.emplace_back(frame.width(), frame.height(), false, std::vector<double>{0, 0, 0},
+                     std::vector<double>{1, 1, 1});
+  const MapSampler sampler(ifs.probabilities());
+  const std::uint64_t per_job = 1u << 20;
+  const std::uint64_t jobs = (total + per_job - 1) / per_job;
+  const std::size_t trash = std::size_t(frame.width()) * frame.height();
+  parallel_jobs(
+      jobs, threads,
+      [&](std::size_t job, int worker) {
+        Rng rng(options.seed, job);
+        Point q = ifs.start_point(), r = reference.start_point(), t;
+        const std::uint64_t count = std::min(per_job, total - job * per_job);
+        float colour[4];
+        double rgb[3] = {0, 0, 0};
+        for (std::uint64_t i = 0; i < count + options.skip; ++i) {
+          const std::uint32_t k = sampler(rng.next());
+          ifs.map(k).apply(q.data(), t.data());
+          q = t;
+          reference.map(k).apply(r.data(), t.data());
+          r = t;
+          if (i < options.skip) continue;
+          const auto px = frame.to_pixel(q);
+          const bool inside = px[0] >= 0 && px[0] < frame.width() && px[1] >= 0 && px[1] < frame.height();
+          picture.sample(r[0] * picture.width, (1.0 - r[1]) * picture.height, colour);
+          for (int c = 0; c < 3; ++c) rgb[c] = colour[picture.channels >= 3 ? c : 0];
+          acc[worker].add(inside ? std::size_t(px[1]) * frame.width() + std::size_t(px[0]) : trash, rgb);
+        }
+      },
+      options.progress);
+  for (int t = 1; t < threads; ++t) acc[0].merge(acc[t]);
+  Raster raster;
+  acc[0].finish(raster);
+  raster.channel_names = {"r", "g", "b"};
+  raster.color_model = ColorModel::Rgb;
+  raster.channels_in_unit_range = true;
+  raster.points = total;
+  return raster;
+}
+
+}  // namespace ifsforge

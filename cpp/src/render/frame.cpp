@@ -1,0 +1,67 @@
+#include "ifsforge/render/frame.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "ifsforge/core/error.h"
+
+namespace ifsforge {
+
+void check_image_size(int width, int height) {
+  if (width < 1 || height < 1 || width > 65535 || height > 65535)
+    throw InputError("image size " + std::to_string(width) + "x" + std::to_string(height) +
+                     " is outside 1..65535 per side");
+}
+
+Frame Frame::fit(const Ifs& ifs, int width, int height, const std::optional<Window>& window,
+                 const View& view, double margin) {
+  check_image_size(width, height);
+  Frame f;
+  f.width_ = width;
+  f.height_ = height;
+  f.spatial_ = ifs.spatial_dims();
+  if (f.spatial_ == 2) {
+    f.projection_ = {{{1, 0, 0}, {0, 1, 0}}};
+  } else {
+    const double y = view.yaw * M_PI / 180.0, p = view.pitch * M_PI / 180.0;
+    f.projection_ = {{{std::cos(y), std::sin(y), 0.0},
+                      {std::sin(p) * std::sin(y), -std::sin(p) * std::cos(y), std::cos(p)}}};
+  }
+  Window w;
+  if (window) {
+    w = *window;
+    if (!(std::isfinite(w.xmin) && std::isfinite(w.xmax) && std::isfinite(w.ymin) &&
+          std::isfinite(w.ymax)) || !(w.xmax > w.xmin) || !(w.ymax > w.ymin))
+      throw InputError("the window must be finite with xmin < xmax and ymin < ymax");
+  } else {
+    ifs.require_attractor();
+    const bool hyperbolic = ifs.classify() == Classification::Hyperbolic;
+    std::vector<double> us, vs;
+    const std::size_t samples = 1u << 17;
+    us.reserve(samples);
+    vs.reserve(samples);
+    sample_attractor(ifs, samples, 0xF7A3E, [&](const Point& q) {
+      const auto uv = f.project(q);
+      us.push_back(uv[0]);
+      vs.push_back(uv[1]);
+    });
+    const double lo = hyperbolic ? 0.0 : 0.001, hi = hyperbolic ? 1.0 : 0.999;
+    w = {quantile(us, lo), quantile(vs, lo), quantile(us, hi), quantile(vs, hi)};
+    double dx = w.xmax - w.xmin, dy = w.ymax - w.ymin;
+    const double extent = std::max({dx, dy, 1e-9 * (std::abs(w.xmin) + std::abs(w.ymin)), 1e-12});
+    dx = std::max(dx, extent * 1e-3);
+    dy = std::max(dy, extent * 1e-3);
+    w = {w.xmin - margin * dx, w.ymin - margin * dy, w.xmax + margin * dx, w.ymax + margin * dy};
+  }
+  // Keep pixels square: grow the window's short side about its centre.
+  const double scale = std::max((w.xmax - w.xmin) / width, (w.ymax - w.ymin) / height);
+  const double cx = 0.5 * (w.xmin + w.xmax), cy = 0.5 * (w.ymin + w.ymax);
+  f.window_ = {cx - 0.5 * scale * width, cy - 0.5 * scale * height, cx + 0.5 * scale * width,
+               cy + 0.5 * scale * height};
+  f.sx_ = f.sy_ = 1.0 / scale;
+  return f;
+}
+
+}  // namespace ifsforge

@@ -1,0 +1,22 @@
+#include "ifsforge/render/image.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ifsforge {
+
+void Image::sample(double x, double y, float* out) const {
+  // Pixel centres sit at half-integers.
+  x = std::clamp(x - 0.5, 0.0, static_cast<double>(width - 1));
+  y = std::clamp(y - 0.5, 0.0, static_cast<double>(height - 1));
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
+  const float fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
+  for (int c = 0; c < channels; ++c) {
+    const float top = at(x0, y0, c) * (1 - fx) + at(x1, y0, c) * fx;
+    const float bottom = at(x0, y1, c) * (1 - fx) + at(x1, y1, c) * fx;
+    out[c] = top * (1 - fy) + bottom * fy;
+  }
+}
+
+}  // namespace ifsforge

@@ -1,0 +1,69 @@
+#!/usr/bin/python3
+"""The sample gallery: renders every system in samples/systems into OUT/ (default: out/),
+plus a colour-stealing picture and a contact sheet of everything. Run by samples/gallery.sh."""
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import ifsforge
+
+HERE = Path(__file__).resolve().parent
+SIZE = 1024
+
+
+def contact_sheet(images, columns=5, cell=256):
+    """A grid of thumbnails (grayscale promoted to RGB) on a dark background."""
+    rows = (len(images) + columns - 1) // columns
+    sheet = np.full((rows * cell, columns * cell, 3), 0.08, np.float32)
+    for k, image in enumerate(images):
+        if image.ndim == 2:
+            image = np.repeat(image[:, :, None], 3, axis=2)
+        step = max(1, image.shape[0] // cell)
+        thumb = image[::step, ::step, :3][:cell, :cell]
+        r, c = divmod(k, columns)
+        sheet[r * cell:r * cell + thumb.shape[0], c * cell:c * cell + thumb.shape[1]] = thumb
+    return sheet
+
+
+def reference_picture(size=256):
+    """A smooth colour field to steal colours from (the seed's 5.1.2 uses photographs)."""
+    y, x = np.mgrid[0:size, 0:size] / (size - 1)
+    return np.stack([0.5 + 0.5 * np.sin(6 * x), 0.4 + 0.6 * y * (1 - x), 0.5 + 0.5 * np.cos(5 * y * x)], axis=2)
+
+
+def images(out):
+    folder = out / "images"
+    folder.mkdir(parents=True, exist_ok=True)
+    made = []
+    for path in sorted((HERE / "systems").glob("*.json")):
+        system = ifsforge.read_json(str(path))
+        defaults = system.render_defaults
+        start = time.perf_counter()
+        raster = ifsforge.render(system, defaults.get("algorithm", "chaos"), SIZE,
+                                 window=defaults.get("window"), view=defaults.get("view"))
+        image = raster.to_image()
+        ifsforge.write_png(str(folder / f"{path.stem}.png"), image)
+        made.append(image)
+        print(f"  {path.stem:24s} {time.perf_counter() - start:6.2f} s  {raster.points:>11,} points")
+    fern = ifsforge.read_json(str(HERE / "systems" / "barnsley_fern.json"))
+    picture = reference_picture()
+    ifsforge.write_png(str(folder / "reference.png"), picture)
+    stolen = ifsforge.render(fern, "colour-stealing", SIZE, reference_image=picture).to_image("color")
+    ifsforge.write_png(str(folder / "barnsley_fern_colour_stealing.png"), stolen)
+    made.append(stolen)
+    ifsforge.write_png(str(out / "gallery.png"), contact_sheet(made))
+    print(f"  {len(made)} images and the contact sheet in {folder}")
+
+
+def main(argv):
+    out = Path(argv[1] if len(argv) > 1 else "out").resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    print(f"ifsforge gallery -> {out}")
+    images(out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

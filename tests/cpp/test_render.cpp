@@ -1,0 +1,149 @@
+// The 2D renderers: dimensions of known attractors, determinism across threads, bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/render/box_counting.h"
+#include "ifsforge/render/renderer.h"
+#include "ifsforge/render/tone_map.h"
+
+using namespace ifsforge;
+
+namespace {
+
+AffineMap similarity(double scale, double degrees, double x, double y) {
+  const double c = scale * std::cos(degrees * M_PI / 180), s = scale * std::sin(degrees * M_PI / 180);
+  return AffineMap(2, {c, -s, s, c}, {x, y});
+}
+
+Ifs sierpinski() {
+  return Ifs("sierpinski", ChannelLayout("xy"),
+             {similarity(0.5, 0, 0, 0), similarity(0.5, 0, 0.5, 0), similarity(0.5, 0, 0.25, 0.5)}, {1, 1, 1});
+}
+
+Ifs koch() {
+  const double third = 1.0 / 3.0;
+  return Ifs("koch", ChannelLayout("xy"),
+             {similarity(third, 0, 0, 0), similarity(third, 60, third, 0),
+              similarity(third, -60, 0.5, std::sqrt(3.0) / 6.0), similarity(third, 0, 2 * third, 0)},
+             {1, 1, 1, 1});
+}
+
+RenderOptions size(int n) {
+  RenderOptions o;
+  o.width = o.height = n;
+  return o;
+}
+
+}  // namespace
+
+TEST(BoxCounting, SierpinskiTriangleIsLog3OverLog2) {
+  const double expected = std::log(3.0) / std::log(2.0);
+  for (const char* algorithm : {"prr", "chaos"}) {
+    RenderOptions o = size(2048);
+    o.binary = true;
+    const Raster r = renderer(algorithm).render(sierpinski(), o);
+    const double d = box_counting(r).dimension;
+    EXPECT_NEAR(d, expected, 0.03 * expected) << algorithm;
+  }
+}
+
+TEST(BoxCounting, KochCurveIsLog4OverLog3) {
+  const double expected = std::log(4.0) / std::log(3.0);
+  RenderOptions o = size(2048);
+  o.binary = true;
+  const Raster r = renderer("prr").render(koch(), o);
+  EXPECT_NEAR(box_counting(r).dimension, expected, 0.03 * expected);
+}
+
+TEST(BoxCounting, FilledSquareIsTwoAndLineIsOne) {
+  std::vector<std::uint8_t> square(256 * 256, 1), line(256 * 256, 0);
+  for (int x = 0; x < 256; ++x) line[100 * 256 + x] = 1;
+  EXPECT_NEAR(box_counting(square, 256, 256, 1).dimension, 2.0, 1e-9);
+  EXPECT_NEAR(box_counting(line, 256, 256, 1).dimension, 1.0, 1e-9);
+}
+
+TEST(Determinism, SameBytesForOneAndTwoThreads) {
+  for (const char* algorithm : {"chaos", "prr"}) {
+    for (const Ifs& s : {sierpinski(), koch()}) {
+      RenderOptions o = size(300);
+      o.iterations = 3'000'000;
+      o.seed = 42;
+      o.threads = 1;
+      const Raster one = renderer(algorithm).render(s, o);
+      o.threads = 2;
+      const Raster two = renderer(algorithm).render(s, o);
+      EXPECT_EQ(one.density, two.density) << algorithm;
+      o.seed = 43;
+      if (std::string(algorithm) == "chaos") {
+        EXPECT_NE(renderer(algorithm).render(s, o).density, one.density);
+      }
+    }
+  }
+}
+
+TEST(Determinism, ColourChannelsAcrossThreads) {
+  // A 2D + gray system: each map sets gray to a constant, so every pixel's mean is exact.
+  std::vector<AffineMap> maps;
+  const double corners[3][2] = {{0, 0}, {0.5, 0}, {0.25, 0.5}};
+  for (int i = 0; i < 3; ++i)
+    maps.emplace_back(3, std::vector<double>{0.5, 0, 0, 0, 0.5, 0, 0, 0, 0}, std::vector<double>{corners[i][0], corners[i][1], double(i)});
+  const Ifs s("gray", ChannelLayout("xy+gray"), maps, {1, 1, 1});
+  RenderOptions o = size(128);
+  o.window = Window{0, 0, 1, 1};
+  o.iterations = 500'000;
+  o.threads = 1;
+  const Raster one = renderer("chaos").render(s, o);
+  o.threads = 2;
+  const Raster two = renderer("chaos").render(s, o);
+  EXPECT_EQ(one.channels, two.channels);
+  // The bottom-left corner pixel is reached only through map 0: gray = 0 there.
+  EXPECT_GT(one.density[127 * 128 + 0], 0.0f);
+  EXPECT_NEAR(one.channels[127 * 128 + 0], 0.0f, 1e-5);
+  EXPECT_NEAR(one.channels[127 * 128 + 127], 1.0f, 1e-5);  // bottom-right: map 1
+}
+
+TEST(Renderers, PrrFixedDepthPlotsNToTheL) {
+  RenderOptions o = size(64);
+  o.depth = 5;
+  const Raster r = renderer("prr").render(sierpinski(), o);
+  EXPECT_EQ(r.points, 243u);  // 3^5 leaves, all on the image
+  double total = 0;
+  for (float d : r.density) total += d;
+  EXPECT_NEAR(total, 1.0, 1e-5);  // the measure is a probability
+}
+
+TEST(Renderers, RefuseBadInput) {
+  setenv("IFSFORGE_MEMORY_BUDGET_MB", "256", 1);
+  Ifs divergent("div", ChannelLayout("xy"), {similarity(1.5, 0, 0, 0), similarity(1.2, 30, 1, 0)});
+  for (const Renderer* r : renderers()) {
+    if (r->name() == "colour-stealing") continue;
+    EXPECT_THROW(r->render(divergent, size(16)), DivergentSystemError) << r->name();
+    EXPECT_THROW(r->render(sierpinski(), size(0)), InputError) << r->name();
+    RenderOptions huge = size(20000);
+    EXPECT_THROW(r->render(sierpinski(), huge), MemoryBudgetError) << r->name();
+  }
+  unsetenv("IFSFORGE_MEMORY_BUDGET_MB");
+  EXPECT_THROW(renderer("no-such-algorithm"), InputError);
+}
+
+TEST(Renderers, ProgressCanCancel) {
+  RenderOptions o = size(256);
+  o.iterations = 50'000'000;
+  int calls = 0;
+  o.progress = [&](double) { return ++calls < 2; };
+  EXPECT_THROW(renderer("chaos").render(sierpinski(), o), Cancelled);
+}
+
+TEST(ToneMap, HsiPrimaries) {
+  float rgb[3];
+  hsi_to_rgb(0.0, 1.0, 1.0 / 3.0, rgb);  // pure red has I = 1/3
+  EXPECT_NEAR(rgb[0], 1.0f, 1e-6);
+  EXPECT_NEAR(rgb[1], 0.0f, 1e-6);
+  hsi_to_rgb(1.0 / 3.0, 1.0, 1.0 / 3.0, rgb);
+  EXPECT_NEAR(rgb[1], 1.0f, 1e-6);
+  hsi_to_rgb(0.5, 0.0, 0.5, rgb);  // no saturation: gray
+  EXPECT_NEAR(rgb[0], 0.5f, 1e-6);
+  EXPECT_NEAR(rgb[2], 0.5f, 1e-6);
+}

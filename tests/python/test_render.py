@@ -1,0 +1,64 @@
+"""Rendering through Python: determinism, colour stealing, progress, PNG round trip."""
+import numpy as np
+import pytest
+
+import ifsforge
+
+HALF = [[0.5, 0], [0, 0.5]]
+
+
+@pytest.fixture
+def sierpinski():
+    return ifsforge.Ifs([ifsforge.AffineMap(HALF, o) for o in ([0, 0], [0.5, 0], [0.25, 0.5])], name="s")
+
+
+@pytest.mark.parametrize("algorithm", ["chaos", "prr"])
+def test_identical_for_any_thread_count(sierpinski, algorithm):
+    one = ifsforge.render(sierpinski, algorithm, 200, iterations=2_000_000, seed=5, threads=1)
+    two = ifsforge.render(sierpinski, algorithm, 200, iterations=2_000_000, seed=5, threads=2)
+    np.testing.assert_array_equal(one.density, two.density)
+    assert one.covered() > 1000
+
+
+def test_colour_stealing_takes_the_reference_colours(sierpinski):
+    # A reference picture split in a red left half and a blue right half: with the default
+    # grid reference system, map 0 walks the left column and maps 1, 2 the right one.
+    picture = np.zeros((64, 64, 3), np.float32)
+    picture[:, :32, 0] = 1.0
+    picture[:, 32:, 2] = 1.0
+    r1 = ifsforge.render(sierpinski, "colour-stealing", 128, reference_image=picture, threads=1, seed=3)
+    r2 = ifsforge.render(sierpinski, "colour-stealing", 128, reference_image=picture, threads=2, seed=3)
+    np.testing.assert_array_equal(r1.channels, r2.channels)
+    image = r1.to_image("color")
+    assert image.shape == (128, 128, 3)
+    covered = r1.mask
+    # Every covered pixel is a mix of red and blue only.
+    assert np.all(image[covered][:, 1] == 0)
+    assert image[covered][:, 0].max() > 0.9 and image[covered][:, 2].max() > 0.9
+
+
+def test_progress_is_reported_and_cancels(sierpinski):
+    seen = []
+    ifsforge.render(sierpinski, "chaos", 64, iterations=20_000_000, progress=lambda f: seen.append(f))
+    assert seen and seen[-1] == 1.0 and seen == sorted(seen)
+    with pytest.raises(ifsforge.Cancelled):
+        ifsforge.render(sierpinski, "chaos", 64, iterations=50_000_000, progress=lambda f: False)
+
+
+def test_png_round_trip(tmp_path):
+    image = np.linspace(0, 1, 4 * 6 * 3, dtype=np.float32).reshape(4, 6, 3)
+    for bits, step in ((8, 1 / 255), (16, 1 / 65535)):
+        path = tmp_path / f"x{bits}.png"
+        ifsforge.write_png(str(path), image, bits)
+        np.testing.assert_allclose(ifsforge.read_png(str(path)), image, atol=step * 0.51)
+    with pytest.raises(ifsforge.FileError):
+        ifsforge.write_png(str(tmp_path / "missing" / "x.png"), image)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x16.png", "x8.png"]
+
+
+def test_density_image_is_log_scaled(sierpinski):
+    raster = ifsforge.render(sierpinski, "prr", 64, depth=6)
+    image = raster.to_image("density")
+    assert image.max() == pytest.approx(1.0)
+    assert np.all((image > 0) == raster.mask)
+    assert raster.density.sum() == pytest.approx(1.0, abs=1e-5)
