@@ -1,0 +1,35 @@
+#pragma once
+/// @file Triangle meshes and their writers: PLY and OBJ through OpenMesh, glTF binary (.glb)
+/// through tinygltf. The libraries stay behind this header.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ifsforge {
+
+struct TriangleMesh {
+  std::vector<std::array<float, 3>> positions;
+  std::vector<std::array<float, 3>> normals;   ///< empty, or one per vertex
+  std::vector<std::array<float, 4>> colors;    ///< empty, or one RGBA in [0, 1] per vertex
+  std::vector<std::array<float, 2>> uvs;       ///< empty, or one per vertex
+  std::vector<std::array<std::uint32_t, 3>> triangles;  ///< counter-clockwise seen from outside
+};
+
+struct MeshWriteOptions {
+  /// glTF only: a PNG to embed as the material's base colour texture (needs uvs).
+  std::string base_color_texture;
+  /// glTF only: the mesh/node name.
+  std::string name = "ifsforge";
+};
+
+/// @brief Writes by extension: .ply (binary; normals, RGBA colours, uvs), .obj (normals and uvs;
+/// OBJ has no standard vertex colour, so colours are left out), .glb (binary glTF 2.0 with all
+/// attributes and the optional texture). Atomic; InputError for an unknown
+/// extension or a malformed mesh (indices out of range, attribute counts that do not match).
+void write_mesh(const std::string& path, const TriangleMesh& mesh, const MeshWriteOptions& options = {});
+
+/// @brief Angle-weighted vertex normals from the triangles (independent of the triangulation).
+void compute_normals(TriangleMesh& mesh);
+
+}  // namespace ifsforge
