@@ -1,6 +1,7 @@
 #include "ifsforge/render/point_recursive.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -25,8 +26,11 @@ struct LeafList {
 Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) const {
   ifs.require_attractor();
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
-  const int fallback = default_depth(ifs.size(), frame.width(), frame.height());
-  const RecursionPlan plan = plan_recursion(ifs, options.depth, 0.5 * frame.pixel_size(), fallback);
+  const int eq59 = default_depth(ifs.size(), frame.width(), frame.height());
+  RecursionPlan plan = plan_recursion(ifs, options.depth, eq59);
+  if (options.depth <= 0) plan.max_depth = depth_for_size(ifs, plan, frame.pixel_size(), 2, eq59);
+  const bool fit_pixels = options.depth <= 0;
+  constexpr double cut = 1.0;  // pixels: pieces smaller than this are not split further
   const std::size_t pixels = std::size_t(frame.width()) * frame.height();
   const int channels = ifs.dim() - ifs.spatial_dims();
   check_memory(pixels * (4.0 + 12.0 * channels + (channels ? 4.0 : 0.0)),
@@ -61,18 +65,65 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   };
 
   const Point start = ifs.start_point();
+  // Representatives of a piece too small to split further but straddling pixels: the images
+  // of a few attractor points spread over it (W^d of the fixed points, at most 16 of them),
+  // so the pixels it touches are all plotted (same as d more levels, without box tests).
+  std::vector<Point> spread;
+  for (const Point& p : ifs.fixed_points())
+    if (std::isfinite(p[0])) spread.push_back(p);
+  if (spread.empty()) spread.push_back(start);
+  while (spread.size() * ifs.size() <= 16) {
+    std::vector<Point> next;
+    for (const Point& p : spread)
+      for (const auto& m : ifs.maps()) next.push_back(m(p));
+    spread.swap(next);
+  }
   const int spatial = ifs.spatial_dims();
   const double w = frame.width(), h = frame.height();
+  const auto& projection = frame.projection();
+  // Pixel-space box of a node's piece M(B) of the attractor: [lo, hi) per axis.
+  auto pixel_box = [&](const AffineMap& m, double* lo, double* hi) {
+    double center[3], half[3];
+    image_box(m, plan, spatial, center, half);
+    Point c{};
+    std::copy(center, center + spatial, c.begin());
+    const auto px = frame.to_pixel(c);
+    for (int axis = 0; axis < 2; ++axis) {
+      double extent = 0.0;
+      for (int k = 0; k < spatial; ++k) extent += std::abs(projection[axis][k]) * half[k];
+      extent /= frame.pixel_size();
+      lo[axis] = px[axis] - extent;
+      hi[axis] = px[axis] + extent;
+    }
+  };
+  auto stop = [&](const RecursionNode& node) {
+    double lo[2], hi[2];
+    pixel_box(node.map, lo, hi);
+    if (hi[0] < 0.0 || lo[0] >= w || hi[1] < 0.0 || lo[1] >= h) return true;  // misses the image
+    if (!fit_pixels) return false;
+    if (std::floor(lo[0]) == std::floor(hi[0]) && std::floor(lo[1]) == std::floor(hi[1])) return true;
+    return std::max(hi[0] - lo[0], hi[1] - lo[1]) < cut;
+  };
   parallel_jobs(
       plan.jobs, options.threads,
       [&](std::size_t job, int) {
         LeafList list;
-        walk_job(ifs, plan, start, job, [&](const Point& p, double m, const std::uint32_t*, int) {
+        auto plot = [&](const Point& p, double mass) {
           const auto px = frame.to_pixel(p);
           if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) return;
           list.pixel.push_back(static_cast<std::uint32_t>(std::size_t(px[1]) * frame.width() + std::size_t(px[0])));
-          list.mass.push_back(m);
+          list.mass.push_back(mass);
           for (int c = 0; c < channels; ++c) list.channels.push_back(static_cast<float>(p[spatial + c]));
+        };
+        walk_job(ifs, plan, job, stop, [&](const RecursionNode& node) {
+          double lo[2], hi[2];
+          if (fit_pixels) pixel_box(node.map, lo, hi);
+          if (!fit_pixels || (std::floor(lo[0]) == std::floor(hi[0]) && std::floor(lo[1]) == std::floor(hi[1]))) {
+            plot(node.map(start), node.mass);
+            return;
+          }
+          const double share = node.mass / static_cast<double>(spread.size());
+          for (const Point& p : spread) plot(node.map(p), share);
         });
         std::lock_guard<std::mutex> lock(mutex);
         if (job != next_job) {

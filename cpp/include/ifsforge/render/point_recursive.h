@@ -4,14 +4,16 @@
 
 namespace ifsforge {
 
-/// PRR(q, L): for every map i, q1 = w_i(q); plot q1 at the leaves, else recurse. The leaf
-/// mass is the product of the probabilities along the address, so the raster holds the
-/// invariant measure. With options.depth > 0 every leaf sits at exactly that depth, as in
-/// the seed. With depth 0 a branch also stops as soon as its whole sub-attractor fits in
-/// half a pixel (product of contraction factors times the attractor's radius), which puts
-/// every pixel within one pixel of the attractor at far fewer leaves than Eq. 59's N^L.
-/// Jobs are address prefixes, merged in address order: the seam a distributed scheduler can
-/// cut along, and the reason the output does not depend on the thread count.
+/// PRR(q, L): for every map i, q1 = w_i(q); plot q1 at the leaves, else recurse. Each leaf
+/// plots w_a1 o ... o w_aL (q0) for the fixed point q0, with the product of the probabilities
+/// along the address as its mass, so the raster holds the invariant measure.
+/// With options.depth > 0 every leaf sits at exactly that depth, as in the seed (N^L leaves).
+/// With depth 0 a branch stops as soon as its piece of the attractor (inside the box M(B) of
+/// recursion.h) provably lies inside one pixel, which then receives exactly the piece's measure,
+/// or is smaller than a pixel; such a straddling piece plots the images of a few attractor
+/// points spread over it (W^d of the fixed points) so that no pixel it touches is missed.
+/// This needs far fewer leaves than Eq. 59's N^L. Branches that miss the image are pruned in
+/// both modes. Jobs are address prefixes merged in address order.
 class PointRecursive : public Renderer {
  public:
   std::string name() const override { return "prr"; }

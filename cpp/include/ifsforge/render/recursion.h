@@ -1,8 +1,15 @@
 #pragma once
-/// @file The address-tree walk shared by the recursive renderers: which contraction bound to
-/// trust, how far to recurse, and the split into address-prefix jobs.
+/// @file The address tree shared by the recursive renderers (seed 5.6-5.8): nodes, the plan of
+/// how deep to go, and the split into address-prefix jobs.
+///
+/// A node at address (a1, ..., ak) stands for the sub-attractor w_a1 o w_a2 o ... o w_ak (A):
+/// the FIRST map of the address is the outermost. Carrying the composed map M = w_a1 o ... o w_ak
+/// makes every subtree a small piece of the attractor, M(A), inside the box M(B) where B bounds A:
+/// a renderer can stop as soon as M(B) fits in one pixel or voxel, and the leaf mass
+/// p_a1 ... p_ak is exactly the invariant measure of that piece.
+/// Jobs are address prefixes of fixed length: the seam along which work splits across threads
+/// (and, later, machines); results merged in job order do not depend on the thread count.
 #include <cstdint>
-#include <functional>
 #include <vector>
 
 #include "ifsforge/model/ifs.h"
@@ -10,23 +17,101 @@
 namespace ifsforge {
 
 struct RecursionPlan {
-  int max_depth = 0;      ///< no leaf deeper than this
-  double cut = 0.0;       ///< stop when bound * radius <= cut (0: fixed depth)
-  double radius = 0.0;    ///< max distance from the start point to the attractor
-  std::vector<double> bound;  ///< per-map contraction bound used for the cut
-  int prefix = 0;         ///< address length of one job
-  std::uint64_t jobs = 1; ///< N^prefix
+  int max_depth = 1;           ///< no node deeper than this
+  int prefix = 0;              ///< address length of one job
+  std::uint64_t jobs = 1;      ///< N^prefix
+  std::vector<double> center;  ///< the box B bounding the attractor (all channels): centre
+  std::vector<double> half;    ///< and half-extent, with a safety margin
 };
 
-/// @brief A plan for `ifs`: fixed `depth` if > 0, else a cut at `cut` (in the units of the
-/// space; spatial when the spatial rows do not read the other channels) with depth capped by
-/// `depth_cap`.
-RecursionPlan plan_recursion(const Ifs& ifs, int depth, double cut, int depth_cap);
+/// @brief A node of the address tree.
+struct RecursionNode {
+  const AffineMap& map;             ///< w_a1 o ... o w_ak
+  double mass;                      ///< p_a1 ... p_ak
+  const std::uint32_t* address;     ///< a1 ... ak (0-based map indices)
+  int length;                       ///< k
+};
 
-/// @brief Walks every leaf below job `job` (an address prefix, most significant map first),
-/// calling leaf(point, mass, address, length). A branch cut above the prefix is reported only
-/// by the job whose remaining prefix digits are all 0, so each leaf is reported once.
-void walk_job(const Ifs& ifs, const RecursionPlan& plan, const Point& start, std::uint64_t job,
-              const std::function<void(const Point&, double, const std::uint32_t*, int)>& leaf);
+/// @brief A plan for `ifs`. depth > 0: exactly that depth (the seed's PRR: N^depth leaves).
+/// depth == 0: `auto_depth`, which should be deep enough for the renderer's stop test to end
+/// every branch; pass default_depth() (Eq. 59) or more. Jobs: at least 64 (load balance), with
+/// at most ~2^20 leaves each at fixed depth (memory of per-job results).
+RecursionPlan plan_recursion(const Ifs& ifs, int depth, int auto_depth);
+
+/// @brief The depth at which the least contractive branch shrinks the attractor's box below
+/// `size` (in the units of the space), plus `extra` levels, capped at 64; Eq. 59's
+/// `fallback` when some map does not contract.
+int depth_for_size(const Ifs& ifs, const RecursionPlan& plan, double size, int extra, int fallback);
+
+/// @brief Axis-aligned box of M(B) on rows [0, rows): centre and half-extent.
+inline void image_box(const AffineMap& m, const RecursionPlan& plan, int rows, double* center, double* half) {
+  const int n = m.dim();
+  for (int r = 0; r < rows; ++r) {
+    double c = m.b(r), h = 0.0;
+    for (int k = 0; k < n; ++k) {
+      c += m.a(r, k) * plan.center[k];
+      h += (m.a(r, k) < 0 ? -m.a(r, k) : m.a(r, k)) * plan.half[k];
+    }
+    center[r] = c;
+    half[r] = h;
+  }
+}
+
+namespace detail {
+
+template <typename Stop, typename Leaf>
+struct Walker {
+  const Ifs& ifs;
+  const RecursionPlan& plan;
+  Stop& stop;
+  Leaf& leaf;
+  std::uint32_t address[64];
+  AffineMap maps[65];
+
+  void recurse(int length, double mass) {
+    for (std::uint32_t i = 0; i < ifs.size(); ++i) {
+      address[length] = i;
+      maps[length + 1] = maps[length].compose(ifs.map(i));
+      const RecursionNode node{maps[length + 1], mass * ifs.probabilities()[i], address, length + 1};
+      if (node.length >= plan.max_depth || stop(node))
+        leaf(node);
+      else
+        recurse(length + 1, node.mass);
+    }
+  }
+};
+
+}  // namespace detail
+
+/// @brief Visits every leaf below job `job` (digits of the job index, most significant first,
+/// are the address prefix). A node ends as a leaf at plan.max_depth or when stop(node) is true;
+/// a node that stops inside the prefix is reported by the one job whose remaining prefix digits
+/// are all 0, so every leaf is visited exactly once over all jobs.
+template <typename Stop, typename Leaf>
+void walk_job(const Ifs& ifs, const RecursionPlan& plan, std::uint64_t job, Stop&& stop, Leaf&& leaf) {
+  detail::Walker<Stop, Leaf> w{ifs, plan, stop, leaf, {}, {}};
+  const std::uint64_t n = ifs.size();
+  std::uint64_t rest = job;
+  for (int level = plan.prefix - 1; level >= 0; --level) {
+    w.address[level] = static_cast<std::uint32_t>(rest % n);
+    rest /= n;
+  }
+  w.maps[0] = AffineMap(ifs.dim());
+  double mass = 1.0;
+  for (int level = 0; level < plan.prefix; ++level) {
+    const std::uint32_t i = w.address[level];
+    w.maps[level + 1] = w.maps[level].compose(ifs.map(i));
+    mass *= ifs.probabilities()[i];
+    const RecursionNode node{w.maps[level + 1], mass, w.address, level + 1};
+    if (level + 1 >= plan.max_depth || stop(node)) {
+      for (int later = level + 1; later < plan.prefix; ++later)
+        if (w.address[later] != 0) return;  // another job reports this node
+      leaf(node);
+      return;
+    }
+  }
+  if (plan.prefix == 0 && plan.max_depth == 0) return;
+  w.recurse(plan.prefix, mass);
+}
 
 }  // namespace ifsforge
