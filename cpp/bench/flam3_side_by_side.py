@@ -1,0 +1,61 @@
+#!/usr/bin/python3
+"""Random iteration of the Barnsley fern and the Sierpinski triangle, ifsforge against flam3
+(Debian's flam3-utils, the reference fractal-flame renderer), at the same number of samples:
+1024x1024, `quality` samples per pixel. The two programs alternate run by run; the report is
+the ratio of the medians. Both are timed end to end as commands that write an image.
+
+    cpp/bench/flam3_side_by_side.py [--runs 5] [--quality 200] [--threads 1]
+
+Needs `flam3-render` (apt-get install flam3-utils) and the built ifsforge (PYTHONPATH=build/python).
+"""
+import argparse
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+FLAMES = Path(os.environ.get("IFSFORGE_FLAM3_DIR", ROOT.parent / "shared" / "bench" / "flam3"))
+SYSTEMS = {"fern": ROOT / "samples/systems/barnsley_fern.json",
+           "sierpinski": ROOT / "samples/systems/sierpinski_triangle.json"}
+
+
+def timed(command, env=None):
+    start = time.perf_counter()
+    subprocess.run(command, check=True, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return time.perf_counter() - start
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--quality", type=int, default=200, help="samples per pixel")
+    parser.add_argument("--threads", type=int, default=1)
+    args = parser.parse_args()
+    if not shutil.which("flam3-render"):
+        sys.exit("flam3-render is missing: apt-get install flam3-utils")
+    samples = args.quality * 1024 * 1024
+    python_env = dict(os.environ, PYTHONPATH=str(ROOT / "build" / "python"))
+    print(f"{samples / 1e6:.0f} M samples into 1024x1024, {args.threads} thread(s), {args.runs} runs each")
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, system in SYSTEMS.items():
+            flame = FLAMES / f"{name}_de0.flame"
+            flam3_env = dict(os.environ, nthreads=str(args.threads), qs=str(args.quality), format="ppm",
+                             **{"in": str(flame), "out": f"{tmp}/{name}.ppm"})
+            ours = ["/usr/bin/python3", "-m", "ifsforge", "render", str(system), "-o", f"{tmp}/{name}.png",
+                    "--size", "1024", "--iterations", str(samples), "--threads", str(args.threads)]
+            flam3_times, our_times = [], []
+            for _ in range(args.runs):
+                flam3_times.append(timed(["flam3-render"], flam3_env))
+                our_times.append(timed(ours, python_env))
+            f, o = statistics.median(flam3_times), statistics.median(our_times)
+            print(f"{name:11s} flam3 {f:7.3f} s ({samples / f / 1e6:6.1f} M samples/s)   "
+                  f"ifsforge {o:7.3f} s ({samples / o / 1e6:6.1f} M samples/s)   ifsforge is {f / o:5.1f}x faster")
+
+
+if __name__ == "__main__":
+    main()
