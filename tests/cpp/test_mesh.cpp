@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // OpenMesh's headers, GCC 12
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <fstream>

@@ -1,6 +1,8 @@
 // Mesh writers: PLY and OBJ through OpenMesh, binary glTF through tinygltf.
 #include "ifsforge/io/mesh.h"
 
+// OpenMesh's property containers trip GCC 12's -Wmaybe-uninitialized at instantiation.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <tiny_gltf.h>

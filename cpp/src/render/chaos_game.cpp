@@ -81,7 +81,7 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapSampler& sampl
       py += v[k] * p[k];
     }
     const bool inside = px >= 0.0 && px < w && py >= 0.0 && py < h;
-    acc.add(inside ? std::size_t(py) * frame.width() + std::size_t(px) : trash, p + spatial);
+    acc.add(inside ? std::size_t(py) * frame.width() + std::size_t(px) : trash, N > 3 || spatial < N ? p + spatial : nullptr);
   }
 }
 
