@@ -58,7 +58,7 @@ Raster ColourStealing::render(const Ifs& ifs, const RenderOptions& options) cons
         Point q = ifs.start_point(), r = reference.start_point(), t;
         const std::uint64_t count = std::min(per_job, total - job * per_job);
         float colour[4] = {0, 0, 0, 0};
-        double rgb[3] = {0, 0, 0};
+        double rgb[kMaxDim] = {};  // sized for any channel count, silencing GCC
         for (std::uint64_t i = 0; i < count + options.skip; ++i) {
           const std::uint32_t k = sampler(rng.next());
           ifs.map(k).apply(q.data(), t.data());
