@@ -8,7 +8,7 @@ namespace ifsforge {
 RecursionPlan plan_recursion(const Ifs& ifs, int depth, int auto_depth) {
   RecursionPlan plan;
   plan.max_depth = std::clamp(depth > 0 ? depth : auto_depth, 1, 64);
-  const Bounds b = ifs.attractor_bounds(1u << 18);
+  const Bounds b = ifs.attractor_bounds(1u << 16);
   for (int c = 0; c < ifs.dim(); ++c) {
     const double extent = b.hi[c] - b.lo[c];
     // The sample may miss the attractor's far tips: grow the box a little.
