@@ -1,6 +1,9 @@
 #!/usr/bin/python3
 """The sample gallery: renders every system in samples/systems into OUT/ (default: out/),
-plus a colour-stealing picture and a contact sheet of everything. Run by samples/gallery.sh."""
+plus a colour-stealing picture and a contact sheet of everything, then runs every
+samples/<area>/make_gallery.py (volumes, POV-Ray scenes, terrains, ...), whose make(out)
+writes into out/<area>/. Run by samples/gallery.sh."""
+import importlib.util
 import sys
 import time
 from pathlib import Path
@@ -57,11 +60,25 @@ def images(out):
     print(f"  {len(made)} images and the contact sheet in {folder}")
 
 
+def areas(out):
+    """Each samples/<area>/make_gallery.py contributes its own part."""
+    for script in sorted(HERE.glob("*/make_gallery.py")):
+        spec = importlib.util.spec_from_file_location(f"gallery_{script.parent.name}", script)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        print(f"{script.parent.name}:")
+        start = time.perf_counter()
+        module.make(out)
+        print(f"  {script.parent.name} done in {time.perf_counter() - start:.1f} s")
+
+
 def main(argv):
     out = Path(argv[1] if len(argv) > 1 else "out").resolve()
     out.mkdir(parents=True, exist_ok=True)
     print(f"ifsforge gallery -> {out}")
+    print("images:")
     images(out)
+    areas(out)
     return 0
 
 

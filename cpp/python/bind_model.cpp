@@ -140,6 +140,21 @@ void bind_model(py::module_& m) {
              py::gil_scoped_acquire gil;
              return py::make_tuple(py::array_t<double>(b.lo.size(), b.lo.data()), py::array_t<double>(b.hi.size(), b.hi.data()));
            }, py::arg("samples") = 1u << 20, "(lo, hi) per channel")
+      .def("sample_points", [](const Ifs& s, std::size_t count, std::uint64_t seed) {
+             if (count > (std::size_t(1) << 28)) throw InputError("at most 2^28 sample points");
+             py::array_t<double> out({static_cast<py::ssize_t>(count), static_cast<py::ssize_t>(s.dim())});
+             double* data = out.mutable_data();
+             {
+               py::gil_scoped_release release;
+               std::size_t k = 0;
+               sample_attractor(s, count, seed, [&](const Point& p) {
+                 std::copy(p.begin(), p.begin() + s.dim(), data + k++ * s.dim());
+               });
+             }
+             return out;
+           }, py::arg("count") = 200000, py::arg("seed") = 0,
+           "count points of a seeded random iteration on the attractor, shape (count, dim): previews, "
+           "scatter plots, instancing")
       .def_property_readonly("render_defaults", [](const Ifs& s) {
         const RenderDefaults& d = s.render_defaults();
         py::dict out;

@@ -49,3 +49,16 @@ def test_classification_and_errors():
         ifsforge.Ifs([ifsforge.AffineMap([[float("nan"), 0], [0, 0.5]], [0, 0])])
     with pytest.raises(ifsforge.InputError, match="layout"):
         ifsforge.Ifs([ifsforge.AffineMap(half, [0, 0])], layout="xyz")
+
+
+def test_sample_points_lie_on_the_attractor():
+    half = [[0.5, 0], [0, 0.5]]
+    s = ifsforge.Ifs([ifsforge.AffineMap(half, o) for o in ([0, 0], [1, 0], [0, 1])])  # right-angled gasket
+    pts = s.sample_points(50000, seed=3)
+    assert pts.shape == (50000, 2)
+    np.testing.assert_array_equal(pts, s.sample_points(50000, seed=3))
+    # Points of this gasket never have both coordinates' binary expansions sharing a 1 bit:
+    # at 2^-8 resolution, floor(x*256) & floor(y*256) == 0 (the Sierpinski pattern).
+    x, y = (np.floor(np.clip(pts, 0, 1 - 1e-12) * 256)).astype(int).T
+    assert np.mean((x & y) == 0) > 0.999
+    assert pts.min() >= -1e-12 and pts.max() <= 2 + 1e-12
