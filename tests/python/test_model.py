@@ -57,8 +57,8 @@ def test_sample_points_lie_on_the_attractor():
     pts = s.sample_points(50000, seed=3)
     assert pts.shape == (50000, 2)
     np.testing.assert_array_equal(pts, s.sample_points(50000, seed=3))
-    # Points of this gasket never have both coordinates' binary expansions sharing a 1 bit:
-    # at 2^-8 resolution, floor(x*256) & floor(y*256) == 0 (the Sierpinski pattern).
-    x, y = (np.floor(np.clip(pts, 0, 1 - 1e-12) * 256)).astype(int).T
+    # The attractor is the gasket on (0,0), (2,0), (0,2): in units of 2, the binary expansions of
+    # x and y never share a 1 bit, so at 2^-8 resolution floor(256 x/2) & floor(256 y/2) == 0.
+    x, y = (np.floor(np.clip(pts / 2, 0, 1 - 1e-12) * 256)).astype(int).T
     assert np.mean((x & y) == 0) > 0.999
     assert pts.min() >= -1e-12 and pts.max() <= 2 + 1e-12
