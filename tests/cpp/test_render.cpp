@@ -104,6 +104,31 @@ TEST(Determinism, ColourChannelsAcrossThreads) {
   EXPECT_NEAR(one.channels[127 * 128 + 127], 1.0f, 1e-5);  // bottom-right: map 1
 }
 
+TEST(Renderers, ChaosGameLosesNoPoint) {
+  // Every plotted point lands in exactly one pixel when the window holds the attractor, on the
+  // AVX2 path (2D) and the general path (3D projection) alike.
+  RenderOptions o = size(257);
+  o.iterations = 3'000'001;
+  o.window = Window{-0.1, -0.1, 1.1, 1.1};
+  const Raster flat = renderer("chaos").render(sierpinski(), o);
+  double total = 0;
+  for (float d : flat.density) total += d;
+  EXPECT_EQ(total, static_cast<double>(flat.points));
+  EXPECT_GE(flat.points, o.iterations);
+  std::vector<AffineMap> maps;
+  for (int i = 0; i < 4; ++i) {
+    std::vector<double> b(3, 0.0);
+    if (i) b[i - 1] = 0.5;
+    maps.emplace_back(3, std::vector<double>{0.5, 0, 0, 0, 0.5, 0, 0, 0, 0.5}, b);
+  }
+  o.window.reset();
+  o.view = View{30, 20};
+  const Raster solid = renderer("chaos").render(Ifs("tetra", ChannelLayout("xyz"), maps, {1, 1, 1, 1}), o);
+  total = 0;
+  for (float d : solid.density) total += d;
+  EXPECT_EQ(total, static_cast<double>(solid.points));
+}
+
 TEST(Renderers, PrrFixedDepthPlotsNToTheL) {
   RenderOptions o = size(64);
   o.depth = 5;
