@@ -19,6 +19,10 @@ void bind_render(py::module_& m) {
       .def_property_readonly("channels", [](const Raster& r) {
         return to_numpy(r.channels, {r.height, r.width, static_cast<py::ssize_t>(r.channel_count())});
       })
+      .def_property_readonly("depth", [](const Raster& r) -> py::object {
+        if (r.depth.empty()) return py::none();
+        return to_numpy(r.depth, {r.height, r.width});
+      }, "3D systems: per-pixel largest depth towards the viewer (-inf where empty), else None")
       .def_property_readonly("mask", [](const Raster& r) {
         py::array_t<bool> out({r.height, r.width});
         for (std::size_t i = 0; i < r.density.size(); ++i) out.mutable_data()[i] = r.density[i] > 0.0f;
@@ -28,7 +32,7 @@ void bind_render(py::module_& m) {
       .def("to_image", [](const Raster& r, const std::string& mode, double gamma, bool invert) {
         return image_to_numpy(tone_map(r, ToneOptions{mode, gamma, invert}));
       }, py::arg("mode") = "auto", py::arg("gamma") = 2.2, py::arg("invert") = false,
-         "mode: auto, binary, density or color (Eq. 101 normalisation; HSI converted to RGB).");
+         "mode: auto, binary, density, color (Eq. 101 normalisation; HSI converted to RGB) or shaded (3D).");
 
   m.def("render",
         [](const Ifs& ifs, const std::string& algorithm, int width, std::optional<int> height,

@@ -27,6 +27,7 @@ void Accumulator::merge(const Accumulator& other) {
   for (std::size_t i = 0; i < hits_.size(); ++i) hits_[i] += other.hits_[i];
   for (std::size_t i = 0; i < mass_.size(); ++i) mass_[i] += other.mass_[i];
   for (std::size_t i = 0; i < sums_.size(); ++i) sums_[i] += other.sums_[i];
+  for (std::size_t i = 0; i < nearest_.size(); ++i) nearest_[i] = std::max(nearest_[i], other.nearest_[i]);
 }
 
 void Accumulator::finish(Raster& raster) const {
@@ -35,6 +36,7 @@ void Accumulator::finish(Raster& raster) const {
   raster.height = height_;
   raster.density.assign(pixels, 0.0);
   raster.channels.assign(pixels * channels_, 0.0);
+  if (!nearest_.empty()) raster.depth.assign(nearest_.begin(), nearest_.begin() + pixels);
   for (std::size_t i = 0; i < pixels; ++i) {
     if (hits_[i] == 0) continue;
     const double d = mass_.empty() ? static_cast<double>(hits_[i]) : mass_[i] / kMassUnit;

@@ -57,6 +57,7 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapSampler& sampl
     v[k] = -proj[1][k] * s;
   }
   const double u0 = -frame.window().xmin * s, v0 = frame.window().ymax * s;
+  const auto& toward = frame.toward_viewer();
   Rng rng(seed, job);
   const Point start = ifs.start_point();
   double p[N], q[N];
@@ -81,7 +82,9 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapSampler& sampl
       py += v[k] * p[k];
     }
     const bool inside = px >= 0.0 && px < w && py >= 0.0 && py < h;
-    acc.add(inside ? std::size_t(py) * frame.width() + std::size_t(px) : trash, N > 3 || spatial < N ? p + spatial : nullptr);
+    const std::size_t pixel = inside ? std::size_t(py) * frame.width() + std::size_t(px) : trash;
+    acc.add(pixel, N > 3 || spatial < N ? p + spatial : nullptr);
+    if (spatial == 3) acc.add_depth(pixel, toward[0] * p[0] + toward[1] * p[1] + toward[2] * p[2]);
   }
 }
 
@@ -251,7 +254,10 @@ Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
 
   const JobPlan plan = plan_jobs(total, simd ? 32 : 1);
   std::vector<Accumulator> acc;
-  for (int t = 0; t < threads; ++t) acc.emplace_back(frame.width(), frame.height(), false, lo, hi);
+  for (int t = 0; t < threads; ++t) {
+    acc.emplace_back(frame.width(), frame.height(), false, lo, hi);
+    if (ifs.spatial_dims() == 3) acc.back().enable_depth();
+  }
   const MapSampler sampler(ifs.probabilities());
   const ChaosJob scalar_job = chaos_job_for(ifs.dim());
 
@@ -297,6 +303,7 @@ Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
   Raster raster;
   describe_channels(ifs, raster);
   acc[0].finish(raster);
+  raster.pixel_size = frame.pixel_size();
   raster.points = plan.jobs * plan.points_per_job;
   return raster;
 }

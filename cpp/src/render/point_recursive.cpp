@@ -19,6 +19,7 @@ struct LeafList {
   std::vector<std::uint32_t> pixel;
   std::vector<double> mass;
   std::vector<float> channels;  // pixel-major
+  std::vector<float> depth;     // 3D systems
 };
 
 }  // namespace
@@ -44,6 +45,8 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   // Density accumulates in single precision straight into the raster; a covered pixel is
   // kept above 0 even when its mass underflows.
   raster.density.assign(pixels, 0.0f);
+  raster.pixel_size = frame.pixel_size();
+  if (ifs.spatial_dims() == 3) raster.depth.assign(pixels, -std::numeric_limits<float>::infinity());
   std::vector<std::uint32_t> hits(channels ? pixels : 0, 0u);
   std::vector<double> sums(pixels * channels, 0.0);
   constexpr float kCovered = std::numeric_limits<float>::denorm_min();
@@ -57,6 +60,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     for (std::size_t k = 0; k < list.pixel.size(); ++k) {
       const std::uint32_t px = list.pixel[k];
       raster.density[px] = std::max(raster.density[px] + static_cast<float>(list.mass[k]), kCovered);
+      if (!list.depth.empty()) raster.depth[px] = std::max(raster.depth[px], list.depth[k]);
       if (!channels) continue;
       ++hits[px];
       for (int c = 0; c < channels; ++c) sums[std::size_t(px) * channels + c] += list.channels[k * channels + c];
@@ -113,6 +117,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
           if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) return;
           list.pixel.push_back(static_cast<std::uint32_t>(std::size_t(px[1]) * frame.width() + std::size_t(px[0])));
           list.mass.push_back(mass);
+          if (spatial == 3) list.depth.push_back(static_cast<float>(frame.depth(p)));
           for (int c = 0; c < channels; ++c) list.channels.push_back(static_cast<float>(p[spatial + c]));
         };
         walk_job(ifs, plan, job, stop, [&](const RecursionNode& node) {

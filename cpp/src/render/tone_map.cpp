@@ -100,11 +100,63 @@ Image color_image(const Raster& raster) {
   return image;
 }
 
+/// Lambert shading of the z-buffer: normals from central differences of the (3x3 smoothed)
+/// depth in pixel units, light from the upper left and in front.
+Image shaded_image(const Raster& raster) {
+  const int w = raster.width, h = raster.height;
+  const auto covered = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && raster.density[std::size_t(y) * w + x] > 0.0f;
+  };
+  std::vector<float> depth(raster.depth.size(), 0.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (!covered(x, y)) continue;
+      double sum = 0.0;
+      int n = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (covered(x + dx, y + dy)) {
+            sum += raster.depth[std::size_t(y + dy) * w + x + dx];
+            ++n;
+          }
+      depth[std::size_t(y) * w + x] = static_cast<float>(sum / n / raster.pixel_size);
+    }
+  const Image colour = raster.color_model != ColorModel::None ? color_image(raster) : Image();
+  const int out = colour.channels ? std::min(colour.channels, 3) : 1;
+  Image image(w, h, out);
+  const double light[3] = {-0.45, 0.55, 0.70};  // x right, y down: upper left, towards the viewer
+  auto slope = [&](int x, int y, int dx, int dy) {
+    const bool a = covered(x - dx, y - dy), b = covered(x + dx, y + dy);
+    const float c = depth[std::size_t(y) * w + x];
+    if (a && b) return 0.5 * (depth[std::size_t(y + dy) * w + x + dx] - depth[std::size_t(y - dy) * w + x - dx]);
+    if (b) return static_cast<double>(depth[std::size_t(y + dy) * w + x + dx] - c);
+    if (a) return static_cast<double>(c - depth[std::size_t(y - dy) * w + x - dx]);
+    return 0.0;
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (!covered(x, y)) continue;
+      // Depth grows towards the viewer; image y grows downwards.
+      const double nx = -slope(x, y, 1, 0), ny = slope(x, y, 0, 1), nz = 1.0;
+      const double length = std::sqrt(nx * nx + ny * ny + nz * nz);
+      const double lambert = std::max(0.0, (nx * light[0] + ny * light[1] + nz * light[2]) / length);
+      const float shade = static_cast<float>(0.2 + 0.8 * lambert);
+      const std::size_t i = std::size_t(y) * w + x;
+      for (int c = 0; c < out; ++c)
+        image.pixels[i * out + c] = shade * (colour.channels ? colour.pixels[i * colour.channels + c] : 1.0f);
+    }
+  return image;
+}
+
 }  // namespace
 
 Image tone_map(const Raster& raster, const ToneOptions& options) {
   std::string mode = options.mode;
-  if (mode == "auto") mode = raster.color_model == ColorModel::None ? "density" : "color";
+  if (mode == "auto") mode = !raster.depth.empty() ? "shaded" : raster.color_model == ColorModel::None ? "density" : "color";
+  if (mode == "shaded") {
+    if (raster.depth.empty()) throw InputError("shaded images need a 3D system (a z-buffer)");
+    return shaded_image(raster);
+  }
   if (mode == "binary") return density_image(raster, options, true);
   if (mode == "density") return density_image(raster, options, false);
   if (mode == "color" || mode == "colour") {
@@ -112,7 +164,7 @@ Image tone_map(const Raster& raster, const ToneOptions& options) {
       throw InputError("the image has no colour channels; use mode binary or density");
     return color_image(raster);
   }
-  throw InputError("unknown tone mode '" + options.mode + "'; choose auto, binary, density or color");
+  throw InputError("unknown tone mode '" + options.mode + "'; choose auto, binary, density, color or shaded");
 }
 
 }  // namespace ifsforge

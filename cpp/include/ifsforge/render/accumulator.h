@@ -3,6 +3,7 @@
 /// are associative, so merging workers in any order gives the same bytes: this is what keeps
 /// every renderer's output independent of the thread count.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "ifsforge/model/ifs.h"
@@ -39,6 +40,12 @@ class Accumulator {
       sums_[pixel * channels_ + c] += static_cast<std::uint64_t>(q + 0.5);
     }
   }
+  /// @brief Keeps, per pixel, the largest depth towards the viewer (a z-buffer, 3D views).
+  void enable_depth() { nearest_.assign(hits_.size(), -std::numeric_limits<float>::infinity()); }
+  void add_depth(std::size_t pixel, double depth) {
+    const float d = static_cast<float>(depth);
+    if (d > nearest_[pixel]) nearest_[pixel] = d;
+  }
   void merge(const Accumulator& other);
   /// @brief Density = mass (measure on) or hits; channel means from the sums.
   void finish(Raster& raster) const;
@@ -46,6 +53,7 @@ class Accumulator {
  private:
   int width_, height_, channels_;
   std::vector<std::uint64_t> hits_, mass_, sums_;
+  std::vector<float> nearest_;  // max is order-independent: merging stays deterministic
   std::vector<double> lo_, scale_;
 };
 

@@ -30,6 +30,13 @@ class Frame {
     }
     return {u, v};
   }
+  /// @brief Distance towards the viewer along the view axis (u x v) for 3D systems; 0 in 2D.
+  double depth(const Point& p) const {
+    double d = 0;
+    for (int c = 0; c < spatial_; ++c) d += toward_viewer_[c] * p[c];
+    return d;
+  }
+  const std::array<double, 3>& toward_viewer() const { return toward_viewer_; }
   /// @brief Continuous pixel coordinates (x right, y down; pixel (i, j) covers [i, i+1) x [j, j+1)).
   std::array<double, 2> to_pixel(const Point& p) const {
     const auto uv = project(p);
@@ -52,6 +59,7 @@ class Frame {
   int width_ = 0, height_ = 0, spatial_ = 2;
   Window window_;
   std::array<std::array<double, 3>, 2> projection_{};
+  std::array<double, 3> toward_viewer_{};
   double sx_ = 1, sy_ = 1;
 };
 

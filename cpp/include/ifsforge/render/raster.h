@@ -23,6 +23,11 @@ struct Raster {
   bool channels_in_unit_range = false;
   /// Per pixel, per channel mean: pixel-major (width * height * channels).
   std::vector<float> channels;
+  /// 3D systems: per pixel, the largest depth towards the viewer of the points that fell in it
+  /// (a z-buffer; -inf where nothing fell), for shaded views. Empty for 2D systems.
+  std::vector<float> depth;
+  /// Width of a pixel in the units of the space (to turn depth differences into slopes).
+  double pixel_size = 1.0;
   /// Points plotted (random iteration) or leaves visited (recursive renderers).
   std::uint64_t points = 0;
 

@@ -9,7 +9,9 @@ namespace ifsforge {
 
 struct ToneOptions {
   /// "binary" (coverage), "density" (log density), "color" (the colour channels: gray, RGB,
-  /// HSI converted to RGB, RGBA), or "auto" (color when the raster has colour, else density).
+  /// HSI converted to RGB, RGBA), "shaded" (3D systems: the z-buffer lit from the upper left,
+  /// times the colour when there is one), or "auto" (shaded for 3D systems, else color when
+  /// the raster has colour, else density).
   std::string mode = "auto";
   double gamma = 2.2;   ///< density: v^(1/gamma) after the log
   bool invert = false;  ///< binary and density: dark attractor on white

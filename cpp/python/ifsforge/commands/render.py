@@ -17,8 +17,9 @@ def register(subparsers):
     p.add_argument("--depth", type=int, default=0, help="recursion depth (0: automatic, Eq. 59)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--threads", type=int, default=0, help="0: every core (the image never depends on it)")
-    p.add_argument("--mode", default="auto", choices=["auto", "binary", "density", "color"],
-                   help="binary coverage, log density, or the colour channels")
+    p.add_argument("--mode", default="auto", choices=["auto", "binary", "density", "color", "shaded"],
+                   help="binary coverage, log density, the colour channels, or a lit z-buffer (3D); "
+                   "auto: shaded for 3D, color when the layout has colour, else density")
     p.add_argument("--gamma", type=float, default=2.2)
     p.add_argument("--invert", action="store_true", help="dark attractor on white")
     p.add_argument("--bits", type=int, default=8, choices=[8, 16])
