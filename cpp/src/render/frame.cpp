@@ -27,7 +27,7 @@ Frame Frame::fit(const Ifs& ifs, int width, int height, const std::optional<Wind
   } else {
     const double y = view.yaw * M_PI / 180.0, p = view.pitch * M_PI / 180.0;
     f.projection_ = {{{std::cos(y), std::sin(y), 0.0},
-                      {std::sin(p) * std::sin(y), -std::sin(p) * std::cos(y), std::cos(p)}}};
+                      {-std::sin(p) * std::sin(y), std::sin(p) * std::cos(y), std::cos(p)}}};
     const auto& u = f.projection_[0];
     const auto& v = f.projection_[1];
     f.toward_viewer_ = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};

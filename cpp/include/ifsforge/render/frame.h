@@ -14,7 +14,8 @@ struct Window {
 };
 
 /// @brief Orthographic view of a 3D system (degrees): u = cos(yaw) x + sin(yaw) y,
-/// v = -sin(pitch) (-sin(yaw) x + cos(yaw) y) + cos(pitch) z. 2D systems ignore it.
+/// v = sin(pitch) (-sin(yaw) x + cos(yaw) y) + cos(pitch) z: a positive pitch looks down from
+/// above (far points appear higher). 2D systems ignore it.
 struct View {
   double yaw = 0, pitch = 0;
 };
