@@ -6,6 +6,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/random.h"
+#include "ifsforge/model/attractor_points.h"
 #include "ifsforge/model/map_sampler.h"
 
 namespace ifsforge {
@@ -204,6 +205,12 @@ Bounds Ifs::attractor_bounds(std::size_t samples) const {
     b.lo[c] = quantile(values[c], 0.001);
     b.hi[c] = quantile(values[c], 0.999);
   }
+  if (hyperbolic)
+    for (const Point& p : attractor_extremes(*this))
+      for (int c = 0; c < n; ++c) {
+        b.lo[c] = std::min(b.lo[c], p[c]);
+        b.hi[c] = std::max(b.hi[c], p[c]);
+      }
   return b;
 }
 

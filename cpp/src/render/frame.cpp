@@ -6,6 +6,7 @@
 #include <string>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/model/attractor_points.h"
 
 namespace ifsforge {
 
@@ -50,6 +51,12 @@ Frame Frame::fit(const Ifs& ifs, int width, int height, const std::optional<Wind
       us.push_back(uv[0]);
       vs.push_back(uv[1]);
     });
+    if (hyperbolic)
+      for (const Point& q : attractor_extremes(ifs)) {
+        const auto uv = f.project(q);
+        us.push_back(uv[0]);
+        vs.push_back(uv[1]);
+      }
     const double lo = hyperbolic ? 0.0 : 0.001, hi = hyperbolic ? 1.0 : 0.999;
     w = {quantile(us, lo), quantile(vs, lo), quantile(us, hi), quantile(vs, hi)};
     double dx = w.xmax - w.xmin, dy = w.ymax - w.ymin;
