@@ -6,6 +6,7 @@
 #include <map>
 #include <mutex>
 
+#include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/render/accumulator.h"
@@ -100,6 +101,15 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
       hi[axis] = px[axis] + extent;
     }
   };
+  // Pieces that stay wider than a pixel in one direction while thinning in the other (a rough
+  // fractal interpolation graph) would split for ever: each job has a node budget, checked per
+  // job so that the outcome does not depend on the thread count.
+  const std::uint64_t budget = fit_pixels ? std::max<std::uint64_t>(1u << 16, (std::uint64_t(1) << 28) / plan.jobs) : 0;
+  auto over_budget = [&] {
+    return InputError("point recursive rendering of '" + ifs.name() + "' at this size needs more than " +
+                      std::to_string(budget * plan.jobs) + " nodes (its pieces shrink too slowly in some "
+                      "direction); use the chaos renderer or a fixed depth");
+  };
   auto stop = [&](const RecursionNode& node) {
     double lo[2], hi[2];
     pixel_box(node.map, lo, hi);
@@ -120,7 +130,12 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
           if (spatial == 3) list.depth.push_back(static_cast<float>(frame.depth(p)));
           for (int c = 0; c < channels; ++c) list.channels.push_back(static_cast<float>(p[spatial + c]));
         };
-        walk_job(ifs, plan, job, stop, [&](const RecursionNode& node) {
+        std::uint64_t nodes = 0;
+        auto counted_stop = [&](const RecursionNode& node) {
+          if (budget && ++nodes > budget) throw over_budget();
+          return stop(node);
+        };
+        walk_job(ifs, plan, job, counted_stop, [&](const RecursionNode& node) {
           double lo[2], hi[2];
           if (fit_pixels) pixel_box(node.map, lo, hi);
           if (!fit_pixels || (std::floor(lo[0]) == std::floor(hi[0]) && std::floor(lo[1]) == std::floor(hi[1]))) {
