@@ -104,7 +104,9 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   // Pieces that stay wider than a pixel in one direction while thinning in the other (a rough
   // fractal interpolation graph) would split for ever: each job has a node budget, checked per
   // job so that the outcome does not depend on the thread count.
-  const std::uint64_t budget = fit_pixels ? std::max<std::uint64_t>(1u << 16, (std::uint64_t(1) << 28) / plan.jobs) : 0;
+  // 128 nodes per pixel (at least 2^24 in all) is several times what a hyperbolic system needs.
+  const std::uint64_t total = std::max<std::uint64_t>(std::uint64_t(1) << 24, 128 * std::uint64_t(pixels));
+  const std::uint64_t budget = fit_pixels ? std::max<std::uint64_t>(1u << 12, total / plan.jobs) : 0;
   auto over_budget = [&] {
     return InputError("point recursive rendering of '" + ifs.name() + "' at this size needs more than " +
                       std::to_string(budget * plan.jobs) + " nodes (its pieces shrink too slowly in some "
