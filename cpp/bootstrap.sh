@@ -10,7 +10,7 @@ build="${IFSFORGE_BUILD_DIR:-$here/build}"
 packages=(build-essential cmake pkg-config libgtest-dev libbenchmark-dev
   blender povray libopenvdb-dev libboost-iostreams-dev python3-openvdb libopenvdb-tools
   libopenmesh-dev libtinygltf-dev pybind11-dev nlohmann-json3-dev libpng-dev
-  python3-numpy python3-pytest python3-tqdm python3-imath)
+  python3-numpy python3-pytest python3-tqdm python3-imath xvfb xauth)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -31,4 +31,6 @@ cmake --build "$build" -j "$(nproc)"
 if [ "${IFSFORGE_NO_INSTALL:-0}" != 1 ]; then
   sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
   $sudo cmake --install "$build" >/dev/null
+  # The Blender add-on, enabled in the user's Blender preferences (it imports the module just installed).
+  bash "$here/blender_addon/install.sh" >/dev/null || echo "bootstrap: warning: the Blender add-on did not install (see bash blender_addon/install.sh)" >&2
 fi

@@ -2,6 +2,7 @@
 #include "bindings.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/render/box_counting.h"
+#include "ifsforge/render/parameters.h"
 #include "ifsforge/render/renderer.h"
 #include "ifsforge/render/tone_map.h"
 
@@ -39,7 +40,8 @@ void bind_render(py::module_& m) {
            std::optional<std::array<double, 4>> window, std::optional<std::array<double, 2>> view,
            std::uint64_t iterations, int depth, std::uint64_t seed, int threads, bool binary,
            double points_per_pixel, std::uint64_t skip, const py::object& progress,
-           std::optional<py::array> reference_image, std::optional<Ifs> reference_system) {
+           std::optional<py::array> reference_image, std::optional<Ifs> reference_system,
+           std::optional<py::dict> parameters) {
           RenderOptions o;
           o.width = width;
           o.height = height.value_or(width);
@@ -56,6 +58,13 @@ void bind_render(py::module_& m) {
           if (reference_image) o.reference_image = std::make_shared<Image>(image_from_numpy(*reference_image));
           if (reference_system) o.reference_system = std::make_shared<Ifs>(*reference_system);
           const Renderer& r = renderer(algorithm);
+          // Algorithm settings: values may be given as numbers or text.
+          if (parameters)
+            for (const auto& item : *parameters)
+              o.parameters[py::str(item.first)] = py::isinstance<py::bool_>(item.second)
+                                                      ? std::string(item.second.cast<bool>() ? "1" : "0")
+                                                      : std::string(py::str(item.second));
+          check_parameters(r, o);
           py::gil_scoped_release release;
           return r.render(ifs, o);
         },
@@ -64,8 +73,10 @@ void bind_render(py::module_& m) {
         py::arg("depth") = 0, py::arg("seed") = 0, py::arg("threads") = 0, py::arg("binary") = false,
         py::arg("points_per_pixel") = 16.0, py::arg("skip") = 100, py::arg("progress") = py::none(),
         py::arg("reference_image") = py::none(), py::arg("reference_system") = py::none(),
+        py::arg("parameters") = py::none(),
         "Render a system with a chapter-5 algorithm. window = (xmin, ymin, xmax, ymax); view = (yaw, pitch) "
-        "for 3D; iterations=0 and depth=0 pick Eq. 44/45 and Eq. 59; progress(fraction) returning False cancels.");
+        "for 3D; iterations=0 and depth=0 pick Eq. 44/45 and Eq. 59; progress(fraction) returning False cancels; "
+        "parameters: algorithm settings by name (renderer_parameters(algorithm) lists them).");
 
   m.def("renderers", [] {
     std::vector<std::pair<std::string, std::string>> out;

@@ -7,7 +7,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-BUILD_PYTHON = ROOT / "build" / "python"
+BUILD_PYTHON = next((Path(p).resolve() for p in os.environ.get("PYTHONPATH", "").split(os.pathsep)
+                     if p and (Path(p) / "ifsforge").is_dir()), ROOT / "build" / "python")
 if str(BUILD_PYTHON) not in sys.path:
     sys.path.insert(0, str(BUILD_PYTHON))
 

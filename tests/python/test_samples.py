@@ -20,8 +20,8 @@ def test_sample_renders(path):
     system = ifsforge.read_json(str(path))
     assert system.classify() != "divergent"
     defaults = system.render_defaults
-    raster = ifsforge.render(system, "chaos", 128, iterations=200_000, window=defaults.get("window"),
-                             view=defaults.get("view"))
+    raster = ifsforge.render(system, defaults.get("algorithm", "chaos"), 128, iterations=200_000,
+                             window=defaults.get("window"), view=defaults.get("view"))
     assert raster.covered() > 200, f"{path.name} covers only {raster.covered()} pixels"
     # The canonical JSON reloads to the same maps.
     again = ifsforge.parse_json(ifsforge.to_json(system))

@@ -30,6 +30,25 @@ from ifsforge._core import (  # noqa: F401
     write_mesh,
     write_png,
 )
+from ifsforge._core import PreviewCloud, morph, pad_maps, piece_color, preview_cloud  # noqa: F401  (design)
+from ifsforge._core import (  # noqa: F401  (terrain: fractal interpolation, terrains, palettes)
+    FractalInterpolation, Palette, PaletteRecipe, PaletteSpec, Terrain, TerrainControls, TerrainRecipe,
+    apply_palette, hls_to_rgb, make_palette, make_terrain, parse_palette_recipe, parse_terrain_recipe,
+    pov_color_map, random_heights, random_shifts, read_palette_recipe, read_terrain_recipe,
+    sample_heights, vertical_scaling, write_terrain_mesh, write_terrain_pov,
+)
+from ifsforge._core import (  # noqa: F401  (algorithms: recurrent/super IFS, condensation, chapter-5 extras)
+    Condensation, colour_bounds, growth_frames, make_super_ifs, proximity_bound, renderer_parameters, rewrite_strings,
+)
+from ifsforge._core import (  # noqa: F401  (vector: instance lists, addresses, POV-Ray/SVG/glTF)
+    AddressLeaves, AddressTable, InstanceList, Primitive, apply_address, count_leaves, default_instance_depth,
+    draw_instances, instances, pov_comment, pov_identifier, pov_string, povray_include, primitive_names, read_mesh,
+    render_povray, string_rewriting, tesseral_synecdoche, write_address_csv, write_gltf_instances, write_pov_scene,
+    write_povray_include, write_svg,
+)
+from ifsforge._core import (  # noqa: F401  (volume: Table 2 renderers, OpenVDB, iso-surfaces)
+    Volume, read_vdb_info, render_volume, volume_renderers, volume_to_mesh, write_vdb,
+)
 from ifsforge.errors import (  # noqa: F401
     Cancelled,
     DivergentSystemError,

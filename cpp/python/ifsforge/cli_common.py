@@ -32,3 +32,14 @@ def ensure_output_folder(path):
     folder = os.path.dirname(os.path.abspath(path))
     if not os.path.isdir(folder):
         raise ifsforge.FileError(f"cannot write '{path}': folder '{folder}' does not exist")
+
+
+def parse_parameters(items):
+    """['norm=linear', 'threshold=1e-6'] -> {'norm': 'linear', 'threshold': '1e-6'}."""
+    out = {}
+    for item in items or []:
+        key, sep, value = item.partition("=")
+        if not sep or not key.strip():
+            raise ifsforge.InputError(f"--param expects KEY=VALUE, got '{item}'")
+        out[key.strip()] = value.strip()
+    return out

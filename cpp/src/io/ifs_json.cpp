@@ -8,6 +8,8 @@
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/fractint.h"
 #include "ifsforge/model/map_params.h"
+#include "ifsforge/model/recurrent.h"
+#include "ifsforge/model/super_ifs.h"
 
 namespace ifsforge {
 namespace {
@@ -148,6 +150,112 @@ AffineMap read_map(const Reader& r, const json& m, const std::string& path, cons
   return map;
 }
 
+
+/// The maps of one system (`obj` holds "maps" and maybe "probabilities"), as an Ifs. A
+/// recurrent system takes its map frequencies from its transitions, so its maps carry none.
+Ifs read_maps(const Reader& r, const json& obj, const std::string& at, const ChannelLayout& layout,
+              const std::string& name, const std::string& source, bool recurrent) {
+  if (!obj.contains("maps") || !obj["maps"].is_array() || obj["maps"].empty())
+    r.fail(at + "/maps", "expected a non-empty array of maps");
+  std::vector<AffineMap> maps;
+  std::vector<double> probabilities;
+  std::size_t with_probability = 0;
+  const json& list = obj["maps"];
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string path = at + "/maps/" + std::to_string(i);
+    maps.push_back(read_map(r, list[i], path, layout));
+    if (list[i].contains("probability")) {
+      if (recurrent)
+        r.fail(path + "/probability", "a recurrent system's map frequencies come from its transitions; remove it");
+      ++with_probability;
+      probabilities.push_back(r.number(list[i]["probability"], path + "/probability"));
+    }
+  }
+  if (with_probability != 0 && with_probability != maps.size())
+    r.fail(at + "/maps", "either every map has a probability or none does");
+  if (with_probability == 0) {
+    const std::string rule = obj.contains("probabilities") ? r.text(obj["probabilities"], at + "/probabilities") : "jacobian";
+    if (rule == "uniform")
+      probabilities.assign(maps.size(), 1.0);
+    else if (rule != "jacobian")
+      r.fail(at + "/probabilities", "expected \"uniform\" or \"jacobian\"");
+  } else if (obj.contains("probabilities")) {
+    r.fail(at + "/probabilities", "the maps already give their probabilities");
+  }
+  try {
+    return Ifs(name, layout, maps, probabilities);
+  } catch (const InputError& e) {
+    throw InputError(source + ": " + (at.empty() ? "" : at + ": ") + e.what());
+  }
+}
+
+/// "systems": [{"name", "probability", "maps", "probabilities"}...] and "variability" (3.3.5).
+Ifs read_super_ifs(const Reader& r, const json& doc, const ChannelLayout& layout, const std::string& name,
+                   const std::string& source) {
+  if (doc.contains("maps")) r.fail("/maps", "a super IFS lists its maps inside \"systems\"");
+  if (doc.contains("probabilities")) r.fail("/probabilities", "a super IFS gives probabilities per member system");
+  if (doc.contains("transitions")) r.fail("/transitions", "a super IFS cannot be recurrent");
+  const json& list = doc["systems"];
+  if (!list.is_array() || list.empty()) r.fail("/systems", "expected a non-empty array of member systems");
+  std::vector<Ifs> members;
+  std::vector<double> probabilities;
+  for (std::size_t n = 0; n < list.size(); ++n) {
+    const std::string at = "/systems/" + std::to_string(n);
+    const json& member = list[n];
+    if (!member.is_object()) r.fail(at, "a member system must be an object");
+    for (auto it = member.begin(); it != member.end(); ++it)
+      if (it.key() != "name" && it.key() != "probability" && it.key() != "maps" && it.key() != "probabilities")
+        r.fail(at + "/" + it.key(), "unknown field (a member has name, probability, maps, probabilities)");
+    const std::string member_name =
+        member.contains("name") ? r.text(member["name"], at + "/name") : "member " + std::to_string(n + 1);
+    members.push_back(read_maps(r, member, at, layout, member_name, source, false));
+    probabilities.push_back(member.contains("probability") ? r.number(member["probability"], at + "/probability") : 1.0);
+  }
+  int variability = 2;
+  if (doc.contains("variability")) {
+    const double v = r.number(doc["variability"], "/variability");
+    if (v != std::floor(v) || v < 1 || v > 64) r.fail("/variability", "expected a whole number V in 1..64");
+    variability = static_cast<int>(v);
+  }
+  try {
+    return make_super_ifs(name, members, probabilities, variability);
+  } catch (const InputError& e) {
+    r.fail("/systems", e.what());
+  }
+}
+
+Condensation::Path read_path(const Reader& r, const json& j, const std::string& path) {
+  if (!j.is_array()) r.fail(path, "expected an array of [x, y] points");
+  Condensation::Path out;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const auto xy = r.numbers(j[i], path + "/" + std::to_string(i), 2);
+    out.push_back({xy[0], xy[1]});
+  }
+  return out;
+}
+
+/// "condensation": {"polylines": [[[x, y], ...]], "polygons": [...], "channels": [...], "probability": p0}
+Condensation read_condensation(const Reader& r, const json& j, int channels) {
+  if (!j.is_object()) r.fail("/condensation", "expected an object with polylines and/or polygons");
+  Condensation c;
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    const std::string at = "/condensation/" + it.key();
+    if (it.key() == "polylines" || it.key() == "polygons") {
+      if (!it->is_array()) r.fail(at, "expected an array of paths");
+      for (std::size_t i = 0; i < it->size(); ++i)
+        (it.key() == "polylines" ? c.polylines : c.polygons).push_back(read_path(r, (*it)[i], at + "/" + std::to_string(i)));
+    } else if (it.key() == "channels") {
+      c.channels = r.numbers(*it, at, static_cast<std::size_t>(channels));
+    } else if (it.key() == "probability") {
+      c.probability = r.number(*it, at);
+    } else {
+      r.fail(at, "unknown field (a condensation set has polylines, polygons, channels, probability)");
+    }
+  }
+  if (c.empty()) r.fail("/condensation", "expected at least one polyline or polygon");
+  return c;
+}
+
 }  // namespace
 
 Ifs parse_ifs_json(const std::string& text, const std::string& source) {
@@ -177,7 +285,8 @@ Ifs parse_ifs_json(const std::string& text, const std::string& source) {
   if (doc.contains("format") && r.text(doc["format"], "/format") != kFormatVersion)
     r.fail("/format", "unsupported format '" + doc["format"].get<std::string>() + "' (this is " + kFormatVersion + ")");
   for (auto it = doc.begin(); it != doc.end(); ++it) {
-    static const char* kKnown[] = {"format", "name", "description", "layout", "maps", "probabilities", "render"};
+    static const char* kKnown[] = {"format", "name", "description", "layout", "maps", "probabilities", "render",
+                                   "transitions", "condensation", "systems", "variability"};
     bool known = false;
     for (const char* key : kKnown) known |= it.key() == key;
     if (!known) r.fail("/" + it.key(), "unknown field");
@@ -190,37 +299,37 @@ Ifs parse_ifs_json(const std::string& text, const std::string& source) {
       r.fail("/layout", e.what());
     }
   }
-  if (!doc.contains("maps") || !doc["maps"].is_array() || doc["maps"].empty())
-    r.fail("/maps", "expected a non-empty array of maps");
-  std::vector<AffineMap> maps;
-  std::vector<double> probabilities;
-  std::size_t with_probability = 0;
-  const json& list = doc["maps"];
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    const std::string path = "/maps/" + std::to_string(i);
-    maps.push_back(read_map(r, list[i], path, layout));
-    if (list[i].contains("probability")) {
-      ++with_probability;
-      probabilities.push_back(r.number(list[i]["probability"], path + "/probability"));
-    }
-  }
-  if (with_probability != 0 && with_probability != maps.size())
-    r.fail("/maps", "either every map has a probability or none does");
-  if (with_probability == 0) {
-    const std::string rule = doc.contains("probabilities") ? r.text(doc["probabilities"], "/probabilities") : "jacobian";
-    if (rule == "uniform")
-      probabilities.assign(maps.size(), 1.0);
-    else if (rule != "jacobian")
-      r.fail("/probabilities", "expected \"uniform\" or \"jacobian\"");
-  } else if (doc.contains("probabilities")) {
-    r.fail("/probabilities", "the maps already give their probabilities");
-  }
   std::string name = doc.contains("name") ? r.text(doc["name"], "/name") : "untitled";
   Ifs ifs;
-  try {
-    ifs = Ifs(name, layout, maps, probabilities);
-  } catch (const InputError& e) {
-    throw InputError(source + ": " + e.what());
+  if (doc.contains("systems")) {
+    ifs = read_super_ifs(r, doc, layout, name, source);
+  } else {
+    ifs = read_maps(r, doc, "", layout, name, source, doc.contains("transitions"));
+    if (doc.contains("variability")) r.fail("/variability", "only a super IFS (\"systems\") has a variability");
+  }
+  if (doc.contains("transitions")) {
+    const json& rows = doc["transitions"];
+    const std::size_t n = ifs.size();
+    if (!rows.is_array() || rows.size() != n)
+      r.fail("/transitions", "expected " + std::to_string(n) + " rows (one per map) of " + std::to_string(n) + " numbers");
+    std::vector<double> values;
+    for (std::size_t i = 0; i < n; ++i) {
+      auto row = r.numbers(rows[i], "/transitions/" + std::to_string(i), n);
+      values.insert(values.end(), row.begin(), row.end());
+    }
+    try {
+      ifs.set_transitions(TransitionMatrix(n, values));
+    } catch (const InputError& e) {
+      r.fail("/transitions", e.what());
+    }
+  }
+  if (doc.contains("condensation")) {
+    try {
+      ifs.set_condensation(read_condensation(r, doc["condensation"], ifs.dim() - ifs.spatial_dims()));
+    } catch (const InputError& e) {
+      if (std::string(e.what()).rfind(source, 0) == 0) throw;
+      r.fail("/condensation", e.what());
+    }
   }
   if (doc.contains("description")) ifs.set_description(r.text(doc["description"], "/description"));
   if (doc.contains("render")) {
@@ -258,20 +367,53 @@ std::string to_ifs_json(const Ifs& ifs) {
   std::ostringstream out;
   out << "{\n  \"format\": \"" << kFormatVersion << "\",\n  \"name\": " << json(ifs.name()).dump() << ",\n";
   if (!ifs.description().empty()) out << "  \"description\": " << json(ifs.description()).dump() << ",\n";
-  out << "  \"layout\": " << json(ifs.layout().text()).dump() << ",\n  \"maps\": [\n";
-  for (std::size_t i = 0; i < ifs.size(); ++i) {
-    const AffineMap& m = ifs.map(i);
-    json matrix = json::array();
-    for (int r = 0; r < n; ++r) {
-      json row = json::array();
-      for (int c = 0; c < n; ++c) row.push_back(m.a(r, c));
-      matrix.push_back(row);
+  out << "  \"layout\": " << json(ifs.layout().text()).dump() << ",\n";
+  // Maps [first, last) with their probabilities divided by `share` (none for a recurrent system).
+  auto write_maps = [&](std::size_t first, std::size_t last, double share, const std::string& indent) {
+    out << indent << "\"maps\": [\n";
+    for (std::size_t i = first; i < last; ++i) {
+      const AffineMap& m = ifs.map(i);
+      json matrix = json::array();
+      for (int r = 0; r < n; ++r) {
+        json row = json::array();
+        for (int c = 0; c < n; ++c) row.push_back(m.a(r, c));
+        matrix.push_back(row);
+      }
+      out << indent << "  {\"matrix\": " << matrix.dump() << ", \"offset\": " << json(m.offset()).dump();
+      if (!ifs.recurrent()) out << ", \"probability\": " << json(ifs.probabilities()[i] / share).dump();
+      out << "}" << (i + 1 < last ? ",\n" : "\n");
     }
-    out << "    {\"matrix\": " << matrix.dump() << ", \"offset\": " << json(m.offset()).dump()
-        << ", \"probability\": " << json(ifs.probabilities()[i]).dump() << "}"
-        << (i + 1 < ifs.size() ? ",\n" : "\n");
+    out << indent << "]";
+  };
+  const SuperIfs& parts = ifs.super_ifs();
+  if (parts.empty()) {
+    write_maps(0, ifs.size(), 1.0, "  ");
+  } else {
+    out << "  \"variability\": " << parts.variability << ",\n  \"systems\": [\n";
+    for (std::size_t k = 0; k < parts.members(); ++k) {
+      out << "    {\"name\": " << json(parts.names[k]).dump() << ", \"probability\": "
+          << json(parts.probabilities[k]).dump() << ",\n";
+      double share = 0.0;
+      for (std::size_t i = parts.first_map(k); i < parts.first_map(k) + parts.sizes[k]; ++i) share += ifs.probabilities()[i];
+      write_maps(parts.first_map(k), parts.first_map(k) + parts.sizes[k], share, "     ");
+      out << "}" << (k + 1 < parts.members() ? ",\n" : "\n");
+    }
+    out << "  ]";
   }
-  out << "  ]";
+  if (ifs.recurrent()) {
+    json rows = json::array();
+    for (std::size_t i = 0; i < ifs.size(); ++i) rows.push_back(ifs.transitions().row(i));
+    out << ",\n  \"transitions\": " << rows.dump();
+  }
+  const Condensation& c = ifs.condensation();
+  if (!c.empty()) {
+    json j = json::object();
+    if (!c.polylines.empty()) j["polylines"] = c.polylines;
+    if (!c.polygons.empty()) j["polygons"] = c.polygons;
+    if (!c.channels.empty()) j["channels"] = c.channels;
+    j["probability"] = c.probability;
+    out << ",\n  \"condensation\": " << j.dump();
+  }
   const RenderDefaults& d = ifs.render_defaults();
   json render = json::object();
   if (!d.window.empty()) render["window"] = d.window;

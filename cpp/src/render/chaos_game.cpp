@@ -9,6 +9,7 @@
 #define IFSFORGE_CHAOS_AVX2 1
 #endif
 
+#include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/random.h"
@@ -33,10 +34,12 @@ JobPlan plan_jobs(std::uint64_t total, std::uint64_t lanes) {
 
 /// The general nD path: double precision, any layout, channels carried. The dimension is a
 /// template parameter so the map and the projection unroll (3-4x faster than a runtime loop).
+/// A recurrent system (3.3.1) draws each map from the row of the map before it (`rows`, one
+/// sampler per map); an ordinary one from `sampler` (rows is null).
 template <int N>
 void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapSampler& sampler,
-                     std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
-                     std::uint64_t job, Accumulator& acc) {
+                     const std::vector<MapSampler>* rows, std::uint64_t points, std::uint64_t skip,
+                     std::uint64_t seed, std::uint64_t job, Accumulator& acc) {
   constexpr int kSpatialMax = N < 3 ? N : 3;
   struct Map {
     double a[N][N], b[N];
@@ -62,8 +65,10 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapSampler& sampl
   const Point start = ifs.start_point();
   double p[N], q[N];
   for (int c = 0; c < N; ++c) p[c] = start[c];
+  std::uint32_t state = rows ? sampler(rng.next()) : 0;  // recurrent: the previous map
   auto step = [&] {
-    const Map& m = maps[sampler(rng.next())];
+    if (rows) state = (*rows)[state](rng.next());
+    const Map& m = maps[rows ? state : sampler(rng.next())];
     for (int r = 0; r < N; ++r) {
       double value = m.b[r];
       for (int c = 0; c < N; ++c) value += m.a[r][c] * p[c];
@@ -84,12 +89,13 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapSampler& sampl
     const bool inside = px >= 0.0 && px < w && py >= 0.0 && py < h;
     const std::size_t pixel = inside ? std::size_t(py) * frame.width() + std::size_t(px) : trash;
     acc.add(pixel, N > 3 || spatial < N ? p + spatial : nullptr);
-    if (spatial == 3) acc.add_depth(pixel, toward[0] * p[0] + toward[1] * p[1] + toward[2] * p[2]);
+    if constexpr (N >= 3)
+      if (spatial == 3) acc.add_depth(pixel, toward[0] * p[0] + toward[1] * p[1] + toward[2] * p[2]);
   }
 }
 
-using ChaosJob = void (*)(const Ifs&, const Frame&, const MapSampler&, std::uint64_t, std::uint64_t,
-                          std::uint64_t, std::uint64_t, Accumulator&);
+using ChaosJob = void (*)(const Ifs&, const Frame&, const MapSampler&, const std::vector<MapSampler>*,
+                          std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t, Accumulator&);
 
 ChaosJob chaos_job_for(int dim) {
   static constexpr ChaosJob kJobs[] = {chaos_job_fixed<2>, chaos_job_fixed<3>, chaos_job_fixed<4>, chaos_job_fixed<5>,
@@ -232,6 +238,9 @@ void chaos_job_avx2(const PixelMaps& maps, const Frame& frame, const Point& star
 }  // namespace
 
 Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
+  if (!ifs.condensation().empty())
+    throw InputError("random iteration does not draw condensation sets: render '" + ifs.name() +
+                     "' with dia, mpa or self-congruent");
   ifs.require_attractor();
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
   const std::uint64_t total = options.iterations ? options.iterations
@@ -243,7 +252,7 @@ Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
   const int threads = resolve_threads(options.threads);
   const std::size_t pixels = std::size_t(frame.width()) * frame.height();
 #ifdef IFSFORGE_CHAOS_AVX2
-  const bool simd = ifs.dim() == 2 && ifs.size() <= 8;
+  const bool simd = ifs.dim() == 2 && ifs.size() <= 8 && !ifs.recurrent();
 #else
   const bool simd = false;
 #endif
@@ -259,6 +268,8 @@ Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
     if (ifs.spatial_dims() == 3) acc.back().enable_depth();
   }
   const MapSampler sampler(ifs.probabilities());
+  std::vector<MapSampler> rows;
+  for (std::size_t i = 0; i < ifs.size() && ifs.recurrent(); ++i) rows.emplace_back(ifs.transitions().row(i));
   const ChaosJob scalar_job = chaos_job_for(ifs.dim());
 
 #ifdef IFSFORGE_CHAOS_AVX2
@@ -291,7 +302,8 @@ Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
           return;
         }
 #endif
-        scalar_job(ifs, frame, sampler, plan.points_per_job, options.skip, options.seed, job, acc[worker]);
+        scalar_job(ifs, frame, sampler, rows.empty() ? nullptr : &rows, plan.points_per_job, options.skip,
+                   options.seed, job, acc[worker]);
       },
       options.progress);
 

@@ -26,6 +26,13 @@ struct LeafList {
 }  // namespace
 
 Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) const {
+  // The address tree knows neither the transitions' forbidden words nor the set C of w_0.
+  if (ifs.recurrent())
+    throw InputError("point recursive rendering does not follow transitions: render recurrent system '" +
+                     ifs.name() + "' with chaos, probabilistic-domain or photocopy");
+  if (!ifs.condensation().empty())
+    throw InputError("point recursive rendering has no condensation set: render '" + ifs.name() +
+                     "' with dia, mpa or self-congruent");
   ifs.require_attractor();
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
   const int eq59 = default_depth(ifs.size(), frame.width(), frame.height());

@@ -2,9 +2,21 @@
 #include <memory>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/render/accurate_fractal.h"
 #include "ifsforge/render/chaos_game.h"
 #include "ifsforge/render/colour_stealing.h"
+#include "ifsforge/render/constant_mass.h"
+#include "ifsforge/render/deterministic_iteration.h"
+#include "ifsforge/render/escape_time.h"
+#include "ifsforge/render/image_based.h"
+#include "ifsforge/render/minimal_plotting.h"
 #include "ifsforge/render/point_recursive.h"
+#include "ifsforge/render/probabilistic_domain.h"
+#include "ifsforge/render/recurrent_photocopy.h"
+#include "ifsforge/render/self_congruent.h"
+#include "ifsforge/render/string_rewriting.h"
+#include "ifsforge/render/superfractal.h"
+#include "ifsforge/render/tesseral_synecdoche.h"
 
 namespace ifsforge {
 namespace {
@@ -19,7 +31,19 @@ const std::vector<Entry>& registry() {
     std::vector<Entry> e;
     e.push_back({std::make_unique<ChaosGame>(), {"ria", "random"}});
     e.push_back({std::make_unique<ColourStealing>(), {"cs-ria", "color-stealing"}});
+    e.push_back({std::make_unique<DeterministicIteration>(), {"deterministic-iteration"}});
+    e.push_back({std::make_unique<Superfractal>(), {"superfractal"}});
+    e.push_back({std::make_unique<MinimalPlotting>(), {"minimal-plotting"}});
+    e.push_back({std::make_unique<ConstantMass>(), {"constant-mass"}});
+    e.push_back({std::make_unique<EscapeTime>(), {"escape-time"}});
+    e.push_back({std::make_unique<StringRewriting>(), {"srwa", "strings"}});
+    e.push_back({std::make_unique<TesseralSynecdoche>(), {"tesseral-synecdoche"}});
     e.push_back({std::make_unique<PointRecursive>(), {"point-recursive"}});
+    e.push_back({std::make_unique<ImageBased>(), {"image-based"}});
+    e.push_back({std::make_unique<AccurateFractal>(), {"accurate-fractal"}});
+    e.push_back({std::make_unique<SelfCongruent>(), {"growth"}});
+    e.push_back({std::make_unique<RecurrentPhotocopy>(), {"recurrent-photocopy"}});
+    e.push_back({std::make_unique<ProbabilisticDomain>(), {"vrpda"}});
     return e;
   }();
   return entries;

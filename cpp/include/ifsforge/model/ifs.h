@@ -7,6 +7,9 @@
 
 #include "ifsforge/model/affine_map.h"
 #include "ifsforge/model/channel_layout.h"
+#include "ifsforge/model/condensation.h"
+#include "ifsforge/model/recurrent.h"
+#include "ifsforge/model/super_ifs.h"
 
 namespace ifsforge {
 
@@ -74,6 +77,20 @@ class Ifs {
   /// support may be unbounded).
   Bounds attractor_bounds(std::size_t samples = 1u << 20) const;
 
+  /// @name Extensions of the model (the setters validate; they are defined in recurrent.cpp,
+  /// super_ifs.cpp and condensation.cpp). At most one of them is set on a system.
+  /// @brief Recurrent IFS (3.3.1): empty, or N x N transitions. Setting them replaces the
+  /// probabilities by the chain's stationary distribution (the long-run map frequencies).
+  const TransitionMatrix& transitions() const { return transitions_; }
+  void set_transitions(TransitionMatrix transitions);
+  bool recurrent() const { return !transitions_.empty(); }
+  /// @brief Super IFS (3.3.5): how the maps split into member systems; empty for one system.
+  const SuperIfs& super_ifs() const { return super_; }
+  void set_super_ifs(SuperIfs super_ifs);
+  /// @brief Condensation set (3.1): empty, or the set C of w_0 (2D systems).
+  const Condensation& condensation() const { return condensation_; }
+  void set_condensation(Condensation condensation);
+
  private:
   std::string name_ = "untitled";
   std::string description_;
@@ -81,6 +98,9 @@ class Ifs {
   ChannelLayout layout_;
   std::vector<AffineMap> maps_;
   std::vector<double> probabilities_;
+  TransitionMatrix transitions_;
+  SuperIfs super_;
+  Condensation condensation_;
 };
 
 /// @brief Calls `visit` with `count` points of a seeded random iteration (5.1.1) that starts

@@ -2,6 +2,7 @@
 /// @file The common interface of the 2D rendering algorithms (seed chapter 5) and their
 /// registry, so that Python and the CLI choose one by name.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -32,6 +33,15 @@ struct RenderOptions {
   /// it (same number of maps; default: a grid of cells over the unit square).
   std::shared_ptr<const Image> reference_image;
   std::shared_ptr<const Ifs> reference_system;
+  /// Algorithm-specific settings by name, as text (Renderer::parameters() lists each
+  /// algorithm's names and defaults; an unknown name is an InputError).
+  std::map<std::string, std::string> parameters;
+};
+
+/// @brief One algorithm-specific setting: its name, default ("" = chosen automatically) and
+/// what it does.
+struct RendererParameter {
+  std::string name, default_value, description;
 };
 
 class Renderer {
@@ -41,6 +51,8 @@ class Renderer {
   virtual std::string description() const = 0;
   /// @brief Renders `ifs` (which must have an attractor) into a raster.
   virtual Raster render(const Ifs& ifs, const RenderOptions& options) const = 0;
+  /// @brief The settings this algorithm reads from RenderOptions::parameters.
+  virtual std::vector<RendererParameter> parameters() const { return {}; }
 };
 
 /// @brief The renderer called `name` (or one of its aliases); InputError lists the choices.

@@ -10,4 +10,6 @@ def register(subparsers):
 def run(args):
     for name, description in ifsforge.renderers():
         print(f"{name:18s} {description}")
+        for key, default, text in ifsforge.renderer_parameters(name):
+            print(f"{'':20s}--param {key}={default or '(auto)'}: {text}")
     return 0

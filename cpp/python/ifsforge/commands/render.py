@@ -28,6 +28,8 @@ def register(subparsers):
     p.add_argument("--view", type=float, nargs=2, metavar=("YAW", "PITCH"), help="3D systems: degrees")
     p.add_argument("--reference", help="colour-stealing: the picture colours come from")
     p.add_argument("--reference-system", help="colour-stealing: the system that walks the picture")
+    p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
+                   help="an algorithm setting, repeatable (`ifsforge algorithms` lists them)")
     p.set_defaults(run=run)
 
 
@@ -49,7 +51,8 @@ def run(args):
     raster = ifsforge.render(
         system, algorithm, width, height, window=window, view=view, iterations=args.iterations,
         depth=args.depth, seed=args.seed, threads=args.threads, binary=args.mode == "binary",
-        points_per_pixel=args.points_per_pixel, progress=ProgressBar(f"render {system.name}"), **extra)
+        points_per_pixel=args.points_per_pixel, progress=ProgressBar(f"render {system.name}"),
+        parameters=common.parse_parameters(args.param), **extra)
     image = raster.to_image(args.mode, args.gamma, args.invert)
     ifsforge.write_png(args.output, image, args.bits)
     print(f"{args.output}: {width}x{height} {algorithm}, {raster.points} points, "

@@ -1,0 +1,67 @@
+"""The iso-surface of the system's volume (seed chapter 7: voxels have no normals, an
+iso-surface gives ray tracers a surface): ifsforge.volume_to_mesh, as a mesh object whose
+material reads the per-vertex colour ("ifs_color") when the layout has colour."""
+import bpy
+
+import ifsforge
+
+from . import mesh_data
+from .generate_volume import render_volume
+from .generators import Generator, link_object, register_generator
+
+
+class MeshGenerator(Generator):
+    kind = 'MESH'
+    label = "Iso-surface"
+    suffix = ""  # the mesh lives in the .blend
+
+    def missing(self):
+        needs = ("render_volume", "volume_to_mesh")
+        absent = [name for name in needs if not hasattr(ifsforge, name)]
+        return f"this ifsforge build has no iso-surfaces ({', '.join(absent)})" if absent else ""
+
+    def draw(self, layout, settings, system):
+        layout.prop(settings, "volume_resolution")
+        layout.prop(settings, "volume_algorithm")
+        layout.prop(settings, "mesh_iso")
+        layout.prop(settings, "mesh_adaptivity")
+
+    def work(self, system, settings, path, progress):
+        if system.spatial_dims != 3:
+            raise ifsforge.InputError(f"'{system.name}' is planar ({system.layout}): iso-surfaces need an xyz layout")
+        volume = render_volume(system, dict(settings, volume_density="binary"), progress)
+        mesh = ifsforge.volume_to_mesh(volume, iso=settings["mesh_iso"], adaptivity=settings["mesh_adaptivity"])
+        return {"path": None, "mesh": mesh,
+                "summary": f"{len(mesh['positions']):,} vertices, {len(mesh['triangles']):,} triangles from "
+                           f"{len(volume):,} voxels"}
+
+    def apply(self, context, owner, result, name):
+        if owner is None:
+            owner = bpy.data.objects.new(name, bpy.data.meshes.new(name))
+            link_object(context, owner)
+        data = result["mesh"]
+        mesh_data.fill_mesh(owner.data, data["positions"], data["triangles"], normals=data["normals"],
+                            colors=data["colors"])
+        owner.data.materials.clear()
+        owner.data.materials.append(material(f"{name} surface", data["colors"] is not None))
+        return owner
+
+
+def material(name, coloured):
+    mat = bpy.data.materials.get(name) or bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.clear()
+    shader = nodes.new('ShaderNodeBsdfPrincipled')
+    output = nodes.new('ShaderNodeOutputMaterial')
+    links.new(shader.outputs["BSDF"], output.inputs["Surface"])
+    if coloured:
+        attribute = nodes.new('ShaderNodeAttribute')
+        attribute.attribute_type, attribute.attribute_name = 'GEOMETRY', "ifs_color"
+        links.new(attribute.outputs["Color"], shader.inputs["Base Color"])
+        attribute.location = (-300, 0)
+    output.location = (300, 0)
+    return mat
+
+
+register_generator(MeshGenerator())

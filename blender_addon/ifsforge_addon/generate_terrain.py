@@ -1,0 +1,132 @@
+"""Fractal terrains (seed 6.1.3.4): control heights (sampled from the system's attractor, seeded
+at random, or from a terrain recipe) interpolated by fractal interpolation along and across
+the leading vectors; a mesh object whose material looks the height up in a fractal palette."""
+import bpy
+import numpy as np
+
+import ifsforge
+
+from . import mesh_data, outputs, palettes
+from .generators import Generator, link_object, register_generator
+
+ATTRACTOR_IMAGE = 256  # pixels of the density image the control heights are sampled from
+
+
+class TerrainGenerator(Generator):
+    kind = 'TERRAIN'
+    label = "Terrain"
+    suffix = "_palette.png"
+
+    def missing(self):
+        if hasattr(ifsforge, "make_terrain"):
+            return ""
+        return "this ifsforge build has no terrains (ifsforge.make_terrain)"
+
+    def draw(self, layout, settings, system):
+        layout.prop(settings, "terrain_source")
+        if settings.terrain_source == 'RECIPE':
+            layout.prop(settings, "terrain_recipe")
+            return
+        layout.prop(settings, "terrain_grid")
+        layout.prop(settings, "terrain_controls")
+        layout.prop(settings, "terrain_roughness")
+        layout.prop(settings, "terrain_resolution")
+        layout.prop(settings, "terrain_size")
+        layout.prop(settings, "terrain_height")
+        layout.prop(settings, "palette_recipe")
+        layout.prop(settings, "palette_entries")
+        if system is not None and system.spatial_dims == 3 and settings.terrain_source == 'ATTRACTOR':
+            layout.prop(settings, "view")
+
+    def resolve(self, settings):
+        settings["palette_recipe"] = palettes.recipe_path(settings)
+        if settings["terrain_source"] == 'RECIPE':
+            if not settings["terrain_recipe"]:
+                raise ifsforge.InputError("choose a terrain recipe file (or another height source)")
+            settings["terrain_recipe"] = bpy.path.abspath(settings["terrain_recipe"])
+        return settings
+
+    def work(self, system, settings, path, progress):
+        if settings["terrain_source"] == 'RECIPE':
+            recipe = ifsforge.read_terrain_recipe(settings["terrain_recipe"])
+            controls, columns, rows = recipe.controls, recipe.columns, recipe.rows
+            palette = recipe.palette.make()
+        else:
+            controls = self.controls(system, settings)
+            columns = rows = settings["terrain_resolution"]
+            palette = palettes.make(settings["palette_recipe"], settings["palette_entries"])[1]
+        terrain = ifsforge.make_terrain(controls, columns, rows, progress=progress)
+        mesh = terrain.mesh(palette=palette, up="z")
+        ifsforge.write_png(path, palette.to_image(1), 16)
+        return {"path": path, "mesh": mesh,
+                "summary": f"{terrain.grid} terrain, {terrain.columns}x{terrain.rows} samples, heights "
+                           f"{terrain.min_height:.3g} to {terrain.max_height:.3g}"}
+
+    @staticmethod
+    def controls(system, settings):
+        """Control heights from the attractor's density image or from the seed."""
+        grid, n, seed = settings["terrain_grid"], settings["terrain_controls"], settings["seed"]
+        size, height = settings["terrain_size"], settings["terrain_height"]
+        controls = ifsforge.TerrainControls()
+        controls.grid = grid
+        if settings["terrain_source"] == 'ATTRACTOR':
+            view = settings["view"] if system.spatial_dims == 3 else None
+            image = ifsforge.render(system, "chaos", ATTRACTOR_IMAGE, view=view, seed=seed).to_image("density")
+            ifsforge.sample_heights(controls, n, n, image, low=0.0, high=height)
+        else:
+            controls.heights = ifsforge.random_heights(grid, n, n, base=[0.5 * height], amplitude=0.5 * height,
+                                                       seed=seed)
+        if grid == "circular":
+            controls.radii = [float(r) for r in np.linspace(0.0, size / 2, n)]
+        if grid == "irregular":
+            ifsforge.random_shifts(controls, 0.3, seed)
+        u_maps = n if grid == "circular" else n - 1
+        controls.a22_u = list(ifsforge.vertical_scaling(u_maps, settings["terrain_roughness"][0], "random", seed))
+        controls.a22_v = list(ifsforge.vertical_scaling(n - 1, settings["terrain_roughness"][1], "random", seed, 1))
+        controls.size_x = controls.size_y = size
+        return controls
+
+    def apply(self, context, owner, result, name):
+        if owner is None:
+            owner = bpy.data.objects.new(name, bpy.data.meshes.new(name))
+            link_object(context, owner)
+        mesh, data = owner.data, result["mesh"]
+        mesh_data.fill_mesh(mesh, data["positions"], data["triangles"], normals=data["normals"], uvs=data["uvs"],
+                            colors=data.get("colors"), color_name="ifs_palette")
+        mat = material(f"{name} terrain", palette_image(f"{name} palette", result["path"]))
+        mesh.materials.clear()
+        mesh.materials.append(mat)
+        return owner
+
+
+def palette_image(name, path):
+    image = bpy.data.images.get(name)
+    if image is None:
+        image = bpy.data.images.load(path, check_existing=False)
+        image.name = name
+    image.filepath = outputs.stored(path)
+    image.reload()
+    return image
+
+
+def material(name, image):
+    """The palette strip looked up by the mesh's uv (u = normalised height)."""
+    mat = bpy.data.materials.get(name) or bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.clear()
+    uv = nodes.new('ShaderNodeUVMap')
+    uv.uv_map = "UVMap"
+    texture = nodes.new('ShaderNodeTexImage')
+    texture.image, texture.extension, texture.interpolation = image, 'EXTEND', 'Linear'
+    shader = nodes.new('ShaderNodeBsdfPrincipled')
+    shader.inputs["Roughness"].default_value = 0.9
+    output = nodes.new('ShaderNodeOutputMaterial')
+    links.new(uv.outputs["UV"], texture.inputs["Vector"])
+    links.new(texture.outputs["Color"], shader.inputs["Base Color"])
+    links.new(shader.outputs["BSDF"], output.inputs["Surface"])
+    uv.location, texture.location, shader.location, output.location = (-600, 0), (-350, 0), (0, 0), (300, 0)
+    return mat
+
+
+register_generator(TerrainGenerator())

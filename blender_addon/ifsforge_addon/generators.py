@@ -1,0 +1,113 @@
+"""Generators: each turns a system and its settings into a file with the ifsforge module (on
+a worker thread, no bpy) and then into a datablock (on the main thread). One module per
+kind; this one holds what they share and the registry."""
+import hashlib
+import json
+
+import bpy
+
+import ifsforge
+
+from . import outputs
+from .properties import restore
+
+_registry = {}
+
+
+class Generator:
+    kind = 'NONE'
+    label = ""
+    suffix = ""
+    datablock = "object"  # or "image": where the parameters are stored
+
+    def missing(self):
+        """'' when the ifsforge module provides what this generator needs, else why not."""
+        return ""
+
+    def draw(self, layout, settings, system):
+        """The generator's settings in its panel (`system`: the edited ifsforge.Ifs or None)."""
+
+    def resolve(self, settings):
+        """Runs on the main thread before work(): settings that need bpy (paths relative to
+        the .blend) made plain. Returns the settings to hand to work()."""
+        return settings
+
+    def work(self, system, settings, path, progress):
+        """Runs on a worker thread: writes `path`, returns a dict for apply()."""
+        raise NotImplementedError
+
+    def apply(self, context, owner, result, name):
+        """Runs on the main thread: creates (owner None) or updates the datablock."""
+        raise NotImplementedError
+
+
+def register_generator(generator):
+    _registry[generator.kind] = generator
+    return generator
+
+
+def get(kind):
+    return _registry[kind]
+
+
+def registered(kind):
+    return kind in _registry
+
+
+def unique_name(generator, base):
+    """`base`, or `base.001`, ... : a name no datablock of the generator's type has yet, so
+    that a new datablock's file never overwrites another's."""
+    taken = bpy.data.images if generator.datablock == "image" else bpy.data.objects
+    name, k = base, 0
+    while name in taken:
+        k += 1
+        name = f"{base}.{k:03d}"
+    return name
+
+
+def animated(owner):
+    """True when the owner's stored system or settings carry keyframes."""
+    data = getattr(owner, "animation_data", None)
+    return bool(data and data.action and any(fc.data_path.startswith("ifsforge.") for fc in data.action.fcurves))
+
+
+def output_path(context, generator, name, values):
+    """Where the generator writes (None for generators that write nothing): the datablock's
+    name and a digest of everything the output depends on. Outputs are deterministic, so equal
+    names mean equal contents, and a changed parameter (a new frame of an animation, an edit)
+    means a new file: Blender keeps the grids of a .vdb it has read by path, so rewriting a file
+    under its old name would not show."""
+    if not generator.suffix:
+        return None
+    text = json.dumps([generator.kind, ifsforge.__version__, values], sort_keys=True, default=list)
+    digest = hashlib.sha1(text.encode()).hexdigest()[:12]
+    return outputs.path_for(context.scene, f"{name}-{digest}", generator.suffix)
+
+
+def store(owner, generator, source, result):
+    """Records on the datablock what came out, and what it was made from when `source` (a
+    properties.snapshot) is given: a new datablock keeps the design it was generated from."""
+    data = owner.ifsforge
+    if source is not None:
+        restore(source, data.system, data.settings)
+    previous = bpy.path.abspath(data.output) if data.output else ""
+    data.kind = generator.kind
+    data.output = outputs.stored(result["path"]) if result.get("path") else ""
+    if previous and previous != result.get("path"):
+        outputs.remove_unused(previous)
+    data.summary = result.get("summary", "")
+
+
+def link_object(context, obj):
+    """Puts a new object in the active collection and makes it the active, selected one."""
+    context.collection.objects.link(obj)
+    for other in context.view_layer.objects.selected:
+        other.select_set(False)
+    obj.select_set(True)
+    context.view_layer.objects.active = obj
+
+
+def owner_by_name(generator, name):
+    """The datablock a generator stores its parameters on, by name (None when gone)."""
+    collection = bpy.data.images if generator.datablock == "image" else bpy.data.objects
+    return collection.get(name)

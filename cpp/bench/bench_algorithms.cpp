@@ -1,0 +1,73 @@
+// The rendering-algorithm catalogue at the seed's reference size (5.13.1: a 1000 x 1000 binary
+// image of a 5-map IFS): time and operation count of every chapter-5 algorithm.
+// Targets: every deterministic algorithm except escape time < 100 ms, escape time < 2 s,
+// image-based rendering < 50 ms. Run: build/cpp/bench/bench_algorithms [--benchmark_filter=...]
+// The "ops" counter is the algorithm's own operation count (Raster::points; see each
+// renderer's documentation), printed beside the seed's estimate "seed_ops".
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <string>
+
+#include "ifsforge/render/renderer.h"
+
+using namespace ifsforge;
+
+namespace {
+
+/// The Vicsek cross: five copies at a third of the size (centre and corners), just touching,
+/// no rotation: non-overlapping, linear, hyperbolic, as 5.13.1 assumes, and a tile system, so
+/// that every algorithm (AFRA too) applies.
+Ifs vicsek() {
+  std::vector<AffineMap> maps;
+  const double t = 1.0 / 3.0;
+  const double offsets[5][2] = {{0, 0}, {2 * t, 0}, {t, t}, {0, 2 * t}, {2 * t, 2 * t}};
+  for (const auto& o : offsets) maps.emplace_back(2, std::vector<double>{t, 0, 0, t}, std::vector<double>{o[0], o[1]});
+  return Ifs("vicsek", ChannelLayout("xy"), maps, std::vector<double>(5, 1.0));
+}
+
+/// The seed's operation counts for H = V = 1000, N = 5 (5.13.1, Eq. 75-88; SEED-NOTES).
+const std::map<std::string, double>& seed_estimates() {
+  static const std::map<std::string, double> estimates = {
+      {"chaos", 8e6},           {"dia", 100e6},         {"dia-s", 320e6}, {"mpa", 0.5e6},
+      {"cma", 100e6},           {"eta", 1.28e9},        {"string-rewriting", 781250},
+      {"tsa", 0.8e6},           {"prr", 390625},        {"ibr", 1e6},     {"afra", 780000}};
+  return estimates;
+}
+
+void render_algorithm(benchmark::State& state, const std::string& name) {
+  const Ifs system = vicsek();
+  RenderOptions o;
+  o.width = o.height = 1000;
+  o.window = Window{-0.01, -0.01, 1.01, 1.01};
+  o.binary = true;
+  o.threads = static_cast<int>(state.range(0));
+  const Renderer& r = renderer(name);
+  std::uint64_t ops = 0, covered = 0;
+  for (auto _ : state) {
+    const Raster raster = r.render(system, o);
+    ops = raster.points;
+    covered = raster.covered();
+    benchmark::DoNotOptimize(raster.density.data());
+  }
+  state.counters["ops"] = static_cast<double>(ops);
+  state.counters["covered"] = static_cast<double>(covered);
+  const auto it = seed_estimates().find(name);
+  if (it != seed_estimates().end()) state.counters["seed_ops"] = it->second;
+}
+
+const bool registered = [] {
+  for (const Renderer* r : renderers()) {
+    if (r->name() == "colour-stealing") continue;  // needs a picture; same work as chaos
+    benchmark::RegisterBenchmark(("Algorithm1000/" + r->name()).c_str(), render_algorithm, r->name())
+        ->Arg(1)
+        ->Arg(2)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  }
+  return true;
+}();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,118 @@
+// Volumes: the seed's Table 2 (four volumetric renderers on a 100^3 3D RGB IFS with 5 maps)
+// and the speed targets of PRR into an OpenVDB file (256^3, 512^3, 1024^3), 1 vs 2 threads,
+// and the seed's real-time criterion (>= 10 volumes per second) at 128^3.
+//
+//   build/cpp/bench/bench_volume                                  # everything
+//   build/cpp/bench/bench_volume --benchmark_filter=TableTwo      # Table 2 only
+//   build/cpp/bench/bench_volume --benchmark_filter='PrrToVdb/1024'   # peak memory of 1024^3 alone
+//
+// Counters: voxels (occupied), depth, peak_rss_mb (the process's peak resident memory so far:
+// run a size alone to read its own peak).
+#include <benchmark/benchmark.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <string>
+
+#include "ifsforge/io/ifs_json.h"
+#include "ifsforge/io/vdb.h"
+#include "ifsforge/volume/volume_renderer.h"
+
+namespace {
+
+using namespace ifsforge;
+
+/// Table 2's system: the 5-map Sierpinski pyramid as a 3D + RGB (6D) IFS.
+const Ifs& pyramid() {
+  static const Ifs ifs = [] {
+    std::string here = __FILE__;
+    here = here.substr(0, here.rfind('/'));
+    return read_ifs_json(here + "/../../samples/systems/volume_sierpinski_pyramid_rgb.json");
+  }();
+  return ifs;
+}
+
+double peak_rss_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024.0;
+}
+
+void report(benchmark::State& state, const Volume& v) {
+  state.counters["voxels"] = static_cast<double>(v.size());
+  state.counters["depth"] = v.depth;
+  state.counters["peak_rss_mb"] = peak_rss_mb();
+}
+
+// Table 2: 100^3, each renderer with its defaults (occupancy-driven stopping rules).
+void BM_TableTwo(benchmark::State& state, const char* algorithm) {
+  VolumeOptions o;
+  o.resolution = 100;
+  Volume v;
+  for (auto _ : state) v = render_volume(pyramid(), algorithm, o);
+  report(state, v);
+}
+BENCHMARK_CAPTURE(BM_TableTwo, prr, "prr")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_TableTwo, ria, "ria")->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK_CAPTURE(BM_TableTwo, dia, "dia")->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK_CAPTURE(BM_TableTwo, eta, "eta")->Unit(benchmark::kMillisecond)->Iterations(2);
+
+// The seed's own settings in Table 2: five levels of volume rewriting, escape bound 10.
+void BM_TableTwoSeedSettings(benchmark::State& state, const char* algorithm) {
+  VolumeOptions o;
+  o.resolution = 100;
+  o.depth = std::string(algorithm) == "dia" ? 5 : 0;
+  o.escape_bound = std::string(algorithm) == "eta" ? 10 : 0;
+  Volume v;
+  for (auto _ : state) v = render_volume(pyramid(), algorithm, o);
+  report(state, v);
+}
+BENCHMARK_CAPTURE(BM_TableTwoSeedSettings, dia_5_levels, "dia")->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK_CAPTURE(BM_TableTwoSeedSettings, eta_bound_10, "eta")->Unit(benchmark::kMillisecond)->Iterations(2);
+
+// PRR into a .vdb file (render + OpenVDB write), all cores: the targets are 256^3 < 150 ms,
+// 512^3 < 1 s, 1024^3 < 8 s with peak memory under 4 GB.
+void BM_PrrToVdb(benchmark::State& state) {
+  VolumeOptions o;
+  o.resolution = static_cast<int>(state.range(0));
+  const std::string path = "/tmp/ifsforge_bench_volume_" + std::to_string(getpid()) + ".vdb";
+  VdbWriteOptions w;
+  w.system = &pyramid();
+  Volume v;
+  for (auto _ : state) {
+    v = render_volume(pyramid(), "prr", o);
+    write_vdb(path, v, w);
+  }
+  report(state, v);
+  std::remove(path.c_str());
+}
+BENCHMARK(BM_PrrToVdb)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PrrToVdb)->Arg(512)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_PrrToVdb)->Arg(1024)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// Threads: the same 512^3 volume on 1 and on 2 threads (identical bytes, see the tests).
+void BM_PrrThreads(benchmark::State& state) {
+  VolumeOptions o;
+  o.resolution = 512;
+  o.threads = static_cast<int>(state.range(0));
+  Volume v;
+  for (auto _ : state) v = render_volume(pyramid(), "prr", o);
+  report(state, v);
+}
+BENCHMARK(BM_PrrThreads)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// The seed's real-time criterion: at least 10 volumes per second at 128^3 (render only).
+void BM_PrrRealTime(benchmark::State& state) {
+  VolumeOptions o;
+  o.resolution = 128;
+  Volume v;
+  for (auto _ : state) v = render_volume(pyramid(), "prr", o);
+  state.SetItemsProcessed(state.iterations());
+  report(state, v);
+}
+BENCHMARK(BM_PrrRealTime)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

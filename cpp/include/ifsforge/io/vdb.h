@@ -1,0 +1,63 @@
+#pragma once
+/// @file OpenVDB files and iso-surfaces of volumes. OpenVDB stays behind this header (and its
+/// .cpp, the only file that includes it).
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "ifsforge/io/mesh.h"
+#include "ifsforge/model/ifs.h"
+#include "ifsforge/volume/volume.h"
+
+namespace ifsforge {
+
+struct VdbWriteOptions {
+  ColorScale color_scale = ColorScale::Auto;
+  /// The system the volume was rendered from: its ifsforge/1 JSON, name and layout go into
+  /// the file's metadata (ifsforge_system, ifsforge_name, ifsforge_layout).
+  const Ifs* system = nullptr;
+  /// Extra file metadata (string values).
+  std::map<std::string, std::string> metadata;
+};
+
+/// @brief Writes `volume` as a .vdb: FloatGrid "density" (a fog volume), Vec3fGrid "color"
+/// (RGB in [0, 1]) when the layout has colour, FloatGrids for the other channels ("gray",
+/// "alpha", ...; see volume_attributes). Every grid has the same active voxels and a transform
+/// that puts voxel (i, j, k)'s centre at origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size in
+/// the system's coordinates. File metadata describes the volume (algorithm, depth, points,
+/// density, grid origin, voxel size and dimensions, channel ranges), the source system when
+/// given, and options.metadata. Atomic; FileError when it cannot write.
+void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOptions& options = {});
+
+struct VdbGridInfo {
+  std::string name, type;       ///< e.g. "density", "float"; "color", "vec3s"
+  std::uint64_t active_voxels = 0;
+  double voxel_size = 0.0;
+  std::array<int, 6> index_bounds{};  ///< active voxels: imin jmin kmin imax jmax kmax
+};
+struct VdbFileInfo {
+  std::vector<VdbGridInfo> grids;
+  std::map<std::string, std::string> metadata;  ///< file metadata, values as text
+};
+/// @brief What a .vdb holds (any .vdb, not only ours); FileError when it cannot be read.
+VdbFileInfo read_vdb_info(const std::string& path);
+
+struct IsoSurfaceOptions {
+  /// The level of the surface: of the occupancy (1 in occupied voxels, 0 elsewhere) by
+  /// default, or of the density grid when use_density is set.
+  double iso = 0.5;
+  bool use_density = false;
+  /// 0: every voxel-sized polygon; up to 1: merge flat regions (fewer triangles).
+  double adaptivity = 0.0;
+  ColorScale color_scale = ColorScale::Auto;
+};
+
+/// @brief The iso-surface of a volume (OpenVDB's volume-to-mesh, seed 7's iso-surfaces) as
+/// triangles counter-clockwise seen from outside, in the system's coordinates, with normals
+/// and, when the volume has colour, per-vertex RGBA: the colours of the occupied voxels around
+/// each vertex, trilinearly weighted.
+TriangleMesh volume_to_mesh(const Volume& volume, const IsoSurfaceOptions& options = {});
+
+}  // namespace ifsforge

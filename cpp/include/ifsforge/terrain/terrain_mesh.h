@@ -1,0 +1,41 @@
+#pragma once
+/// @file A terrain as a triangle mesh (normals, palette UVs and colours) and its files.
+#include <cmath>
+#include <string>
+
+#include "ifsforge/io/mesh.h"
+#include "ifsforge/terrain/terrain.h"
+#include "ifsforge/texture/palette.h"
+
+namespace ifsforge {
+
+struct TerrainMeshOptions {
+  /// Close the surface with walls down to `base` and a floor: a watertight solid (every
+  /// edge shared by exactly two triangles). Otherwise an open sheet whose only boundary is
+  /// the outline.
+  bool solid = false;
+  /// The floor height of a solid; NaN: 10% of the height range (at least 1% of the
+  /// horizontal extent) below the lowest point.
+  double base = std::nan("");
+  /// 'y': (x, height, -y), the glTF and OBJ convention (Blender's importers turn it to z up);
+  /// 'z': (x, y, height).
+  char up = 'y';
+  /// Vertex colours from this palette by height (empty palette: no colours).
+  Palette palette;
+};
+
+/// @brief The lattice as a mesh: one vertex per sample (a circular grid's centre is one
+/// vertex and its circle closes without a seam), two triangles per cell, counter-clockwise
+/// seen from above. Normals from the surface's central differences; uv = (normalised
+/// height, 0.5), the coordinate of a palette strip used as base-colour texture.
+/// Vertex count: columns x rows (circular: 1 + columns (rows - 1)); a solid adds one floor
+/// vertex per outline vertex and one at the floor's centre.
+TriangleMesh terrain_mesh(const Terrain& terrain, const TerrainMeshOptions& options = {}, int threads = 0);
+
+/// @brief terrain_mesh written by extension (.glb, .obj, .ply, see write_mesh). A .glb with a
+/// palette embeds the palette strip (PNG) as the material's base-colour texture and carries no
+/// vertex colours (glTF would multiply them into the texture); PLY keeps the vertex colours.
+void write_terrain_mesh(const std::string& path, const Terrain& terrain, const TerrainMeshOptions& options = {},
+                        int threads = 0);
+
+}  // namespace ifsforge

@@ -1,0 +1,35 @@
+#pragma once
+/// @file A terrain as a POV-Ray 3.7 scene: a height_field (reading a 16-bit PNG) or a mesh2,
+/// coloured by height through the palette as a color_map.
+#include <string>
+#include <vector>
+
+#include "ifsforge/terrain/terrain.h"
+#include "ifsforge/texture/palette.h"
+
+namespace ifsforge {
+
+struct TerrainPovOptions {
+  /// "height_field": the scene reads `<scene stem>_height.png` (written beside it, 16 bit);
+  /// "mesh2": the triangles are inlined (any grid without resampling; large files).
+  std::string shape = "height_field";
+  /// "perspective": from the south-west, 35° above the horizon; "top": orthographic, straight
+  /// down, north up, framing exactly the outline (render at the outline's aspect ratio).
+  std::string camera = "perspective";
+  /// No lights: every point shows its palette colour unshaded (maps, and tests against
+  /// apply_palette); otherwise a sun and a sky.
+  bool flat = false;
+  /// The render's width / height, for the perspective camera.
+  double aspect = 4.0 / 3.0;
+};
+
+/// @brief Writes the scene (atomically) and, for a height_field, its PNG; returns the paths
+/// written. The palette (empty: a gray ramp) becomes a `gradient y` pigment spanning the
+/// terrain's heights. POV-Ray axes: x east, y up, z north (POV-Ray's own y-up convention,
+/// which height_field uses natively). Render from the scene's folder (the PNG is named
+/// relative to it), e.g. with render_povray (io/povray.h) or
+/// `povray +Iscene.pov +Oscene.png +W800 +H600 +A`.
+std::vector<std::string> write_terrain_pov(const std::string& path, const Terrain& terrain, const Palette& palette,
+                                           const TerrainPovOptions& options = {}, int threads = 0);
+
+}  // namespace ifsforge

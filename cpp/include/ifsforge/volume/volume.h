@@ -1,0 +1,62 @@
+#pragma once
+/// @file What a volumetric renderer produces: the occupied voxels of a sparse grid, a density
+/// per voxel and the mean of every extra channel (colour, gray, alpha, ...) over the points
+/// that landed in it (seed 6.2.3.2, 6.3, 6.5.3.1).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ifsforge/model/channel_layout.h"
+#include "ifsforge/volume/voxel_grid.h"
+
+namespace ifsforge {
+
+/// @brief What the density grid holds: 1 per occupied voxel, the number of points (leaves,
+/// random points, source voxels) that landed in it, or its share of the invariant measure.
+enum class VolumeDensity { Binary, Hits, Measure };
+const char* to_string(VolumeDensity d);
+/// @brief "binary", "hits" or "measure"; InputError otherwise.
+VolumeDensity volume_density_from_string(const std::string& name);
+
+/// @brief How channel values become [0, 1] for output. Auto: values are kept (clamped) when the
+/// attractor's range of the channel lies inside [0, 1], else Range. Range: Eq. 101,
+/// (v - min) / (max - min) over the attractor's range. Clamp: values clamped to [0, 1].
+enum class ColorScale { Auto, Range, Clamp };
+ColorScale color_scale_from_string(const std::string& name);
+
+/// A sparse volume: only occupied voxels are stored, sorted by key (x, then y, then z).
+struct Volume {
+  VoxelGrid grid;
+  std::vector<std::uint64_t> keys;   ///< VoxelGrid::key of each occupied voxel, ascending
+  std::vector<float> density;        ///< one per voxel (> 0)
+  VolumeDensity density_mode = VolumeDensity::Binary;
+  /// Names of the extra channels, e.g. {"r", "g", "b"}; empty for a purely spatial system.
+  std::vector<std::string> channel_names;
+  ColorModel color_model = ColorModel::None;
+  /// Per voxel, per channel mean (voxel-major, keys.size() * channel_count()), in the units
+  /// of the system.
+  std::vector<float> channels;
+  /// The attractor's range of each channel (for Eq. 101).
+  std::vector<double> channel_lo, channel_hi;
+  std::string algorithm;     ///< the renderer that made it
+  int depth = 0;             ///< recursion depth (PRR), rewriting levels (DIA), escape bound (ETA)
+  std::uint64_t points = 0;  ///< leaves visited, random points plotted, voxels tested
+
+  std::size_t size() const { return keys.size(); }
+  int channel_count() const { return static_cast<int>(channel_names.size()); }
+  /// @brief Index of the voxel with `key`, or size() when it is not occupied.
+  std::size_t find(std::uint64_t key) const;
+};
+
+/// One output attribute per voxel: "color" (3 components, RGB in [0, 1]; HSI converted;
+/// gray repeated), "gray", "alpha", or any other channel by its name (1 component, in [0, 1]).
+struct VolumeAttribute {
+  std::string name;
+  int components = 1;
+  std::vector<float> values;  ///< voxel-major, size() * components
+};
+
+/// @brief The attributes a volume exports, in a fixed order (color first).
+std::vector<VolumeAttribute> volume_attributes(const Volume& volume, ColorScale scale = ColorScale::Auto);
+
+}  // namespace ifsforge

@@ -1,0 +1,84 @@
+#pragma once
+/// @file The volumetric renderers of the seed's Table 2 (5.13.2) behind one interface, and
+/// what they share: the options, the checks on the input and the grid they fill.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ifsforge/core/progress.h"
+#include "ifsforge/model/ifs.h"
+#include "ifsforge/volume/volume.h"
+#include "ifsforge/volume/voxel_list.h"
+
+namespace ifsforge {
+
+/// Escape time (5.5): which delta of Eq. 55-56 picks the inverse map.
+enum class EscapeNorm { Euclidean, Linear };
+EscapeNorm escape_norm_from_string(const std::string& name);
+
+struct VolumeOptions {
+  int resolution = 256;       ///< voxels along the longest side of the grid's box
+  std::optional<Box3> bounds; ///< the grid's world box; default: around the attractor (grid_around)
+  VolumeDensity density = VolumeDensity::Binary;
+  /// PRR: recursion depth, every leaf at exactly this depth (0: from the resolution, deepened
+  /// while occupancy still changes). DIA: levels of volume rewriting (0: until occupancy
+  /// stops changing).
+  int depth = 0;
+  /// RIA: points to plot (0: doubled until occupancy stops changing).
+  std::uint64_t iterations = 0;
+  /// ETA: iterations of the inverse maps a voxel must survive (0: from the resolution).
+  int escape_bound = 0;
+  EscapeNorm escape_norm = EscapeNorm::Euclidean;
+  bool escape_pick_max = false;  ///< Eq. 56: the largest delta instead of the smallest
+  std::uint64_t seed = 0;        ///< RIA only
+  int threads = 0;               ///< 0: every core; the volume never depends on it
+  ProgressCallback progress;
+};
+
+class VolumeRenderer {
+ public:
+  virtual ~VolumeRenderer() = default;
+  virtual std::string name() const = 0;
+  virtual std::string description() const = 0;
+  /// @brief Renders `ifs` (xyz layouts with any extra channels; it must have an attractor).
+  virtual Volume render(const Ifs& ifs, const VolumeOptions& options) const = 0;
+};
+
+/// @brief The volumetric renderer called `name` ("prr", "ria", "dia", "eta" or an alias);
+/// InputError lists the choices.
+const VolumeRenderer& volume_renderer(const std::string& name);
+/// @brief Every volumetric renderer, in the order of Table 2's discussion (PRR first).
+std::vector<const VolumeRenderer*> volume_renderers();
+/// @brief volume_renderer(algorithm).render(ifs, options).
+Volume render_volume(const Ifs& ifs, const std::string& algorithm, const VolumeOptions& options);
+
+/// What every volumetric renderer starts from.
+struct VolumeSetup {
+  Bounds bounds;        ///< the attractor's bounds per channel (all n dimensions)
+  VoxelGrid grid;
+  ChannelQuantizer quantizer;
+  /// A box B holding the attractor (all n dimensions, 1% margin), as the recursion's
+  /// image_box wants it: centre and half-extent. Its centre is the point PRR plots.
+  std::vector<double> center, half;
+  /// A few points of the attractor (all n dimensions) at its corners: the fixed points of the
+  /// maps and their images while they are at most 16, else those farthest along the 26
+  /// directions of a cube's faces, edges and corners. Their images reach the corners of a piece.
+  std::vector<Point> extremes;
+  int threads = 1;
+};
+
+/// @brief Checks the input (3 spatial dimensions, resolution, an attractor) and fits the grid.
+/// InputError / DivergentSystemError name what is wrong.
+VolumeSetup prepare_volume(const Ifs& ifs, const VolumeOptions& options);
+
+/// @brief The default grid: `resolution` voxels along the longest side of the box [lo, hi],
+/// the box's corners on voxel centres (about half a voxel of margin), so that flat faces of an
+/// attractor, such as a pyramid's base, lie mid-voxel rather than on a plane between voxels.
+VoxelGrid grid_around(const std::array<double, 3>& lo, const std::array<double, 3>& hi, int resolution);
+
+/// @brief The attractor's bounds per channel (Ifs::attractor_bounds). `extremes` (optional)
+/// receives a few attractor points at its corners (see VolumeSetup).
+Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes = nullptr);
+
+}  // namespace ifsforge

@@ -1,0 +1,77 @@
+#pragma once
+/// @file Per-worker accumulation of one job's points: a small dense box of integer sums around
+/// the job's piece of the attractor (cache-friendly, no hashing), with a sorted overflow list
+/// for points that fall outside it. A job's result is a VoxelList sorted by key.
+#include <cstdint>
+#include <vector>
+
+#include "ifsforge/volume/voxel_grid.h"
+#include "ifsforge/volume/voxel_list.h"
+
+namespace ifsforge {
+
+class VoxelAccumulator {
+ public:
+  /// Boxes larger than this many voxels are not allocated: their points go to the overflow list.
+  static constexpr std::size_t kMaxBoxCells = std::size_t(1) << 18;
+
+  VoxelAccumulator(const VoxelGrid& grid, const ChannelQuantizer& quantizer);
+  /// @brief Bytes one accumulator takes at most (for the memory budget).
+  static double bytes(int channels) { return kMaxBoxCells * (16.0 + 8.0 * channels); }
+
+  /// @brief Starts a job whose points are expected in the continuous voxel box [lo, hi].
+  void begin(const double* lo, const double* hi);
+  /// @brief One point (x, y, z, then the channels) with `mass` (fraction of the whole measure).
+  /// Points outside the grid are dropped. With `hit` false only the mass is added: the point
+  /// must then have been added before (its voxel counted it and its channels).
+  void add(const double* point, double mass, bool hit = true) {
+    std::int64_t v[3];
+    for (int a = 0; a < 3; ++a) {
+      const double u = std::floor((point[a] - grid_.origin[a]) * inverse_);
+      if (!(u >= 0.0 && u < grid_.dims[a])) return;
+      v[a] = static_cast<std::int64_t>(u);
+    }
+    const std::uint64_t units = static_cast<std::uint64_t>(mass * kVolumeMassUnit + 0.5);
+    const std::uint64_t di = v[0] - lo_[0], dj = v[1] - lo_[1], dk = v[2] - lo_[2];
+    if (di < size_[0] && dj < size_[1] && dk < size_[2]) {
+      // A cell is (hits, mass, channel sums) side by side: one cache line per point.
+      std::uint64_t* cell = &cells_[((di * size_[1] + dj) * size_[2] + dk) * stride_];
+      cell[1] += units;
+      if (!hit) return;
+      ++cell[0];
+      for (int c = 0; c < channels_; ++c) cell[2 + c] += quantizer_.quantize(c, point[3 + c]);
+      return;
+    }
+    for (int c = 0; c < channels_; ++c) values_[c] = hit ? quantizer_.quantize(c, point[3 + c]) : 0;
+    overflow_.push(VoxelGrid::key(v[0], v[1], v[2]), hit ? 1 : 0, units, values_.data());
+  }
+  /// @brief True when every voxel meeting the continuous voxel box [lo, hi] already holds a
+  /// point of this job (false when one lies outside the job's box).
+  bool occupied(const double* lo, const double* hi) const {
+    std::int64_t first[3], last[3];
+    for (int a = 0; a < 3; ++a) {
+      first[a] = static_cast<std::int64_t>(std::floor(lo[a])) - lo_[a];
+      last[a] = static_cast<std::int64_t>(std::floor(hi[a])) - lo_[a];
+      if (first[a] < 0 || last[a] >= static_cast<std::int64_t>(size_[a])) return false;
+    }
+    for (std::int64_t i = first[0]; i <= last[0]; ++i)
+      for (std::int64_t j = first[1]; j <= last[1]; ++j)
+        for (std::int64_t k = first[2]; k <= last[2]; ++k)
+          if (!cells_[((i * size_[1] + j) * size_[2] + k) * stride_]) return false;
+    return true;
+  }
+  /// @brief The job's occupied voxels, sorted by key; the accumulator is ready for begin().
+  VoxelList finish();
+
+ private:
+  const VoxelGrid& grid_;
+  const ChannelQuantizer& quantizer_;
+  double inverse_;
+  int channels_, stride_;
+  std::int64_t lo_[3] = {0, 0, 0};
+  std::uint64_t size_[3] = {0, 0, 0};
+  std::vector<std::uint64_t> cells_, values_;
+  VoxelList overflow_;
+};
+
+}  // namespace ifsforge

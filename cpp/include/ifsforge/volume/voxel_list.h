@@ -1,0 +1,88 @@
+#pragma once
+/// @file Exact, order-free accumulation shared by the volumetric renderers. Every voxel holds
+/// integer sums (hits, fixed-point mass, quantised channel values), so merging the partial
+/// results of jobs or workers in any order gives the same bytes: this is what keeps every
+/// volume independent of the thread count.
+#include <cstdint>
+#include <vector>
+
+#include "ifsforge/core/progress.h"
+#include "ifsforge/model/ifs.h"
+#include "ifsforge/volume/volume.h"
+
+namespace ifsforge {
+
+/// @brief Fixed-point units of mass: 2^62 units are the whole invariant measure.
+constexpr double kVolumeMassUnit = 4611686018427387904.0;
+
+/// @brief Channel values quantised to 2^20 steps of [lo, hi] (clamped), as integers.
+class ChannelQuantizer {
+ public:
+  static constexpr double kSteps = 1048576.0;
+  ChannelQuantizer() = default;
+  ChannelQuantizer(std::vector<double> lo, std::vector<double> hi);
+  int channels() const { return static_cast<int>(lo_.size()); }
+  std::uint64_t quantize(int c, double value) const {
+    double q = (value - lo_[c]) * scale_[c];
+    q = q < 0.0 ? 0.0 : (q > kSteps ? kSteps : q);
+    return static_cast<std::uint64_t>(q + 0.5);
+  }
+  /// @brief The mean value of `hits` quantised values summing to `sum`.
+  double mean(int c, std::uint64_t sum, std::uint64_t hits) const {
+    const double q = static_cast<double>(sum) / static_cast<double>(hits);
+    return scale_[c] > 0.0 ? lo_[c] + q / scale_[c] : lo_[c];
+  }
+  const std::vector<double>& lo() const { return lo_; }
+  const std::vector<double>& hi() const { return hi_; }
+
+ private:
+  std::vector<double> lo_, hi_, scale_;
+};
+
+/// Occupied voxels with their integer sums (structure of arrays). Renderers produce lists
+/// sorted by key; merging sums entries with equal keys.
+struct VoxelList {
+  int channels = 0;
+  std::vector<std::uint64_t> keys, hits, mass;
+  std::vector<std::uint64_t> sums;  ///< keys.size() * channels
+  /// Optional (empty, or kExtremes per voxel): points inside the voxel, each packed as 21-bit
+  /// fractions of the voxel. Slot 2a holds the point with the smallest coordinate a, slot
+  /// 2a + 1 the one with the largest (packed with axis a most significant, so that plain
+  /// integer min and max pick them, ties broken by the other axes): merging keeps the extremes.
+  static constexpr int kExtremes = 6;
+  std::vector<std::uint64_t> points;
+
+  explicit VoxelList(int channel_count = 0) : channels(channel_count) {}
+  std::size_t size() const { return keys.size(); }
+  void push(std::uint64_t key, std::uint64_t h, std::uint64_t m, const std::uint64_t* s) {
+    keys.push_back(key);
+    hits.push_back(h);
+    mass.push_back(m);
+    sums.insert(sums.end(), s, s + channels);
+  }
+  /// @brief Adds entry `i` of `other` as a new entry.
+  void push_from(const VoxelList& other, std::size_t i) {
+    push(other.keys[i], other.hits[i], other.mass[i], &other.sums[i * channels]);
+    if (!other.points.empty())
+      points.insert(points.end(), other.points.begin() + i * kExtremes, other.points.begin() + (i + 1) * kExtremes);
+  }
+  /// @brief Bytes per entry (for the memory budget).
+  static double entry_bytes(int channels) { return 24.0 + 8.0 * channels; }
+};
+
+/// @brief Sorts an unsorted list by key and sums entries with equal keys.
+void sort_and_reduce(VoxelList& list);
+
+/// @brief One sorted list holding the sums of every (sorted) list, which are consumed.
+/// Work is split into a fixed number of x-slabs merged in parallel.
+VoxelList merge_voxel_lists(std::vector<VoxelList>& lists, int threads);
+
+/// @brief Turns sums into a volume: density by `mode` (Measure divides mass by
+/// `total_mass`), channel means through `quantizer`, channel metadata from the layout.
+Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs,
+                     const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass);
+
+/// @brief A callback reporting `progress` scaled into [from, to] (empty if `progress` is).
+ProgressCallback progress_range(const ProgressCallback& progress, double from, double to);
+
+}  // namespace ifsforge

@@ -1,0 +1,84 @@
+// Interactive design: preview point clouds (the collage of chapter 4) and morphing.
+#include "bindings.h"
+#include "ifsforge/design/morph.h"
+#include "ifsforge/design/preview.h"
+
+namespace ifsforge::python {
+namespace {
+
+/// A read-only numpy view of `data` kept alive by `owner` (no copy: previews are redrawn
+/// while a value is dragged).
+template <typename T>
+py::array_t<T> view(const std::vector<T>& data, std::vector<py::ssize_t> shape, const py::object& owner) {
+  py::array_t<T> out(shape, data.data(), owner);
+  py::detail::array_proxy(out.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return out;
+}
+
+void bind_design(py::module_& m) {
+  py::class_<PreviewCloud>(m, "PreviewCloud",
+                           "Points of the attractor with colours, and the collage frames, for a viewport preview.")
+      .def_readonly("count", &PreviewCloud::count)
+      .def_property_readonly("positions", [](py::object self) {
+        const auto& c = self.cast<const PreviewCloud&>();
+        return view(c.positions, {static_cast<py::ssize_t>(c.count), 3}, self);
+      }, "float32 (count, 3); z = 0 for planar systems")
+      .def_property_readonly("colors", [](py::object self) {
+        const auto& c = self.cast<const PreviewCloud&>();
+        return view(c.colors, {static_cast<py::ssize_t>(c.count), 4}, self);
+      }, "float32 (count, 4) RGBA in [0, 1]")
+      .def_property_readonly("pieces", [](py::object self) {
+        const auto& c = self.cast<const PreviewCloud&>();
+        return view(c.pieces, {static_cast<py::ssize_t>(c.count)}, self);
+      }, "uint32 (count,): the map applied last, i.e. the piece w_i(A) holding the point")
+      .def_property_readonly("bounds", [](const PreviewCloud& c) {
+        return py::make_tuple(py::array_t<double>(c.bounds.lo.size(), c.bounds.lo.data()),
+                              py::array_t<double>(c.bounds.hi.size(), c.bounds.hi.data()));
+      }, "(lo, hi) per channel")
+      .def_property_readonly("frame_positions", [](py::object self) {
+        const auto& c = self.cast<const PreviewCloud&>();
+        return view(c.frame_positions, {static_cast<py::ssize_t>(c.frame_pieces.size()), 3}, self);
+      }, "float32 (2 x segments, 3): the bounding box, then its image under each map")
+      .def_property_readonly("frame_colors", [](py::object self) {
+        const auto& c = self.cast<const PreviewCloud&>();
+        return view(c.frame_colors, {static_cast<py::ssize_t>(c.frame_pieces.size()), 4}, self);
+      })
+      .def_property_readonly("frame_pieces", [](py::object self) {
+        const auto& c = self.cast<const PreviewCloud&>();
+        return view(c.frame_pieces, {static_cast<py::ssize_t>(c.frame_pieces.size())}, self);
+      }, "per end point: the map index, or len(system) for the bounding box")
+      .def_property_readonly("coloring", [](const PreviewCloud& c) { return std::string(to_string(c.coloring)); });
+
+  m.def("preview_cloud",
+        [](const Ifs& ifs, std::size_t count, std::uint64_t seed, const std::string& coloring, int highlight,
+           int threads) {
+          PreviewOptions o;
+          o.count = count;
+          o.seed = seed;
+          o.coloring = preview_coloring_from_string(coloring);
+          o.highlight = highlight;
+          o.threads = threads;
+          py::gil_scoped_release release;
+          return preview_cloud(ifs, o);
+        },
+        py::arg("ifs"), py::arg("count") = 200000, py::arg("seed") = 0, py::arg("coloring") = "auto",
+        py::arg("highlight") = -1, py::arg("threads") = 0,
+        "A seeded cloud of points on the attractor coloured by piece (the collage of Eq. 41) or by the "
+        "layout's colour channels (coloring 'auto', 'pieces', 'channels'), plus the collage frames. "
+        "highlight: a map whose piece stays bright. Identical for any thread count.");
+  m.def("piece_color", [](std::size_t index, bool dim) {
+    float rgba[4];
+    piece_color(index, dim, rgba);
+    return py::make_tuple(rgba[0], rgba[1], rgba[2], rgba[3]);
+  }, py::arg("index"), py::arg("dim") = false, "The RGBA colour previews give map `index`'s piece.");
+  m.def("morph", &morph, py::arg("from_system"), py::arg("to_system"), py::arg("t"),
+        "The system at t in [0, 1] between two systems of one layout (parameters of Eq. 5 interpolated; "
+        "continuous in t, so frames animate smoothly).");
+  m.def("pad_maps", &pad_maps, py::arg("ifs"), py::arg("maps"),
+        "The system with its last map repeated up to `maps` maps (same attractor and measure).");
+}
+
+const Binding registered(60, &bind_design);
+
+}  // namespace
+}  // namespace ifsforge::python

@@ -1,0 +1,355 @@
+// Vector IFS: instance lists (vector recursive rendering), addresses (string rewriting, TSA),
+// primitives, and the POV-Ray, SVG, glTF and raster outputs.
+#include "bindings.h"
+#include "ifsforge/core/error.h"
+#include "ifsforge/io/gltf_instances.h"
+#include "ifsforge/io/mesh_reader.h"
+#include "ifsforge/io/pov_instances.h"
+#include "ifsforge/io/povray.h"
+#include "ifsforge/io/svg.h"
+#include "ifsforge/vector/addresses.h"
+#include "ifsforge/vector/draw.h"
+#include "ifsforge/vector/instances.h"
+
+namespace ifsforge::python {
+namespace {
+
+/// A read-only numpy view of `data` that keeps `owner` (the Python object holding it) alive.
+template <typename T>
+py::array_t<T> view(const py::object& owner, const T* data, std::vector<py::ssize_t> shape) {
+  py::array_t<T> out(shape, data, owner);
+  py::detail::array_proxy(out.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return out;
+}
+
+py::dict mesh_dict(const TriangleMesh& mesh) {
+  py::dict out;
+  const auto n = static_cast<py::ssize_t>(mesh.positions.size()), t = static_cast<py::ssize_t>(mesh.triangles.size());
+  py::array_t<float> positions({n, py::ssize_t(3)}), normals({static_cast<py::ssize_t>(mesh.normals.size()), py::ssize_t(3)});
+  py::array_t<std::uint32_t> triangles({t, py::ssize_t(3)});
+  std::memcpy(positions.mutable_data(), mesh.positions.data(), n * 12);
+  std::memcpy(normals.mutable_data(), mesh.normals.data(), mesh.normals.size() * 12);
+  std::memcpy(triangles.mutable_data(), mesh.triangles.data(), t * 12);
+  out["positions"] = positions;
+  out["normals"] = normals;
+  out["triangles"] = triangles;
+  return out;
+}
+
+std::vector<Primitive> primitives_from(const py::object& spec) {
+  if (py::isinstance<py::str>(spec)) return parse_primitives(spec.cast<std::string>());
+  if (py::isinstance<Primitive>(spec)) return {spec.cast<Primitive>()};
+  std::vector<Primitive> out;
+  for (const py::handle item : spec) {
+    if (py::isinstance<Primitive>(item))
+      out.push_back(item.cast<Primitive>());
+    else
+      out.push_back(parse_primitive(py::str(item).cast<std::string>()));
+  }
+  return out;
+}
+
+/// The instance list as one numpy structured array (a copy), one record per instance.
+py::array structured(const InstanceList& l) {
+  const int depth = std::max(1, l.addresses.depth);
+  py::list fields;
+  fields.append(py::make_tuple("position", "<f4", py::make_tuple(3)));
+  fields.append(py::make_tuple("frame", "<f4", py::make_tuple(3, 3)));
+  fields.append(py::make_tuple("scale", "<f4"));
+  fields.append(py::make_tuple("primitive", "<u2"));
+  fields.append(py::make_tuple("color", "<f4", py::make_tuple(4)));
+  fields.append(py::make_tuple("probability", "<f8"));
+  fields.append(py::make_tuple("length", "u1"));
+  fields.append(py::make_tuple("address", "<u2", py::make_tuple(depth)));
+  const py::dtype dtype = py::dtype::from_args(fields);
+  py::array out(dtype, std::vector<py::ssize_t>{static_cast<py::ssize_t>(l.size())});
+  const py::dict offsets = dtype.attr("fields");
+  auto offset = [&](const char* name) { return offsets[name].cast<py::tuple>()[1].cast<std::size_t>(); };
+  const std::size_t o_pos = offset("position"), o_frame = offset("frame"), o_scale = offset("scale"),
+                    o_prim = offset("primitive"), o_color = offset("color"), o_prob = offset("probability"),
+                    o_len = offset("length"), o_addr = offset("address");
+  const std::size_t item = static_cast<std::size_t>(dtype.itemsize());
+  char* base = static_cast<char*>(out.mutable_data());
+  for (std::size_t i = 0; i < l.size(); ++i) {
+    char* r = base + i * item;
+    std::memcpy(r + o_pos, l.positions[i].data(), 12);
+    std::memcpy(r + o_frame, l.frames[i].data(), 36);
+    std::memcpy(r + o_scale, &l.scales[i], 4);
+    std::memcpy(r + o_prim, &l.primitive[i], 2);
+    std::memcpy(r + o_color, l.colors[i].data(), 16);
+    std::memcpy(r + o_prob, &l.addresses.probabilities[i], 8);
+    std::memcpy(r + o_len, &l.addresses.lengths[i], 1);
+    if (l.addresses.depth > 0) std::memcpy(r + o_addr, l.addresses.address(i), 2 * l.addresses.depth);
+  }
+  return out;
+}
+
+std::optional<std::vector<double>> optional_vector(const py::object& o) {
+  if (o.is_none()) return std::nullopt;
+  return o.cast<std::vector<double>>();
+}
+
+void bind_vector(py::module_& m) {
+  py::class_<Primitive>(m, "Primitive",
+                        "A graphics primitive placed by vector IFS instances, in the instance's frame (x along the "
+                        "vector, one unit = its length d).")
+      .def(py::init(&parse_primitive), py::arg("spec"),
+           "'line', 'circle', 'triangle', 'square' (each also '-outline' but line), 'sphere', 'box', 'cone', "
+           "'cylinder', 'torus' or 'mesh:PATH'.")
+      .def_property_readonly("name", &Primitive::name)
+      .def_property_readonly("flat", &Primitive::flat, "a shape of the plane (line, circle, triangle, square)")
+      .def_property_readonly("bounding_radius", &Primitive::bounding_radius, "in units of d")
+      .def("mesh", [](const Primitive& p, int segments) { return mesh_dict(primitive_mesh(p, segments)); },
+           py::arg("segments") = 32, "{'positions', 'normals', 'triangles'} in the frame of the primitive")
+      .def("__repr__", [](const Primitive& p) { return "Primitive('" + p.name() + "')"; });
+  m.def("primitive_names", &builtin_primitive_names, "names of the built-in primitives");
+  m.def("read_mesh", [](const std::string& path) { return mesh_dict(read_mesh(path)); }, py::arg("path"),
+        "A PLY/OBJ/OFF/STL mesh (OpenMesh), triangulated: {'positions', 'normals', 'triangles'}.");
+
+  py::class_<AddressTable>(m, "AddressTable",
+                           "Leaf addresses in depth-first order: map indices from the outermost map in "
+                           "(a0 picks the first-level copy).")
+      .def("__len__", &AddressTable::size)
+      .def_readonly("depth", &AddressTable::depth, "columns of digits: the longest address")
+      .def_property_readonly("digits", [](py::object self) {
+        const auto& t = self.cast<const AddressTable&>();
+        return view(self, t.digits.data(), {static_cast<py::ssize_t>(t.size()), static_cast<py::ssize_t>(t.depth)});
+      }, "(n, depth) uint16; 65535 past each address's length")
+      .def_property_readonly("lengths", [](py::object self) {
+        const auto& t = self.cast<const AddressTable&>();
+        return view(self, t.lengths.data(), {static_cast<py::ssize_t>(t.size())});
+      })
+      .def_property_readonly("probabilities", [](py::object self) {
+        const auto& t = self.cast<const AddressTable&>();
+        return view(self, t.probabilities.data(), {static_cast<py::ssize_t>(t.size())});
+      }, "product of the map probabilities along each address (the piece's invariant measure)")
+      .def("strings", [](const AddressTable& t) {
+        std::vector<std::string> out;
+        out.reserve(t.size());
+        for (std::size_t i = 0; i < t.size(); ++i) out.push_back(t.to_string(i));
+        return out;
+      }, "'a0.a1.....' per leaf")
+      .def("__getitem__", [](const AddressTable& t, std::size_t i) {
+        if (i >= t.size()) throw py::index_error("address index out of range");
+        return std::vector<std::uint16_t>(t.address(i), t.address(i) + t.lengths[i]);
+      });
+
+  py::class_<AddressLeaves>(m, "AddressLeaves", "What the tesseral synecdoche algorithm plots: addresses and points.")
+      .def("__len__", [](const AddressLeaves& a) { return a.addresses.size(); })
+      .def_readonly("addresses", &AddressLeaves::addresses)
+      .def_property_readonly("points", [](py::object self) {
+        const auto& a = self.cast<const AddressLeaves&>();
+        return view(self, a.points.data(), {static_cast<py::ssize_t>(a.addresses.size()), static_cast<py::ssize_t>(a.dim)});
+      }, "(n, dim) float64: w_address(start) in every channel");
+
+  py::class_<InstanceList>(m, "InstanceList",
+                           "One primitive per leaf of vector recursive rendering (5.8.2), in address order. Array "
+                           "properties are read-only views; to_numpy() gives one structured array.")
+      .def("__len__", &InstanceList::size)
+      .def_readonly("name", &InstanceList::name)
+      .def_readonly("spatial_dims", &InstanceList::spatial_dims)
+      .def_readonly("primitives", &InstanceList::primitives)
+      .def_readonly("addresses", &InstanceList::addresses)
+      .def_property_readonly("positions", [](py::object self) {
+        const auto& l = self.cast<const InstanceList&>();
+        return view(self, l.positions.data()->data(), {static_cast<py::ssize_t>(l.size()), 3});
+      }, "(n, 3) float32: q0' (z = 0 for 2D systems)")
+      .def_property_readonly("frames", [](py::object self) {
+        const auto& l = self.cast<const InstanceList&>();
+        return view(self, l.frames.data()->data(), {static_cast<py::ssize_t>(l.size()), 3, 3});
+      }, "(n, 3, 3) float32: rows e1 (along the vector), e2, e3 = e1 x e2")
+      .def_property_readonly("scales", [](py::object self) {
+        const auto& l = self.cast<const InstanceList&>();
+        return view(self, l.scales.data(), {static_cast<py::ssize_t>(l.size())});
+      }, "(n,) float32: d of Eq. 60")
+      .def_property_readonly("primitive", [](py::object self) {
+        const auto& l = self.cast<const InstanceList&>();
+        return view(self, l.primitive.data(), {static_cast<py::ssize_t>(l.size())});
+      }, "(n,) uint16: index into primitives")
+      .def_property_readonly("colors", [](py::object self) {
+        const auto& l = self.cast<const InstanceList&>();
+        return view(self, l.colors.data()->data(), {static_cast<py::ssize_t>(l.size()), 4});
+      }, "(n, 4) float32: sRGB + alpha in [0, 1]")
+      .def("bounds", [](const InstanceList& l) -> py::object {
+        std::array<double, 3> lo, hi;
+        if (!l.bounds(lo, hi)) return py::none();
+        return py::make_tuple(lo, hi);
+      }, "(lo, hi) of the box holding every instance's bounding ball, or None")
+      .def("to_numpy", &structured,
+           "A structured array: position (3,) f4, frame (3, 3) f4, scale f4, primitive u2, color (4,) f4, "
+           "probability f8, length u1, address (depth,) u2.")
+      .def("__repr__", [](const InstanceList& l) {
+        return "<InstanceList '" + l.name + "' " + std::to_string(l.size()) + " instances, depth " +
+               std::to_string(l.addresses.depth) + ">";
+      });
+
+  m.def("instances",
+        [](const Ifs& ifs, int depth, const py::object& primitives, const std::string& normalisation,
+           double scale_factor, double length, const py::object& base_point, const py::object& base_vector,
+           const py::object& base_up, double min_probability, const std::string& color_source,
+           std::array<float, 4> color, bool normalize_colors, int threads, const py::object& progress) {
+          InstanceOptions o;
+          o.depth = depth;
+          o.primitives = primitives_from(primitives);
+          o.normalisation = parse_normalisation(normalisation);
+          o.scale_factor = scale_factor;
+          o.length = length;
+          o.base_point = optional_vector(base_point).value_or(std::vector<double>{});
+          o.base_vector = optional_vector(base_vector).value_or(std::vector<double>{});
+          o.base_up = optional_vector(base_up).value_or(std::vector<double>{});
+          o.min_probability = min_probability;
+          o.color_source = parse_color_source(color_source);
+          o.color = color;
+          o.normalize_colors = normalize_colors;
+          o.threads = threads;
+          o.progress = wrap_progress(progress);
+          py::gil_scoped_release release;
+          return instances(ifs, o);
+        },
+        py::arg("ifs"), py::arg("depth") = 0, py::arg("primitives") = "sphere", py::arg("normalisation") = "proportional",
+        py::arg("scale_factor") = 1.0, py::arg("length") = 0.0, py::arg("base_point") = py::none(),
+        py::arg("base_vector") = py::none(), py::arg("base_up") = py::none(), py::arg("min_probability") = 0.0,
+        py::arg("color_source") = "auto", py::arg("color") = std::array<float, 4>{0.8f, 0.8f, 0.8f, 1.0f},
+        py::arg("normalize_colors") = true, py::arg("threads") = 0, py::arg("progress") = py::none(),
+        "Vector recursive rendering (5.8.2): the instance list of a system. depth=0 picks the largest L with "
+        "N^L <= 50000. primitives: 'sphere', 'sphere,box,cone' or a list; the k channel (Eq. 99, 107) picks "
+        "one (rounded, modulo the list). normalisation: 'proportional' (d = sf |q1 - q0|, Eq. 60) or "
+        "'constant' (d = length). min_probability: pv of the TSA (5.7). color_source: auto, channels, "
+        "first-map, last-map or constant (color). normalize_colors: Eq. 101's stretch of each colour channel over "
+        "the attractor (False: the values as given, clamped to [0, 1]).");
+  m.def("default_instance_depth", &default_instance_depth, py::arg("maps"), py::arg("max_instances") = 50000);
+
+  m.def("string_rewriting", &string_rewriting, py::arg("ifs"), py::arg("depth"),
+        "The seed's string-rewriting algorithm (5.6): the N^depth addresses as 'a0.a1...' in its order.");
+  m.def("tesseral_synecdoche",
+        [](const Ifs& ifs, int depth, double min_probability, const py::object& start, int threads, const py::object& progress) {
+          const std::vector<double> s = optional_vector(start).value_or(std::vector<double>{});
+          ProgressCallback p = wrap_progress(progress);
+          py::gil_scoped_release release;
+          return tesseral_synecdoche(ifs, depth, min_probability, s, threads, p);
+        },
+        py::arg("ifs"), py::arg("depth"), py::arg("min_probability") = 0.0, py::arg("start") = py::none(),
+        py::arg("threads") = 0, py::arg("progress") = py::none(),
+        "The tesseral synecdoche algorithm (5.7): leaves at depth or below probability pv, depth-first.");
+  m.def("apply_address", [](const Ifs& ifs, const std::vector<std::uint16_t>& address, const std::vector<double>& point) {
+          if (static_cast<int>(point.size()) != ifs.dim())
+            throw InputError("the point needs " + std::to_string(ifs.dim()) + " coordinates");
+          Point p{};
+          std::copy(point.begin(), point.end(), p.begin());
+          const Point q = apply_address(ifs, address.data(), static_cast<int>(address.size()), p);
+          return std::vector<double>(q.begin(), q.begin() + ifs.dim());
+        }, py::arg("ifs"), py::arg("address"), py::arg("point"), "w_a0(w_a1(...w_aL-1(point)))");
+  m.def("count_leaves", &count_leaves, py::arg("ifs"), py::arg("depth"), py::arg("min_probability") = 0.0);
+  m.def("write_address_csv", [](const std::string& path, const AddressTable& t) {
+          py::gil_scoped_release release;
+          write_address_csv(path, t);
+        }, py::arg("path"), py::arg("addresses"), "CSV: index,address,length,probability (atomic).");
+
+  m.def("write_pov_scene",
+        [](const std::string& path, const InstanceList& list, const std::string& title, int width, int height,
+           std::array<double, 2> view, bool orthographic, double fov, double margin, std::optional<bool> floor,
+           std::optional<bool> sky, std::array<float, 3> background, const std::string& quality, bool bounded_by,
+           int threads, const py::object& progress) {
+          PovSceneOptions o;
+          o.title = title;
+          o.width = width;
+          o.height = height;
+          o.view.yaw = view[0];
+          o.view.pitch = view[1];
+          o.view.orthographic = orthographic;
+          o.view.fov = fov;
+          o.view.margin = margin;
+          o.environment.floor = floor.value_or(list.spatial_dims == 3);
+          o.environment.sky = sky.value_or(list.spatial_dims == 3);
+          o.environment.background = background;
+          o.environment.quality = parse_pov_quality(quality);
+          o.bounded_by = bounded_by;
+          o.threads = threads;
+          o.progress = wrap_progress(progress);
+          py::gil_scoped_release release;
+          write_pov_scene(path, list, o);
+        },
+        py::arg("path"), py::arg("instances"), py::arg("title") = "", py::arg("width") = 800, py::arg("height") = 600,
+        py::arg("view") = std::array<double, 2>{30.0, 25.0}, py::arg("orthographic") = false, py::arg("fov") = 40.0,
+        py::arg("margin") = 0.05, py::arg("floor") = py::none(), py::arg("sky") = py::none(),
+        py::arg("background") = std::array<float, 3>{1, 1, 1}, py::arg("quality") = "normal",
+        py::arg("bounded_by") = false, py::arg("threads") = 0, py::arg("progress") = py::none(),
+        "A POV-Ray 3.7 scene (+ ifsforge.inc beside it): one union of the instances, camera and lights framed "
+        "for width x height from the instances' bounds. view = (yaw, pitch) as `render --view` (2D lists: from "
+        "above). floor/sky default to on for 3D lists. quality: draft, normal, high. bounded_by adds a manual "
+        "bound (slow to trace in POV-Ray 3.7).");
+  m.def("render_povray",
+        [](const std::string& scene, const std::string& image, int width, int height, double antialias, int threads,
+           const py::object& progress) {
+          PovRenderOptions o;
+          o.width = width;
+          o.height = height;
+          o.antialias = antialias;
+          o.threads = threads;
+          o.progress = wrap_progress(progress);
+          py::gil_scoped_release release;
+          render_povray(scene, image, o);
+        },
+        py::arg("scene"), py::arg("image"), py::arg("width") = 800, py::arg("height") = 600, py::arg("antialias") = 0.3,
+        py::arg("threads") = 0, py::arg("progress") = py::none(),
+        "Render a scene with the real POV-Ray 3.7 (headless) into a PNG, atomically.");
+  m.def("povray_include", &povray_include, "the text of ifsforge.inc");
+  m.def("write_povray_include", &write_povray_include, py::arg("folder"));
+  m.def("pov_string", &pov_string, py::arg("text"), "a POV-Ray string literal holding text");
+  m.def("pov_comment", &pov_comment, py::arg("text"), "text made safe inside a // comment");
+  m.def("pov_identifier", &pov_identifier, py::arg("text"));
+
+  m.def("write_svg",
+        [](const std::string& path, const InstanceList& list, int width, double margin,
+           std::optional<std::array<float, 3>> background, const std::string& title) {
+          SvgOptions o;
+          o.width = width;
+          o.margin = margin;
+          o.background = background;
+          o.title = title;
+          py::gil_scoped_release release;
+          write_svg(path, list, o);
+        },
+        py::arg("path"), py::arg("instances"), py::arg("width") = 1024, py::arg("margin") = 0.03,
+        py::arg("background") = py::none(), py::arg("title") = "", "SVG of a 2D instance list, one element per instance.");
+  m.def("write_gltf_instances",
+        [](const std::string& path, const InstanceList& list, int segments, int color_levels, bool extras, const std::string& name) {
+          GltfInstanceOptions o;
+          o.segments = segments;
+          o.color_levels = color_levels;
+          o.extras = extras;
+          o.name = name;
+          py::gil_scoped_release release;
+          write_gltf_instances(path, list, o);
+        },
+        py::arg("path"), py::arg("instances"), py::arg("segments") = 24, py::arg("color_levels") = 16,
+        py::arg("extras") = true, py::arg("name") = "",
+        "Binary glTF: each primitive's mesh stored once, one node per instance (Blender: linked duplicates).");
+  m.def("draw_instances",
+        [](const InstanceList& list, int width, std::optional<int> height, std::optional<std::array<double, 4>> window,
+           std::array<double, 2> view, std::array<float, 4> background, int supersample, int threads) {
+          DrawOptions o;
+          o.width = width;
+          o.height = height.value_or(width);
+          if (window) o.window = Window{(*window)[0], (*window)[1], (*window)[2], (*window)[3]};
+          o.view = View{view[0], view[1]};
+          o.background = background;
+          o.supersample = supersample;
+          o.threads = threads;
+          Image image;
+          {
+            py::gil_scoped_release release;
+            image = draw_instances(list, o);
+          }
+          return image_to_numpy(image);
+        },
+        py::arg("instances"), py::arg("width") = 1024, py::arg("height") = py::none(), py::arg("window") = py::none(),
+        py::arg("view") = std::array<double, 2>{30.0, 25.0},
+        py::arg("background") = std::array<float, 4>{1, 1, 1, 1}, py::arg("supersample") = 3, py::arg("threads") = 0,
+        "RGBA (h, w, 4) float32 picture of the instances without POV-Ray (2D: list order; 3D: flat-shaded, far to near).");
+}
+
+const Binding registered(45, &bind_vector);
+
+}  // namespace
+}  // namespace ifsforge::python

@@ -1,0 +1,178 @@
+"""ifsforge terrain: a 2.5D IFS terrain (seed 6.1.3.4) as a height PNG, a mesh or a POV-Ray scene."""
+import math
+import os
+
+import ifsforge
+from ifsforge import cli_common as common
+from ifsforge.progress import ProgressBar
+
+MESHES = (".glb", ".obj", ".ply")
+OUTPUTS = (".png", ".pov") + MESHES
+
+
+def register(subparsers):
+    p = subparsers.add_parser(
+        "terrain", help="a fractal-interpolation terrain: 16-bit height PNG, mesh, POV-Ray scene",
+        description="Interpolate control heights into a terrain: leading vectors first, then every "
+        "vertical (radial) vector, each a fractal interpolation (Eq. 94). From a recipe "
+        "(ifsforge-terrain/1 JSON) or from the options (random or map-sampled controls).")
+    p.add_argument("recipe", nargs="?", help="a terrain recipe (JSON); without it the options describe the terrain")
+    p.add_argument("-o", "--output", action="append", required=True,
+                   help="file to write, by extension: .png (16-bit height field), .glb/.obj/.ply (mesh), "
+                   ".pov (POV-Ray scene; a height_field also writes <name>_height.png); repeat for several")
+    g = p.add_argument_group("controls (without a recipe)")
+    g.add_argument("--grid", choices=["regular", "irregular", "circular"], help="default regular")
+    g.add_argument("--controls", type=int, nargs=2, metavar=("ROWS", "COLUMNS"),
+                   help="control lattice (default 9 9; circular: 6 circles of 12)")
+    g.add_argument("--amplitude", type=float, default=0.5, help="random heights: 0.5 +- amplitude")
+    g.add_argument("--heights-from", metavar="MAP.png", help="sample the control heights from a height map (an insert)")
+    g.add_argument("--window", type=float, nargs=4, metavar=("X0", "Y0", "X1", "Y1"), default=[0, 0, 1, 1],
+                   help="the part of the map the terrain covers, in [0, 1] image coordinates")
+    g.add_argument("--low", type=float, default=0.0, help="height of map value 0")
+    g.add_argument("--high", type=float, default=1.0, help="height of map value 1")
+    g.add_argument("--radii", type=float, nargs="+", help="circular: leading circle radii, from 0 (default to 2)")
+    g.add_argument("--shift", type=float, help="irregular/circular: random displacement amplitude (< 0.5 spacing)")
+    g.add_argument("--size", type=float, nargs=2, metavar=("X", "Y"),
+                   help="horizontal extent (default 4 4, for heights around 0..1)")
+    r = p.add_argument_group("roughness (overrides the recipe's)")
+    r.add_argument("--roughness", type=float, nargs="+", metavar="A22",
+                   help="|a22| along the leading vectors, then across them (one value: both)")
+    r.add_argument("--signs", choices=["random", "alternating", "constant"], default="random",
+                   help="signs of the a22 factors (default random)")
+    r.add_argument("--seed", type=int, default=0, help="seed of random controls, shifts and signs")
+    o = p.add_argument_group("output")
+    o.add_argument("--res", help="samples: N or WxH along x/y (circular: the height image's side; "
+                   "default the recipe's or 1025)")
+    o.add_argument("--palette", metavar="PALETTE.json", help="palette recipe (default: the recipe's)")
+    o.add_argument("--preview", metavar="IMAGE.png", help="also write the height image coloured by the palette")
+    o.add_argument("--solid", action="store_true", help="meshes: close with walls and a floor (watertight)")
+    o.add_argument("--up", choices=["y", "z"], default="y", help="mesh up axis (y: glTF/OBJ convention)")
+    o.add_argument("--pov-shape", choices=["height_field", "mesh2"], default="height_field")
+    o.add_argument("--pov-camera", choices=["perspective", "top"], default="perspective")
+    o.add_argument("--pov-flat", action="store_true", help="POV-Ray: no lights, the palette unshaded")
+    o.add_argument("--povray-render", metavar="IMAGE.png", help="render the .pov output with POV-Ray")
+    o.add_argument("--povray-size", default="800x600", help="WxH of the POV-Ray render")
+    o.add_argument("--threads", type=int, default=0, help="0: every core (the result never depends on it)")
+    p.set_defaults(run=run)
+
+
+def controls_from_options(args):
+    grid = args.grid or "regular"
+    circular = grid == "circular"
+    rows, columns = args.controls or ((6, 12) if circular else (9, 9))
+    c = ifsforge.TerrainControls()
+    c.grid = grid
+    if circular:
+        c.radii = args.radii or [2.0 * k / (rows - 1) for k in range(rows)]
+        if len(c.radii) != rows:
+            raise ifsforge.InputError(f"--radii: {rows} leading circles need {rows} radii, got {len(c.radii)}")
+    elif args.radii:
+        raise ifsforge.InputError("--radii belong to --grid circular")
+    if args.heights_from:
+        ifsforge.sample_heights(c, rows, columns, ifsforge.read_png(args.heights_from), args.window,
+                                args.low, args.high)
+    else:
+        c.heights = ifsforge.random_heights(grid, rows, columns, [0.5], args.amplitude, args.seed)
+    c.size_x, c.size_y = args.size or (4.0, 4.0)
+    return c
+
+
+def sample_counts(grid, controls, res, recipe):
+    """(columns, rows) of the lattice and (width, height) of the height image."""
+    circular = grid == "circular"
+    if res is None and recipe is not None and recipe.columns:
+        columns, rows = recipe.columns, recipe.rows
+        if circular:
+            return (columns, rows), (2 * rows - 1, 2 * rows - 1)
+        return (columns, rows), (columns, rows)
+    width, height = common.parse_size(res or "1025")
+    if circular:
+        # The radius spans half the image; a circle gets at least pi * side angles, a multiple
+        # of the controls per circle so that every control height is a sample.
+        per_circle = len(controls.heights[0])
+        side = max(width, height)
+        angles = per_circle * math.ceil(math.pi * side / per_circle)
+        return (angles, side // 2 + 1), (side, side)
+    return (width, height), (width, height)
+
+
+def run(args):
+    for path in args.output:
+        if os.path.splitext(path)[1].lower() not in OUTPUTS:
+            raise ifsforge.InputError(f"cannot write '{path}': terrain outputs end in {', '.join(OUTPUTS)}")
+        common.ensure_output_folder(path)
+    for path in filter(None, [args.preview, args.povray_render]):
+        common.ensure_output_folder(path)
+    scenes = [p for p in args.output if p.lower().endswith(".pov")]
+    if args.povray_render and not scenes:
+        raise ifsforge.InputError("--povray-render needs a .pov output")
+
+    recipe = None
+    if args.recipe:
+        given = [name for name in ("grid", "controls", "heights_from", "radii", "shift", "size")
+                 if getattr(args, name) is not None]
+        if given:
+            raise ifsforge.InputError(f"--{given[0].replace('_', '-')} describes a terrain without a recipe; "
+                                      "edit the recipe instead")
+        recipe = ifsforge.read_terrain_recipe(args.recipe)
+        controls, name = recipe.controls, recipe.name
+    else:
+        controls, name = controls_from_options(args), "terrain"
+    grid = controls.grid
+    if args.shift is not None:
+        ifsforge.random_shifts(controls, args.shift, args.seed)
+    if args.roughness:
+        if len(args.roughness) > 2:
+            raise ifsforge.InputError("--roughness takes one or two values (along, across the leading vectors)")
+        along, across = args.roughness[0], args.roughness[-1]
+        rows, columns = len(controls.heights), len(controls.heights[0])
+        maps_u = columns if grid == "circular" else columns - 1
+        controls.a22_u = ifsforge.vertical_scaling(maps_u, along, args.signs, args.seed, 1)
+        controls.a22_v = ifsforge.vertical_scaling(rows - 1, across, args.signs, args.seed, 2)
+
+    palette = None
+    if args.palette:
+        palette = ifsforge.read_palette_recipe(args.palette).make()
+    elif recipe is not None and recipe.palette is not None:
+        palette = recipe.palette.make()
+
+    (columns, rows), (width, height) = sample_counts(grid, controls, args.res, recipe)
+    terrain = ifsforge.make_terrain(controls, columns, rows, threads=args.threads,
+                                    progress=ProgressBar(f"terrain {name}"))
+    print(f"{name}: {grid} grid, {len(controls.heights)} x {len(controls.heights[0])} controls, "
+          f"{columns} x {rows} samples, heights {terrain.min_height:.6g} to {terrain.max_height:.6g}")
+    control_rows, control_columns = len(controls.heights), len(controls.heights[0])
+    intervals = control_columns if grid == "circular" else control_columns - 1
+    if (columns - (grid != "circular")) % intervals or (rows - 1) % (control_rows - 1):
+        print(f"note: the control heights fall between samples; sample counts with (columns - 1) a multiple "
+              f"of {intervals} and (rows - 1) of {control_rows - 1} put every control height on a sample")
+
+    image = None
+    if grid == "regular":
+        width, height = terrain.columns, terrain.rows
+    for path in args.output:
+        ext = os.path.splitext(path)[1].lower()
+        if ext == ".png":
+            image = image if image is not None else terrain.height_image(width, height, args.threads)
+            ifsforge.write_png(path, image, 16)
+            print(f"{path}: 16-bit height field {width}x{height} "
+                  f"(0 = {terrain.min_height:.6g}, 65535 = {terrain.max_height:.6g})")
+        elif ext in MESHES:
+            ifsforge.write_terrain_mesh(path, terrain, palette, args.solid, None, args.up, args.threads)
+            textured = " with the palette as base-colour texture" if ext == ".glb" and palette else ""
+            print(f"{path}: {'solid ' if args.solid else ''}mesh{textured}")
+        else:
+            w, h = common.parse_size(args.povray_size)
+            written = ifsforge.write_terrain_pov(path, terrain, palette, args.pov_shape, args.pov_camera,
+                                                 args.pov_flat, w / h, args.threads)
+            print(f"{path}: POV-Ray {args.pov_shape} scene" + (f" (+ {written[1]})" if len(written) > 1 else ""))
+    if args.preview:
+        image = image if image is not None else terrain.height_image(width, height, args.threads)
+        coloured = ifsforge.apply_palette(image, palette, args.threads) if palette else image
+        ifsforge.write_png(args.preview, coloured, 8)
+        print(f"{args.preview}: height image coloured by the palette" if palette else
+              f"{args.preview}: height image (no palette)")
+    if args.povray_render:
+        w, h = common.parse_size(args.povray_size)
+        ifsforge.render_povray(scenes[0], args.povray_render, w, h)
+        print(f"{args.povray_render}: POV-Ray render {w}x{h} of {scenes[0]}")

@@ -1,0 +1,241 @@
+#include "ifsforge/io/vdb.h"
+
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/VolumeToMesh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
+#include "ifsforge/io/atomic_file.h"
+#include "ifsforge/io/ifs_json.h"
+
+namespace ifsforge {
+namespace {
+
+void initialize() {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+}
+
+/// Voxel (i, j, k) is index coordinate (i, j, k); its centre sits at origin + (i + 1/2) h.
+openvdb::math::Transform::Ptr transform_of(const VoxelGrid& grid) {
+  auto transform = openvdb::math::Transform::createLinearTransform(grid.voxel_size);
+  transform->postTranslate(openvdb::Vec3d(grid.origin[0] + 0.5 * grid.voxel_size,
+                                          grid.origin[1] + 0.5 * grid.voxel_size,
+                                          grid.origin[2] + 0.5 * grid.voxel_size));
+  return transform;
+}
+
+openvdb::Coord coord_of(std::uint64_t key) {
+  const auto v = VoxelGrid::coord(key);
+  return openvdb::Coord(v[0], v[1], v[2]);
+}
+
+/// A grid holding `value(values + v * components)` at every voxel of the volume. Voxels come
+/// sorted by (i, j, k), so runs share a leaf node: the leaf is looked up once per run.
+template <typename GridT, typename Value>
+typename GridT::Ptr make_grid(const Volume& volume, const std::string& name, Value (*value)(const float*),
+                              const float* values, int components) {
+  using Leaf = typename GridT::TreeType::LeafNodeType;
+  auto grid = GridT::create();
+  grid->setName(name);
+  grid->setTransform(transform_of(volume.grid));
+  auto& tree = grid->tree();
+  Leaf* leaf = nullptr;
+  openvdb::Coord origin(std::numeric_limits<int>::min());
+  for (std::size_t v = 0; v < volume.size(); ++v) {
+    const openvdb::Coord ijk = coord_of(volume.keys[v]);
+    const openvdb::Coord base = ijk & ~(Leaf::DIM - 1);
+    if (base != origin) {
+      leaf = tree.touchLeaf(ijk);
+      origin = base;
+    }
+    leaf->setValueOn(Leaf::coordToOffset(ijk), value(values + v * components));
+  }
+  return grid;
+}
+
+float scalar(const float* p) { return *p; }
+openvdb::Vec3f vector3(const float* p) { return openvdb::Vec3f(p[0], p[1], p[2]); }
+
+std::string text(double value) {
+  std::ostringstream out;
+  out.precision(17);
+  out << value;
+  return out.str();
+}
+
+}  // namespace
+
+void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOptions& options) {
+  initialize();
+  check_writable(path);
+  const int components = 1 + 3 + volume.channel_count();
+  check_memory(volume.size() * (8.0 * components + 16.0), "writing a volume of " + std::to_string(volume.size()) + " voxels");
+  // The grids are independent: build them on parallel threads.
+  const std::vector<VolumeAttribute> attributes = volume_attributes(volume, options.color_scale);
+  openvdb::GridPtrVec grids(1 + attributes.size());
+  std::vector<std::exception_ptr> failures(grids.size());
+  auto build = [&](std::size_t g) {
+    try {
+      if (g == 0) {
+        auto density = make_grid<openvdb::FloatGrid>(volume, "density", &scalar, volume.density.data(), 1);
+        density->setGridClass(openvdb::GRID_FOG_VOLUME);
+        grids[0] = density;
+        return;
+      }
+      const VolumeAttribute& attribute = attributes[g - 1];
+      if (attribute.components == 3) {
+        auto grid = make_grid<openvdb::Vec3fGrid>(volume, attribute.name, &vector3, attribute.values.data(), 3);
+        grid->setVectorType(openvdb::VEC_INVARIANT);
+        grids[g] = grid;
+      } else {
+        grids[g] = make_grid<openvdb::FloatGrid>(volume, attribute.name, &scalar, attribute.values.data(), 1);
+      }
+    } catch (...) {
+      failures[g] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> builders;
+  for (std::size_t g = 1; g < grids.size(); ++g) builders.emplace_back(build, g);
+  build(0);
+  for (auto& t : builders) t.join();
+  for (const auto& failure : failures)
+    if (failure) std::rethrow_exception(failure);
+
+  openvdb::MetaMap meta;
+  meta.insertMeta("creator", openvdb::StringMetadata("ifsforge"));
+  meta.insertMeta("ifsforge_algorithm", openvdb::StringMetadata(volume.algorithm));
+  meta.insertMeta("ifsforge_density", openvdb::StringMetadata(to_string(volume.density_mode)));
+  meta.insertMeta("ifsforge_depth", openvdb::Int64Metadata(volume.depth));
+  meta.insertMeta("ifsforge_points", openvdb::Int64Metadata(static_cast<std::int64_t>(volume.points)));
+  meta.insertMeta("ifsforge_voxel_size", openvdb::DoubleMetadata(volume.grid.voxel_size));
+  meta.insertMeta("ifsforge_origin", openvdb::Vec3DMetadata(openvdb::Vec3d(
+      volume.grid.origin[0], volume.grid.origin[1], volume.grid.origin[2])));
+  meta.insertMeta("ifsforge_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(
+      volume.grid.dims[0], volume.grid.dims[1], volume.grid.dims[2])));
+  std::string ranges;
+  for (int c = 0; c < volume.channel_count(); ++c)
+    ranges += (c ? " " : "") + volume.channel_names[c] + "=[" + text(volume.channel_lo[c]) + "," +
+              text(volume.channel_hi[c]) + "]";
+  meta.insertMeta("ifsforge_channel_ranges", openvdb::StringMetadata(ranges));
+  if (options.system) {
+    meta.insertMeta("ifsforge_system", openvdb::StringMetadata(to_ifs_json(*options.system)));
+    meta.insertMeta("ifsforge_name", openvdb::StringMetadata(options.system->name()));
+    meta.insertMeta("ifsforge_layout", openvdb::StringMetadata(options.system->layout().text()));
+  }
+  for (const auto& [key, value] : options.metadata) meta.insertMeta(key, openvdb::StringMetadata(value));
+
+  AtomicFile out(path);
+  try {
+    openvdb::io::File file(out.temporary_path());
+    file.write(grids, meta);
+    file.close();
+  } catch (const openvdb::Exception& e) {
+    throw FileError("cannot write '" + path + "': " + e.what());
+  }
+  out.commit();
+}
+
+VdbFileInfo read_vdb_info(const std::string& path) {
+  initialize();
+  VdbFileInfo info;
+  try {
+    openvdb::io::File file(path);
+    file.open();
+    // Both calls return copies: keep them alive while iterating.
+    const openvdb::MetaMap::Ptr meta = file.getMetadata();
+    for (auto it = meta->beginMeta(); it != meta->endMeta(); ++it) info.metadata[it->first] = it->second->str();
+    const openvdb::GridPtrVecPtr grids = file.getGrids();
+    for (const auto& grid : *grids) {
+      VdbGridInfo g;
+      g.name = grid->getName();
+      g.type = grid->valueType();
+      g.active_voxels = grid->activeVoxelCount();
+      g.voxel_size = grid->voxelSize()[0];
+      const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+      g.index_bounds = {box.min().x(), box.min().y(), box.min().z(), box.max().x(), box.max().y(), box.max().z()};
+      info.grids.push_back(g);
+    }
+    file.close();
+  } catch (const openvdb::Exception& e) {
+    throw FileError("cannot read '" + path + "' as OpenVDB: " + e.what());
+  }
+  return info;
+}
+
+TriangleMesh volume_to_mesh(const Volume& volume, const IsoSurfaceOptions& options) {
+  initialize();
+  if (!(options.adaptivity >= 0.0 && options.adaptivity <= 1.0))
+    throw InputError("the iso-surface adaptivity must be in [0, 1]");
+  if (!std::isfinite(options.iso)) throw InputError("the iso value must be a finite number");
+  TriangleMesh mesh;
+  if (volume.size() == 0) return mesh;
+  check_memory(volume.size() * 120.0, "the iso-surface of a volume of " + std::to_string(volume.size()) + " voxels");
+  // The scalar field: occupancy (1 in occupied voxels) or the density, 0 outside.
+  std::vector<float> ones;
+  if (!options.use_density) ones.assign(volume.size(), 1.0f);
+  auto field = make_grid<openvdb::FloatGrid>(volume, "field", &scalar,
+                                             options.use_density ? volume.density.data() : ones.data(), 1);
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> triangles;
+  std::vector<openvdb::Vec4I> quads;
+  openvdb::tools::volumeToMesh(*field, points, triangles, quads, options.iso, options.adaptivity);
+
+  mesh.positions.reserve(points.size());
+  for (const auto& p : points) mesh.positions.push_back({p.x(), p.y(), p.z()});
+  // OpenVDB orients polygons for level sets (inside negative); a fog volume has its inside
+  // above the iso value, so every polygon is reversed to face outwards.
+  for (const auto& t : triangles) mesh.triangles.push_back({t[2], t[1], t[0]});
+  for (const auto& q : quads) {
+    mesh.triangles.push_back({q[2], q[1], q[0]});
+    mesh.triangles.push_back({q[3], q[2], q[0]});
+  }
+  compute_normals(mesh);
+
+  // Vertex colours: the occupied voxels among the 8 around the vertex, trilinearly weighted.
+  const auto attributes = volume_attributes(volume, options.color_scale);
+  const auto color = std::find_if(attributes.begin(), attributes.end(), [](const VolumeAttribute& a) { return a.name == "color"; });
+  if (color != attributes.end()) {
+    const VoxelGrid& g = volume.grid;
+    mesh.colors.resize(mesh.positions.size());
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+      double u[3];
+      std::int64_t base[3];
+      for (int a = 0; a < 3; ++a) {
+        u[a] = (mesh.positions[v][a] - g.origin[a]) / g.voxel_size - 0.5;
+        base[a] = static_cast<std::int64_t>(std::floor(u[a]));
+        u[a] -= static_cast<double>(base[a]);
+      }
+      double sum[3] = {0, 0, 0}, weight = 0.0;
+      for (int corner = 0; corner < 8; ++corner) {
+        std::int64_t c[3];
+        double w = 1.0;
+        for (int a = 0; a < 3; ++a) {
+          const int bit = (corner >> a) & 1;
+          c[a] = base[a] + bit;
+          w *= bit ? u[a] : 1.0 - u[a];
+        }
+        if (c[0] < 0 || c[1] < 0 || c[2] < 0) continue;
+        const std::size_t found = volume.find(VoxelGrid::key(c[0], c[1], c[2]));
+        if (found == volume.size()) continue;
+        w = std::max(w, 1e-6);  // a vertex on a face still sees the voxel behind it
+        for (int k = 0; k < 3; ++k) sum[k] += w * color->values[found * 3 + k];
+        weight += w;
+      }
+      for (int k = 0; k < 3; ++k) mesh.colors[v][k] = weight > 0 ? static_cast<float>(sum[k] / weight) : 0.0f;
+      mesh.colors[v][3] = 1.0f;
+    }
+  }
+  return mesh;
+}
+
+}  // namespace ifsforge

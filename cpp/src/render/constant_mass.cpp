@@ -1,0 +1,33 @@
+#include "ifsforge/render/constant_mass.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "ifsforge/render/mass_transport.h"
+#include "ifsforge/render/parameters.h"
+
+namespace ifsforge {
+
+Raster ConstantMass::render(const Ifs& ifs, const RenderOptions& options) const {
+  const ParameterValues params(*this, options);
+  refuse_recurrent(ifs, name());
+  const int supersample = static_cast<int>(params.integer("supersample", 1, 8));
+  const PixelSpace space = make_pixel_space(ifs, options, name(), supersample);
+  TransportPlan plan;
+  plan.threshold = params.number("threshold", 1e-12, 1.0);
+  plan.max_iterations = params.integer("iterations", 1, 1000000);
+  plan.spread = spread_mass(params.text("spread"), options.binary);
+  const double share = ifs.condensation().empty() ? 0.0 : ifs.condensation().probability;
+  plan.condensation_share = share;
+  for (double p : ifs.probabilities()) plan.weight.push_back(p * (1.0 - share));
+  plan.target.assign(ifs.size(), 0);
+  const TransportResult t = transport_mass(ifs, space, plan, options);
+  Raster raster = empty_raster(ifs, space);
+  for (std::size_t p = 0; p < space.pixels(); ++p)
+    if (t.mass[p] > 0.0) raster.density[p] = std::max(static_cast<float>(t.mass[p]), std::numeric_limits<float>::denorm_min());
+  raster.channels = t.channels;
+  raster.points = t.operations;
+  return reduce_supersampled(std::move(raster), supersample, true);
+}
+
+}  // namespace ifsforge

@@ -1,0 +1,220 @@
+#include "ifsforge/render/image_based.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
+#include "ifsforge/core/parallel.h"
+#include "ifsforge/render/parameters.h"
+#include "ifsforge/render/pixel_space.h"
+
+namespace ifsforge {
+
+int image_based_iterations(const Ifs& ifs, int width, int height) {
+  double s = 0.0;
+  for (double f : ifs.spatial_contraction_factors()) s = std::max(s, f);
+  if (!(s < 1.0))
+    throw InputError("image-based rendering needs every map to shrink the image: system '" + ifs.name() +
+                     "' has a map with contraction factor " + std::to_string(s));
+  if (s == 0.0) return 1;
+  return std::max(1, static_cast<int>(std::ceil(std::log(static_cast<double>(std::max(width, height))) / -std::log(s))) + 1);
+}
+
+namespace {
+
+/// Bilinear sample of a (w x h x stride) float image at continuous pixel coordinates; pixel
+/// centres sit at half-integers and the image is zero outside.
+inline void bilinear(const float* image, int w, int h, int stride, double x, double y, float* out) {
+  x -= 0.5;
+  y -= 0.5;
+  const double fx0 = std::floor(x), fy0 = std::floor(y);
+  const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
+  const float fx = static_cast<float>(x - fx0), fy = static_cast<float>(y - fy0);
+  const float weights[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+  for (int k = 0; k < stride; ++k) out[k] = 0.0f;
+  for (int corner = 0; corner < 4; ++corner) {
+    const int xi = x0 + (corner & 1), yi = y0 + (corner >> 1);
+    if (xi < 0 || yi < 0 || xi >= w || yi >= h) continue;
+    const float* texel = image + (std::size_t(yi) * w + xi) * stride;
+    for (int k = 0; k < stride; ++k) out[k] += weights[corner] * texel[k];
+  }
+}
+
+/// The same for one channel, returned (the binary images' hot loop).
+inline float bilinear1(const float* image, int w, int h, double x, double y) {
+  x -= 0.5;
+  y -= 0.5;
+  const double fx0 = std::floor(x), fy0 = std::floor(y);
+  const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
+  const float fx = static_cast<float>(x - fx0), fy = static_cast<float>(y - fy0);
+  if (x0 >= 0 && y0 >= 0 && x0 + 1 < w && y0 + 1 < h) {  // inside: no edge tests
+    const float* t = image + std::size_t(y0) * w + x0;
+    const float top = t[0] + fx * (t[1] - t[0]), bottom = t[w] + fx * (t[w + 1] - t[w]);
+    return top + fy * (bottom - top);
+  }
+  float out;
+  bilinear(image, w, h, 1, x + 0.5, y + 0.5, &out);
+  return out;
+}
+
+}  // namespace
+
+Raster ImageBased::render(const Ifs& ifs, const RenderOptions& options) const {
+  const ParameterValues params(*this, options);
+  refuse_recurrent(ifs, name());
+  const int supersample = static_cast<int>(params.integer("supersample", 1, 8));
+  const PixelSpace space = make_pixel_space(ifs, options, name(), supersample);
+  if (space.channels && space.spatial_reads_channels)
+    throw InputError("image-based rendering maps textures: the spatial rows of system '" + ifs.name() +
+                     "' must not read its colour channels");
+  const bool measure = params.choice("weights", {"attractor", "measure"}) == "measure";
+  const int iterations = params.automatic("iterations") ? image_based_iterations(ifs, space.width, space.height)
+                                                        : static_cast<int>(params.integer("iterations", 1, 100000));
+  const double threshold = params.number("threshold", 0.0, 1.0);
+  const int w = space.width, h = space.height, ch = space.channels, stride = 1 + ch;
+  const std::size_t pixels = space.pixels();
+  check_memory(2.0 * pixels * stride * 4.0, "two " + std::to_string(w) + "x" + std::to_string(h) + " IBR textures");
+  const std::size_t n = space.maps.size();
+  const double share = ifs.condensation().empty() ? 0.0 : ifs.condensation().probability;
+  std::vector<double> weight(n);
+  std::vector<bool> singular(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double det = std::abs(space.maps[i].determinant());
+    const PixelMap& m = space.maps[i];
+    const double scale = std::max({std::abs(m.a), std::abs(m.b), std::abs(m.c), std::abs(m.d)});
+    singular[i] = !(det > 1e-12 * scale * scale);
+    const double p = ifs.probabilities()[i] * (1.0 - share);
+    weight[i] = !measure ? 1.0 : singular[i] ? p : p / det;  // Eq. 64 (pixel areas: det is the same)
+  }
+  const std::vector<std::uint32_t> condensation = condensation_pixels(ifs, space.frame);
+
+  // Texel layout: q, then q * channel values (premultiplied, so that bilinear filtering and
+  // sums of copies average the colours by coverage).
+  const Point start = ifs.start_point();
+  std::vector<float> q(pixels * stride), next(pixels * stride);
+  for (std::size_t p = 0; p < pixels; ++p) {
+    q[p * stride] = 1.0f;  // the white image
+    for (int c = 0; c < ch; ++c) q[p * stride + 1 + c] = static_cast<float>(start[2 + c]);
+  }
+  constexpr int kRowsPerJob = 16;
+  const std::size_t jobs = (h + kRowsPerJob - 1) / kRowsPerJob;
+  std::vector<std::uint64_t> samples(jobs, 0);
+  std::uint64_t operations = 0;
+  for (int iteration = 0; iteration < iterations; ++iteration) {
+    parallel_jobs(jobs, options.threads, [&](std::size_t job, int) {
+      std::uint64_t count = 0;
+      float texel[1 + kMaxDim];
+      const int y_end = std::min(h, static_cast<int>(job + 1) * kRowsPerJob);
+      for (int y = static_cast<int>(job) * kRowsPerJob; y < y_end; ++y) {
+        float* row = &next[std::size_t(y) * w * stride];
+        std::fill(row, row + std::size_t(w) * stride, 0.0f);
+        for (std::size_t i = 0; i < n; ++i) {
+          if (singular[i]) continue;
+          const PixelMap& m = space.maps[i];
+          const double det = m.determinant();
+          const double ia = m.d / det, ib = -m.b / det, ic = -m.c / det, id = m.a / det;
+          // Pre-image of pixel centre (x + 0.5, y + 0.5): base + x * step.
+          const double rx = 0.5 - m.e, ry = y + 0.5 - m.f;
+          const double bx = ia * rx + ib * ry, by = ic * rx + id * ry, sx = ia, sy = ic;
+          // The x where the pre-image lies in the source image [0, w] x [0, h]: the quadrilateral w_i(image) on this row.
+          double lo = 0.0, hi = w - 1.0;
+          auto clip = [&](double base, double step, double limit) {
+            if (step == 0.0) {
+              if (base < 0.0 || base > limit) hi = -1.0;
+              return;
+            }
+            double t0 = (0.0 - base) / step, t1 = (limit - base) / step;
+            if (t0 > t1) std::swap(t0, t1);
+            lo = std::max(lo, t0);
+            hi = std::min(hi, t1);
+          };
+          clip(bx, sx, w);
+          clip(by, sy, h);
+          if (hi < lo) continue;
+          const int x0 = static_cast<int>(std::ceil(lo)), x1 = static_cast<int>(std::floor(hi));
+          const float sc = static_cast<float>(weight[i]);
+          if (!ch) {
+            for (int x = x0; x <= x1; ++x) row[x] += sc * bilinear1(q.data(), w, h, bx + x * sx, by + x * sy);
+            count += x1 - x0 + 1;
+            continue;
+          }
+          for (int x = x0; x <= x1; ++x) {
+            const double px = bx + x * sx, py = by + x * sy;
+            bilinear(q.data(), w, h, stride, px, py, texel);
+            ++count;
+            if (texel[0] <= 0.0f) continue;
+            float* out = row + std::size_t(x) * stride;
+            out[0] += sc * texel[0];
+            if (!ch) continue;
+            // The copy's colour: the map's channel rows on (pre-image, colour there).
+            Point p{}, r{};
+            p[0] = px;
+            p[1] = py;
+            for (int c = 0; c < ch; ++c) p[2 + c] = texel[1 + c] / texel[0];
+            m.map.apply(p.data(), r.data());
+            for (int c = 0; c < ch; ++c) out[1 + c] += sc * texel[0] * static_cast<float>(r[2 + c]);
+          }
+        }
+      }
+      samples[job] = count;
+    });
+    for (std::uint64_t c : samples) operations += c;
+    // Maps with no inverse: splat the picture forwards, in pixel order (deterministic).
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!singular[i]) continue;
+      double values[kMaxDim];
+      std::vector<float> colour(ch);
+      for (std::size_t p = 0; p < pixels; ++p) {
+        const float v = q[p * stride];
+        if (v <= 0.0f) continue;
+        for (int c = 0; c < ch; ++c) colour[c] = q[p * stride + 1 + c] / v;
+        const long long target = space.map_pixel(i, static_cast<std::uint32_t>(p), colour.data(), values);
+        ++operations;
+        if (target < 0) continue;
+        float* out = &next[std::size_t(target) * stride];
+        out[0] += static_cast<float>(weight[i]) * v;
+        for (int c = 0; c < ch; ++c) out[1 + c] += static_cast<float>(weight[i] * v * values[c]);
+      }
+    }
+    if (measure) {
+      // The condensation set's share of the mass, evenly on its pixels (the maps carry 1 - p_0).
+      double total = 0.0;
+      for (std::size_t p = 0; p < pixels; ++p) total += q[p * stride];
+      for (std::uint32_t p : condensation) {
+        next[p * stride] += static_cast<float>(share * total / condensation.size());
+        for (int c = 0; c < ch; ++c)
+          next[p * stride + 1 + c] += static_cast<float>(share * total / condensation.size() * ifs.condensation().channels[c]);
+      }
+    } else {
+      for (std::size_t p = 0; p < pixels; ++p) {
+        float* t = &next[p * stride];
+        if (t[0] > 1.0f) {
+          for (int c = 0; c < ch; ++c) t[1 + c] /= t[0];
+          t[0] = 1.0f;
+        }
+      }
+      for (std::uint32_t p : condensation) {  // W(B) = C u w_1(B) u ...
+        next[p * stride] = 1.0f;
+        for (int c = 0; c < ch; ++c) next[p * stride + 1 + c] = static_cast<float>(ifs.condensation().channels[c]);
+      }
+    }
+    q.swap(next);
+    report_progress(options, static_cast<double>(iteration + 1) / iterations);
+  }
+  Raster raster = empty_raster(ifs, space);
+  float peak = 0.0f;
+  for (std::size_t p = 0; p < pixels; ++p) peak = std::max(peak, q[p * stride]);
+  for (std::size_t p = 0; p < pixels; ++p) {
+    const float v = q[p * stride];
+    const bool covered = measure ? v > 1e-7f * peak : v >= threshold && v > 0.0f;
+    if (!covered) continue;
+    raster.density[p] = std::max(v, std::numeric_limits<float>::denorm_min());
+    for (int c = 0; c < ch; ++c) raster.channels[p * ch + c] = q[p * stride + 1 + c] / v;
+  }
+  raster.points = operations;
+  return reduce_supersampled(std::move(raster), supersample, measure);
+}
+
+}  // namespace ifsforge

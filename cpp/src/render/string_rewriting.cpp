@@ -1,0 +1,111 @@
+#include "ifsforge/render/string_rewriting.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
+#include "ifsforge/render/leaf_plotter.h"
+#include "ifsforge/render/parameters.h"
+#include "ifsforge/render/pixel_space.h"
+
+namespace ifsforge {
+
+std::vector<std::string> rewrite_strings(const Ifs& ifs, int length) {
+  if (length < 1) throw InputError("string rewriting needs a length of at least 1");
+  if (std::pow(static_cast<double>(ifs.size()), length) > static_cast<double>(1u << 22))
+    throw InputError(std::to_string(ifs.size()) + "^" + std::to_string(length) + " strings are too many (at most 2^22)");
+  std::vector<std::string> a;
+  for (std::size_t k = 1; k <= ifs.size(); ++k) a.push_back("w" + std::to_string(k));
+  for (int level = 1; level < length; ++level) {
+    std::vector<std::string> b;
+    for (const std::string& str : a)
+      for (std::size_t k = 1; k <= ifs.size(); ++k) b.push_back("w" + std::to_string(k) + str);
+    a.swap(b);
+  }
+  return a;
+}
+
+namespace {
+
+/// String_A or String_B: each string as its composed map w_s1 o ... o w_sL (flat) and its
+/// mass p_s1 ... p_sL; all strings of a list have the same length.
+struct Strings {
+  std::vector<double> maps;
+  std::vector<double> mass;
+  int length = 0;
+};
+
+}  // namespace
+
+Raster StringRewriting::render(const Ifs& ifs, const RenderOptions& options) const {
+  check_parameters(*this, options);
+  refuse_recurrent(ifs, name());
+  refuse_condensation(ifs, name());
+  ifs.require_attractor();
+  const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
+  const int n = ifs.dim(), stride = composed::size(n);
+  const std::size_t maps = ifs.size();
+  const PieceBoxes boxes(ifs, frame);
+  const Point start = ifs.start_point();
+  const std::vector<Point> spread = spread_points(ifs);
+  const int fixed = options.depth > 0 ? std::min(options.depth, 64) : 0;
+  LeafPlotter plotter(ifs, frame);
+  // Rewrites every string of `a` into its N successors STR w_k: finished strings are plotted
+  // into `batch`, the others appended to `b`.
+  auto rewrite = [&](const Strings& a, Strings& b, LeafPlotter::Batch& batch, std::uint64_t& written) {
+    b.maps.clear();
+    b.mass.clear();
+    b.length = a.length + 1;
+    double child[composed::size(kMaxDim)];
+    for (std::size_t item = 0; item < a.mass.size(); ++item)
+      for (std::size_t k = 0; k < maps; ++k) {
+        composed::before(&a.maps[item * stride], ifs.map(k), n, child);  // the string STR w_k
+        const double mass = a.mass[item] * ifs.probabilities()[k];
+        ++written;
+        const PieceFit fit = boxes.fit(child);
+        if (fit == PieceFit::Off) continue;
+        const bool last = fixed ? b.length >= fixed : b.length >= 64 || fit != PieceFit::Split;
+        if (!last) {
+          b.maps.insert(b.maps.end(), child, child + stride);
+          b.mass.push_back(mass);
+        } else if (fixed || fit != PieceFit::Small) {
+          plotter.plot(batch, composed::apply(child, n, start), mass);
+        } else {
+          // Smaller than a pixel but maybe straddling: points spread over the piece.
+          plotter.plot_spread(batch, child, spread, mass);
+        }
+      }
+  };
+  // The first rewrites on one thread, until there are enough strings for the jobs.
+  Strings a, b;
+  a.maps.resize(stride);
+  composed::identity(n, a.maps.data());
+  a.mass = {1.0};
+  LeafPlotter::Batch first;
+  std::uint64_t operations = 0;
+  while (!a.mass.empty() && a.mass.size() < 256) {
+    rewrite(a, b, first, operations);
+    std::swap(a, b);
+  }
+  plotter.submit(0, std::move(first));
+  std::vector<std::uint64_t> written(a.mass.size(), 0);
+  parallel_jobs(a.mass.size(), options.threads, [&](std::size_t job, int) {
+    LeafPlotter::Batch batch;
+    Strings mine, next;  // this job's String_A and String_B
+    mine.maps.assign(a.maps.begin() + job * stride, a.maps.begin() + (job + 1) * stride);
+    mine.mass = {a.mass[job]};
+    mine.length = a.length;
+    while (!mine.mass.empty()) {
+      rewrite(mine, next, batch, written[job]);
+      std::swap(mine, next);
+    }
+    plotter.submit(job + 1, std::move(batch));
+  }, options.progress);
+  for (std::uint64_t c : written) operations += c;
+  Raster raster = plotter.finish();
+  raster.points = operations;
+  return raster;
+}
+
+}  // namespace ifsforge

@@ -1,0 +1,77 @@
+#include "ifsforge/render/tesseral_synecdoche.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ifsforge/core/parallel.h"
+#include "ifsforge/render/leaf_plotter.h"
+#include "ifsforge/render/parameters.h"
+#include "ifsforge/render/pixel_space.h"
+#include "ifsforge/render/recursion.h"
+
+namespace ifsforge {
+
+Raster TesseralSynecdoche::render(const Ifs& ifs, const RenderOptions& options) const {
+  const ParameterValues params(*this, options);
+  refuse_recurrent(ifs, name());
+  refuse_condensation(ifs, name());
+  ifs.require_attractor();
+  const double pv = params.number("threshold", 0.0, 1.0);
+  const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
+  const int eq59 = default_depth(ifs.size(), frame.width(), frame.height());
+  RecursionPlan plan = plan_recursion(ifs, options.depth, eq59);
+  const bool fit_pixels = options.depth <= 0;
+  if (fit_pixels) plan.max_depth = depth_for_size(ifs, plan, frame.pixel_size(), 2, eq59);
+  const int spatial = ifs.spatial_dims();
+  const double w = frame.width(), h = frame.height();
+  const auto& projection = frame.projection();
+  // Pixel-space box of a node's piece M(B): [lo, hi) per axis.
+  auto pixel_box = [&](const AffineMap& m, double* lo, double* hi) {
+    double center[3], half[3];
+    image_box(m, plan, spatial, center, half);
+    Point c{};
+    std::copy(center, center + spatial, c.begin());
+    const auto px = frame.to_pixel(c);
+    for (int axis = 0; axis < 2; ++axis) {
+      double extent = 0.0;
+      for (int k = 0; k < spatial; ++k) extent += std::abs(projection[axis][k]) * half[k];
+      extent /= frame.pixel_size();
+      lo[axis] = px[axis] - extent;
+      hi[axis] = px[axis] + extent;
+    }
+  };
+  enum class Why { Depth, Probability, OnePixel, Small, Off };
+  auto why = [&](const RecursionNode& node) {
+    double lo[2], hi[2];
+    pixel_box(node.map, lo, hi);
+    if (hi[0] < 0.0 || lo[0] >= w || hi[1] < 0.0 || lo[1] >= h) return Why::Off;
+    if (node.mass < pv) return Why::Probability;
+    if (fit_pixels && std::floor(lo[0]) == std::floor(hi[0]) && std::floor(lo[1]) == std::floor(hi[1])) return Why::OnePixel;
+    if (fit_pixels && std::max(hi[0] - lo[0], hi[1] - lo[1]) < 1.0) return Why::Small;
+    return Why::Depth;
+  };
+  const Point start = ifs.start_point();
+  const std::vector<Point> spread = spread_points(ifs);
+  LeafPlotter plotter(ifs, frame);
+  std::vector<std::uint64_t> nodes(plan.jobs, 0);
+  parallel_jobs(plan.jobs, options.threads, [&](std::size_t job, int) {
+    LeafPlotter::Batch batch;
+    std::uint64_t& count = nodes[job];
+    walk_job(ifs, plan, job, [&](const RecursionNode& node) { ++count; return why(node) != Why::Depth; },
+             [&](const RecursionNode& node) {
+               if (node.length >= plan.max_depth) ++count;
+               switch (why(node)) {
+                 case Why::Off: return;
+                 case Why::Small: plotter.plot_spread(batch, node.map, spread, node.mass); return;
+                 default: plotter.plot(batch, node.map(start), node.mass);
+               }
+             });
+    plotter.submit(job, std::move(batch));
+  }, options.progress);
+  Raster raster = plotter.finish();
+  raster.points = 0;
+  for (std::uint64_t c : nodes) raster.points += c;  // nodes of the address tree visited
+  return raster;
+}
+
+}  // namespace ifsforge

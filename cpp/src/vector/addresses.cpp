@@ -1,0 +1,162 @@
+#include "ifsforge/vector/addresses.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "address_tree.h"
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
+#include "ifsforge/core/parallel.h"
+#include "ifsforge/io/atomic_file.h"
+
+namespace ifsforge {
+namespace detail {
+
+TreeShape plan_tree(const Ifs& ifs, int depth, double min_probability) {
+  if (depth < 1 || depth > kMaxAddressDepth)
+    throw InputError("the recursion depth must be 1.." + std::to_string(kMaxAddressDepth) + ", got " +
+                     std::to_string(depth));
+  if (!(min_probability >= 0.0 && min_probability < 1.0))
+    throw InputError("the pruning probability pv must be in [0, 1)");
+  if (ifs.size() >= kNoMap) throw InputError("addresses hold at most 65534 maps");
+  if (ifs.recurrent())
+    throw InputError("system '" + ifs.name() + "' is a recurrent IFS: its address tree follows transitions, "
+                     "which the vector and address algorithms do not");
+  if (!ifs.condensation().empty())
+    throw InputError("system '" + ifs.name() + "' has a condensation set, which the vector and address algorithms "
+                     "do not place");
+  if (min_probability <= 0.0 && std::pow(static_cast<double>(ifs.size()), depth) > 1e18)
+    throw InputError("depth " + std::to_string(depth) + " with " + std::to_string(ifs.size()) +
+                     " maps gives more than 10^18 leaves");
+  TreeShape shape;
+  // Fixed depth: >= 64 jobs of <= ~2^20 leaves. Pruned trees end early where probabilities are
+  // small, so they only need enough jobs to balance (the automatic-depth split).
+  shape.plan = min_probability > 0.0 ? plan_recursion(ifs, 0, depth) : plan_recursion(ifs, depth, depth);
+  shape.depth = depth;
+  shape.min_probability = min_probability;
+  for (int level = shape.plan.prefix; level < depth; ++level) shape.leaves_per_job *= ifs.size();
+  return shape;
+}
+
+std::vector<std::uint64_t> job_offsets(const Ifs& ifs, const TreeShape& shape, int threads) {
+  const std::uint64_t jobs = shape.plan.jobs;
+  std::vector<std::uint64_t> offsets(jobs + 1, 0);
+  if (shape.min_probability <= 0.0) {
+    for (std::uint64_t j = 0; j < jobs; ++j) offsets[j + 1] = offsets[j] + shape.leaves_per_job;
+    return offsets;
+  }
+  std::vector<std::uint64_t> counts(jobs, 0);
+  parallel_jobs(jobs, threads, [&](std::size_t job, int) {
+    std::uint64_t count = 0;
+    walk_job(ifs, shape.plan, job, ProbabilityStop{shape.min_probability}, [&](const RecursionNode&) { ++count; });
+    counts[job] = count;
+  });
+  for (std::uint64_t j = 0; j < jobs; ++j) offsets[j + 1] = offsets[j] + counts[j];
+  return offsets;
+}
+
+}  // namespace detail
+
+std::string address_string(const std::uint16_t* address, int length) {
+  std::string out;
+  for (int i = 0; i < length; ++i) {
+    if (i) out += '.';
+    out += std::to_string(address[i]);
+  }
+  return out;
+}
+
+std::string AddressTable::to_string(std::size_t i) const { return address_string(address(i), lengths[i]); }
+
+Point apply_address(const Ifs& ifs, const std::uint16_t* address, int length, const Point& point) {
+  Point p = point, q;
+  for (int i = length - 1; i >= 0; --i) {  // the innermost map first
+    if (address[i] >= ifs.size())
+      throw InputError("address digit " + std::to_string(address[i]) + " names no map (the system has " +
+                       std::to_string(ifs.size()) + ")");
+    ifs.map(address[i]).apply(p.data(), q.data());
+    p = q;
+  }
+  return p;
+}
+
+std::uint64_t count_leaves(const Ifs& ifs, int depth, double min_probability) {
+  const detail::TreeShape shape = detail::plan_tree(ifs, depth, min_probability);
+  return detail::job_offsets(ifs, shape, 0).back();
+}
+
+std::vector<std::string> string_rewriting(const Ifs& ifs, int depth) {
+  const std::uint64_t leaves = count_leaves(ifs, depth, 0.0);
+  check_memory(leaves * (2.0 * sizeof(std::string) + 4.0 * depth + 16.0), std::to_string(leaves) + " address strings");
+  const std::size_t n = ifs.size();
+  std::vector<std::string> string_a, string_b;
+  for (std::size_t k = 0; k < n; ++k) string_a.push_back(std::to_string(k));
+  for (int iteration = 1; iteration < depth; ++iteration) {
+    string_b.clear();
+    string_b.reserve(string_a.size() * n);
+    for (const std::string& str_j : string_a)
+      for (std::size_t k = 0; k < n; ++k) string_b.push_back(std::to_string(k) + '.' + str_j);
+    string_a.swap(string_b);  // String_A = String_B
+  }
+  return string_a;
+}
+
+AddressLeaves tesseral_synecdoche(const Ifs& ifs, int depth, double min_probability,
+                                  const std::vector<double>& start, int threads,
+                                  const ProgressCallback& progress) {
+  const detail::TreeShape shape = detail::plan_tree(ifs, depth, min_probability);
+  Point q0 = ifs.start_point();
+  if (!start.empty()) {
+    if (static_cast<int>(start.size()) != ifs.dim())
+      throw InputError("the start point needs " + std::to_string(ifs.dim()) + " coordinates");
+    for (int c = 0; c < ifs.dim(); ++c) q0[c] = start[c];
+  }
+  const std::vector<std::uint64_t> offsets = detail::job_offsets(ifs, shape, threads);
+  const std::uint64_t total = offsets.back();
+  const int dim = ifs.dim();
+  check_memory(total * (2.0 * depth + 1.0 + 8.0 + 8.0 * dim), std::to_string(total) + " TSA leaves");
+
+  AddressLeaves out;
+  out.dim = dim;
+  AddressTable& t = out.addresses;
+  t.depth = depth;
+  t.digits.assign(total * depth, kNoMap);
+  t.lengths.assign(total, 0);
+  t.probabilities.assign(total, 0.0);
+  out.points.assign(total * dim, 0.0);
+  parallel_jobs(shape.plan.jobs, threads, [&](std::size_t job, int) {
+    std::uint64_t slot = offsets[job];
+    walk_job(ifs, shape.plan, job, detail::ProbabilityStop{min_probability}, [&](const RecursionNode& node) {
+      std::copy(node.address, node.address + node.length, t.digits.begin() + slot * depth);
+      t.lengths[slot] = static_cast<std::uint8_t>(node.length);
+      t.probabilities[slot] = node.mass;
+      node.map.apply(q0.data(), out.points.data() + slot * dim);
+      ++slot;
+    });
+  }, progress);
+  return out;
+}
+
+void write_address_csv(const std::string& path, const AddressTable& addresses) {
+  AtomicFile file(path);
+  std::string chunk = "index,address,length,probability\n";
+  char number[32];
+  for (std::size_t i = 0; i < addresses.size(); ++i) {
+    chunk += std::to_string(i);
+    chunk += ',';
+    chunk += addresses.to_string(i);
+    chunk += ',';
+    chunk += std::to_string(addresses.lengths[i]);
+    chunk += ',';
+    std::snprintf(number, sizeof number, "%.17g\n", addresses.probabilities[i]);
+    chunk += number;
+    if (chunk.size() > (1u << 20)) {
+      std::fwrite(chunk.data(), 1, chunk.size(), file.file());
+      chunk.clear();
+    }
+  }
+  std::fwrite(chunk.data(), 1, chunk.size(), file.file());
+  file.commit();
+}
+
+}  // namespace ifsforge

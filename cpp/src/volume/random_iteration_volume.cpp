@@ -1,0 +1,123 @@
+#include "ifsforge/volume/random_iteration_volume.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
+#include "ifsforge/core/random.h"
+#include "ifsforge/model/map_sampler.h"
+#include "voxel_table.h"
+
+namespace ifsforge {
+namespace {
+
+constexpr std::uint64_t kPointsPerJob = std::uint64_t(1) << 20;
+constexpr std::uint64_t kSkip = 100;  // min_no_of_iterations of 5.1.1
+constexpr std::uint64_t kMaxAutoPoints = std::uint64_t(1) << 34;
+
+/// One job of the chaos game in N dimensions (a template parameter, so the map unrolls).
+template <int N>
+void chaos_job(const Ifs& ifs, const MapSampler& sampler, const VoxelGrid& grid,
+               const ChannelQuantizer& quantizer, std::uint64_t points, std::uint64_t seed,
+               std::uint64_t job, VoxelTable& table) {
+  struct Map {
+    double a[N][N], b[N];
+  };
+  std::vector<Map> maps(ifs.size());
+  for (std::size_t i = 0; i < ifs.size(); ++i)
+    for (int r = 0; r < N; ++r) {
+      for (int c = 0; c < N; ++c) maps[i].a[r][c] = ifs.map(i).a(r, c);
+      maps[i].b[r] = ifs.map(i).b(r);
+    }
+  Rng rng(seed, job);
+  const Point start = ifs.start_point();
+  double p[N], q[N];
+  for (int c = 0; c < N; ++c) p[c] = start[c];
+  auto step = [&] {
+    const Map& m = maps[sampler(rng.next())];
+    for (int r = 0; r < N; ++r) {
+      double value = m.b[r];
+      for (int c = 0; c < N; ++c) value += m.a[r][c] * p[c];
+      q[r] = value;
+    }
+    for (int c = 0; c < N; ++c) p[c] = q[c];
+  };
+  for (std::uint64_t i = 0; i < kSkip; ++i) step();
+  std::uint64_t values[kMaxDim] = {};
+  for (std::uint64_t i = 0; i < points; ++i) {
+    step();
+    std::uint64_t key;
+    if (!grid.voxel_of(p, key)) {
+      if (!std::isfinite(p[0] + p[1] + p[2]))
+        throw DivergentSystemError("system '" + ifs.name() + "' escapes to infinity under iteration");
+      continue;
+    }
+    for (int c = 3; c < N; ++c) values[c - 3] = quantizer.quantize(c - 3, p[c]);
+    table.add(key, 1, 1, values);
+  }
+}
+
+using ChaosJob = void (*)(const Ifs&, const MapSampler&, const VoxelGrid&, const ChannelQuantizer&,
+                          std::uint64_t, std::uint64_t, std::uint64_t, VoxelTable&);
+
+ChaosJob chaos_job_for(int dim) {
+  static constexpr ChaosJob kJobs[] = {chaos_job<3>, chaos_job<4>, chaos_job<5>,
+                                       chaos_job<6>, chaos_job<7>, chaos_job<8>};
+  return kJobs[dim - 3];
+}
+
+}  // namespace
+
+Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& options) const {
+  const VolumeSetup setup = prepare_volume(ifs, options);
+  const int channels = ifs.dim() - 3;
+  const MapSampler sampler(ifs.probabilities());
+  const ChaosJob run = chaos_job_for(ifs.dim());
+  std::vector<VoxelTable> tables(setup.threads, VoxelTable(channels));
+  VoxelList total(channels);
+  std::uint64_t points = 0, jobs_done = 0;
+
+  // Plots jobs [first, last) (job j: points [j, j + 1) * kPointsPerJob, capped at `limit`) and
+  // adds them to `total`. Job j always draws stream (seed, j): the result never depends on
+  // the threads or on how the jobs were grouped into rounds.
+  auto round = [&](std::uint64_t first, std::uint64_t last, std::uint64_t limit, const ProgressCallback& progress) {
+    parallel_jobs(last - first, setup.threads, [&](std::size_t k, int worker) {
+      const std::uint64_t job = first + k;
+      const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
+      run(ifs, sampler, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
+    }, progress);
+    std::vector<VoxelList> lists;
+    lists.push_back(std::move(total));
+    for (VoxelTable& t : tables) lists.push_back(t.take());
+    total = merge_voxel_lists(lists, setup.threads);
+    points = std::min(limit, last * kPointsPerJob);
+    jobs_done = last;
+  };
+
+  if (options.iterations > 0) {
+    const std::uint64_t jobs = (options.iterations + kPointsPerJob - 1) / kPointsPerJob;
+    round(0, jobs, options.iterations, progress_range(options.progress, 0.0, 0.95));
+  } else {
+    // Double the points until a round adds fewer than 1% new voxels (occupancy stops
+    // changing), the volumetric form of Eq. 45's coupon collector. Voxels the attractor only
+    // grazes hold a tiny share of the measure and would need ever more points.
+    std::size_t before = 0;
+    double reported = 0.0;
+    for (std::uint64_t last = 2; last * kPointsPerJob <= kMaxAutoPoints; last *= 2) {
+      const double next = reported + 0.5 * (0.95 - reported);
+      round(jobs_done, last, last * kPointsPerJob, progress_range(options.progress, reported, next));
+      reported = next;
+      if (before > 0 && static_cast<double>(total.size() - before) < 0.01 * static_cast<double>(before)) break;
+      before = total.size();
+    }
+  }
+  Volume volume = finish_volume(std::move(total), setup.grid, ifs, setup.quantizer, options.density,
+                                static_cast<double>(points));
+  volume.algorithm = name();
+  volume.points = points;
+  if (options.progress && !options.progress(1.0)) throw Cancelled();
+  return volume;
+}
+
+}  // namespace ifsforge

@@ -1,0 +1,221 @@
+#include "ifsforge/volume/volume_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
+#include "ifsforge/render/recursion.h"
+#include "ifsforge/volume/deterministic_iteration_volume.h"
+#include "ifsforge/volume/escape_time_volume.h"
+#include "ifsforge/volume/point_recursive_volume.h"
+#include "ifsforge/volume/random_iteration_volume.h"
+
+namespace ifsforge {
+namespace {
+
+struct Entry {
+  std::unique_ptr<VolumeRenderer> renderer;
+  std::vector<std::string> aliases;
+};
+
+const std::vector<Entry>& registry() {
+  static const std::vector<Entry> entries = [] {
+    std::vector<Entry> e;
+    e.push_back({std::make_unique<PointRecursiveVolume>(), {"point-recursive"}});
+    e.push_back({std::make_unique<RandomIterationVolume>(), {"random", "chaos"}});
+    e.push_back({std::make_unique<DeterministicIterationVolume>(), {"deterministic"}});
+    e.push_back({std::make_unique<EscapeTimeVolume>(), {"escape-time"}});
+    return e;
+  }();
+  return entries;
+}
+
+}  // namespace
+
+EscapeNorm escape_norm_from_string(const std::string& name) {
+  if (name == "euclidean") return EscapeNorm::Euclidean;
+  if (name == "linear") return EscapeNorm::Linear;
+  throw InputError("unknown escape-time norm '" + name + "'; choose euclidean or linear (Eq. 55)");
+}
+
+const VolumeRenderer& volume_renderer(const std::string& name) {
+  std::string known;
+  for (const auto& entry : registry()) {
+    if (entry.renderer->name() == name) return *entry.renderer;
+    for (const auto& alias : entry.aliases)
+      if (alias == name) return *entry.renderer;
+    known += (known.empty() ? "" : ", ") + entry.renderer->name();
+  }
+  throw InputError("unknown volume algorithm '" + name + "'; choose one of: " + known);
+}
+
+std::vector<const VolumeRenderer*> volume_renderers() {
+  std::vector<const VolumeRenderer*> out;
+  for (const auto& entry : registry()) out.push_back(entry.renderer.get());
+  return out;
+}
+
+Volume render_volume(const Ifs& ifs, const std::string& algorithm, const VolumeOptions& options) {
+  return volume_renderer(algorithm).render(ifs, options);
+}
+
+namespace {
+
+/// The points of `points` farthest along one of the 26 directions (dx, dy, dz) in
+/// {-1, 0, 1}^3 \ 0, without repeats; ties go to the earlier point.
+std::vector<Point> farthest_points(const std::vector<Point>& points) {
+  std::vector<Point> out;
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz) {
+        if (!dx && !dy && !dz) continue;
+        const Point* best = nullptr;
+        double reach = -std::numeric_limits<double>::infinity();
+        for (const Point& p : points) {
+          const double r = dx * p[0] + dy * p[1] + dz * p[2];
+          if (!best || r > reach + 1e-12 * (1.0 + std::abs(reach))) {
+            reach = r;
+            best = &p;
+          }
+        }
+        if (best && std::find(out.begin(), out.end(), *best) == out.end()) out.push_back(*best);
+      }
+  return out;
+}
+
+/// The smallest box B with AABB(w_i(B)) inside B for every map, from `start`: the fixed point
+/// of B -> hull of the AABBs of w_i(B), a contraction when every map shrinks boxes (row sums
+/// of |A| below 1). It holds the attractor, tightly for axis-aligned maps, and the boxes of
+/// the pieces w_a(B) nest. False when the iteration does not settle.
+bool invariant_box(const Ifs& ifs, std::vector<double>& lo, std::vector<double>& hi) {
+  const int n = ifs.dim();
+  for (const auto& m : ifs.maps())
+    for (int r = 0; r < n; ++r) {
+      double row = 0.0;
+      for (int c = 0; c < n; ++c) row += std::abs(m.a(r, c));
+      if (!(row < 1.0)) return false;
+    }
+  std::vector<double> center(n), half(n), next_lo(n), next_hi(n);
+  for (int iteration = 0; iteration < 4000; ++iteration) {
+    for (int c = 0; c < n; ++c) {
+      center[c] = 0.5 * (lo[c] + hi[c]);
+      half[c] = 0.5 * (hi[c] - lo[c]);
+    }
+    std::fill(next_lo.begin(), next_lo.end(), std::numeric_limits<double>::infinity());
+    std::fill(next_hi.begin(), next_hi.end(), -std::numeric_limits<double>::infinity());
+    for (const auto& m : ifs.maps())
+      for (int r = 0; r < n; ++r) {
+        double c0 = m.b(r), h = 0.0;
+        for (int c = 0; c < n; ++c) {
+          c0 += m.a(r, c) * center[c];
+          h += std::abs(m.a(r, c)) * half[c];
+        }
+        next_lo[r] = std::min(next_lo[r], c0 - h);
+        next_hi[r] = std::max(next_hi[r], c0 + h);
+      }
+    double change = 0.0, size = 0.0;
+    for (int c = 0; c < n; ++c) {
+      change = std::max({change, std::abs(next_lo[c] - lo[c]), std::abs(next_hi[c] - hi[c])});
+      size = std::max(size, next_hi[c] - next_lo[c]);
+    }
+    lo.swap(next_lo);
+    hi.swap(next_hi);
+    if (change <= 1e-14 * (1.0 + size)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+VoxelGrid grid_around(const std::array<double, 3>& lo, const std::array<double, 3>& hi, int resolution) {
+  double longest = 0.0;
+  for (int a = 0; a < 3; ++a) longest = std::max(longest, hi[a] - lo[a]);
+  if (!(longest > 0.0)) longest = std::max(1e-9, 1e-9 * std::abs(lo[0]));
+  VoxelGrid grid;
+  grid.voxel_size = resolution > 1 ? longest / (resolution - 1) : longest;
+  for (int a = 0; a < 3; ++a) {
+    const double extent = hi[a] - lo[a];
+    grid.dims[a] = std::clamp(static_cast<int>(std::lround(extent / grid.voxel_size)) + 1, 1, resolution);
+    grid.origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * grid.dims[a] * grid.voxel_size;
+  }
+  return grid;
+}
+
+Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes) {
+  const int n = ifs.dim();
+  // For hyperbolic systems these include W^d of the fixed points (model/attractor_points.h),
+  // which reach the tips of rarely chosen maps that sampling misses.
+  Bounds b = ifs.attractor_bounds(1u << 18);
+  std::vector<Point> candidates;
+  // Fixed points of contractive maps lie on the attractor (and, for most systems, at its
+  // corners); a sample stands in when there are none.
+  for (std::size_t i = 0; i < ifs.size(); ++i)
+    if (ifs.map(i).contraction_factor() < 1.0)
+      if (const auto f = ifs.map(i).fixed_point()) candidates.push_back(*f);
+  if (extremes) {
+    if (candidates.empty())
+      sample_attractor(ifs, 4096, 0xE87, [&](const Point& p) {
+        bool inside = true;
+        for (int c = 0; c < n; ++c) inside = inside && p[c] >= b.lo[c] && p[c] <= b.hi[c];
+        if (inside) candidates.push_back(p);
+      });
+    // Spread them over the attractor (images under the maps) while that keeps them few.
+    while (!candidates.empty() && candidates.size() * ifs.size() <= 16) {
+      std::vector<Point> images;
+      for (const Point& p : candidates)
+        for (const auto& m : ifs.maps()) {
+          const Point q = m(p);
+          if (std::find(images.begin(), images.end(), q) == images.end()) images.push_back(q);
+        }
+      candidates.swap(images);
+    }
+    *extremes = candidates.size() > 16 ? farthest_points(candidates) : candidates;
+  }
+  return b;
+}
+
+VolumeSetup prepare_volume(const Ifs& ifs, const VolumeOptions& options) {
+  if (ifs.spatial_dims() != 3)
+    throw InputError("a volume needs a 3D system (layout xyz, xyz+gray, xyz+rgb, xyz+hsi, ...); '" +
+                     ifs.name() + "' has layout '" + ifs.layout().text() + "'");
+  if (options.resolution < 1 || options.resolution > kMaxVolumeResolution)
+    throw InputError("the volume resolution must be 1.." + std::to_string(kMaxVolumeResolution) +
+                     " voxels per side, got " + std::to_string(options.resolution));
+  ifs.require_attractor();
+  VolumeSetup setup;
+  setup.bounds = volume_bounds(ifs, &setup.extremes);
+  const int n = ifs.dim();
+  for (int c = 0; c < n; ++c) {
+    if (!std::isfinite(setup.bounds.lo[c]) || !std::isfinite(setup.bounds.hi[c]))
+      throw DivergentSystemError("system '" + ifs.name() + "' has unbounded channel '" +
+                                 ifs.layout().names()[c] + "'");
+  }
+  // B: the invariant box when there is one (exact for axis-aligned maps, pieces nest),
+  // else the bounds with a 1% margin for the tips a sample may miss.
+  std::vector<double> lo = setup.bounds.lo, hi = setup.bounds.hi;
+  const bool invariant = ifs.classify() == Classification::Hyperbolic && invariant_box(ifs, lo, hi);
+  for (int c = 0; c < n; ++c) {
+    const double extent = hi[c] - lo[c];
+    setup.center.push_back(0.5 * (lo[c] + hi[c]));
+    setup.half.push_back(0.5 * extent + (invariant ? 0.0 : 0.01 * extent) + 1e-12 * std::abs(setup.center.back()));
+  }
+  if (options.bounds) {
+    setup.grid = fit_voxel_grid(*options.bounds, options.resolution);
+  } else {
+    std::array<double, 3> lo{}, hi{};
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = setup.bounds.lo[a];
+      hi[a] = setup.bounds.hi[a];
+    }
+    setup.grid = grid_around(lo, hi, options.resolution);
+  }
+  setup.quantizer = ChannelQuantizer(std::vector<double>(setup.bounds.lo.begin() + 3, setup.bounds.lo.end()),
+                                     std::vector<double>(setup.bounds.hi.begin() + 3, setup.bounds.hi.end()));
+  setup.threads = resolve_threads(options.threads);
+  return setup;
+}
+
+}  // namespace ifsforge

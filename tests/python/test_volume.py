@@ -1,0 +1,146 @@
+"""The volume binding and the `ifsforge volume` command: numpy arrays, OpenVDB files read back by
+python3-openvdb (an independent reader), meshes, progress, bad input; and Blender importing the
+.vdb as a Volume object (skipped only when Blender is absent)."""
+import json
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pyopenvdb
+import pytest
+
+import ifsforge
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def constant_colour_tetrahedron(rgb):
+    """The Sierpinski tetrahedron whose maps all set the colour `rgb`."""
+    rows = [[0, 0, 0, 0, 0, 0, c] for c in rgb]
+    maps = [{"scale": [0.5] * 3, "rotation": [0, 0, 0], "translation": t, "channels": rows}
+            for t in ([0, 0, 0], [0.5, 0, 0], [0, 0.5, 0], [0, 0, 0.5])]
+    return ifsforge.parse_json(json.dumps({"format": "ifsforge/1", "name": "tinted", "layout": "xyz+rgb",
+                                           "probabilities": "uniform", "maps": maps}))
+
+
+def test_volume_arrays_describe_the_exact_tetrahedron(samples):
+    tetra = ifsforge.load(str(samples / "sierpinski_tetrahedron.json"))
+    volume = ifsforge.render_volume(tetra, "prr", 32, bounds=(0, 0, 0, 1, 1, 1), depth=5)
+    assert len(volume) == 4 ** 5
+    coords = volume.coords
+    assert coords.shape == (1024, 3) and coords.dtype == np.int32
+    # Cell (i, j, k) of level 5 is filled iff i, j and k share no binary digit.
+    assert not np.any(coords[:, 0] & coords[:, 1]) and not np.any(coords[:, 1] & coords[:, 2])
+    assert np.allclose(volume.positions, np.asarray(volume.origin) + (coords + 0.5) * volume.voxel_size)
+    assert volume.dims == [32, 32, 32] and volume.voxel_size == pytest.approx(1 / 32)
+    assert np.all(volume.density == 1.0) and volume.density_mode == "binary"
+    dense = volume.to_dense("occupancy")
+    assert dense.shape == (32, 32, 32) and dense.sum() == 1024
+
+
+def test_vdb_read_back_by_pyopenvdb(tmp_path, samples):
+    system = ifsforge.load(str(samples / "volume_sierpinski_pyramid_rgb.json"))
+    volume = ifsforge.render_volume(system, "prr", 48)
+    path = tmp_path / "pyramid.vdb"
+    ifsforge.write_vdb(str(path), volume, system=system)
+    grids, meta = pyopenvdb.readAll(str(path))
+    assert {g.name for g in grids} == {"density", "color"}
+    for grid in grids:
+        assert grid.activeVoxelCount() == len(volume)
+    density = pyopenvdb.read(str(path), "density")
+    color = pyopenvdb.read(str(path), "color")
+    assert density.gridClass == "fog volume"
+    # The transform puts voxel (i, j, k) where the system puts it, and the values match.
+    accessor, colors = color.getConstAccessor(), volume.color
+    for index in (0, len(volume) // 2, len(volume) - 1):
+        ijk = tuple(int(c) for c in volume.coords[index])
+        assert np.allclose(density.transform.indexToWorld(ijk), volume.positions[index])
+        assert np.allclose(accessor.getValue(ijk), colors[index], atol=1e-6)
+    assert ifsforge.parse_json(meta["ifsforge_system"]).name == system.name
+    assert meta["ifsforge_algorithm"] == "prr" and meta["ifsforge_layout"] == "xyz+rgb"
+
+
+@pytest.mark.parametrize("name, grids", [("volume_tetrahedron_alpha", {"density", "alpha"}),
+                                         ("volume_menger_gray", {"density", "color", "gray"}),
+                                         ("volume_hsi_tower", {"density", "color"})])
+def test_extra_channels_get_grids(tmp_path, samples, name, grids):
+    volume = ifsforge.render_volume(ifsforge.load(str(samples / f"{name}.json")), "prr", 24)
+    path = tmp_path / f"{name}.vdb"
+    ifsforge.write_vdb(str(path), volume)
+    found = pyopenvdb.readAll(str(path))[0]
+    assert {g.name for g in found} == grids
+    assert all(g.activeVoxelCount() == len(volume) for g in found)
+    for attribute in volume.attributes().values():
+        assert attribute.min() >= 0.0 and attribute.max() <= 1.0
+
+
+def test_mesh_dict_feeds_write_mesh(tmp_path):
+    volume = ifsforge.render_volume(constant_colour_tetrahedron((0.2, 0.6, 0.9)), "prr", 32)
+    mesh = ifsforge.volume_to_mesh(volume)
+    assert mesh["triangles"].shape[1] == 3 and mesh["triangles"].max() < len(mesh["positions"])
+    lo, hi = np.asarray(volume.bounds[:3]), np.asarray(volume.bounds[3:])
+    assert np.all(mesh["positions"] >= lo - 1e-6) and np.all(mesh["positions"] <= hi + 1e-6)
+    assert np.allclose(mesh["colors"], [0.2, 0.6, 0.9, 1.0], atol=1e-5)
+    path = tmp_path / "tetra.glb"
+    ifsforge.write_mesh(str(path), **mesh)
+    assert path.stat().st_size > 1000
+
+
+def test_progress_and_cancellation():
+    tetra = constant_colour_tetrahedron((1, 0, 0))
+    seen = []
+    ifsforge.render_volume(tetra, "prr", 32, progress=lambda f: seen.append(f) or True)
+    assert seen and seen[-1] == 1.0 and seen == sorted(seen)
+    with pytest.raises(ifsforge.Cancelled):
+        ifsforge.render_volume(tetra, "ria", 32, progress=lambda f: False)
+
+
+def test_cli_writes_vdb_and_mesh(cli, tmp_path, samples):
+    r = cli("volume", samples / "volume_sierpinski_pyramid_rgb.json", "--res", "40", "-o", tmp_path / "p.vdb",
+            "--mesh", tmp_path / "p.ply", check=True)
+    occupied = int(r.stdout.split(" occupied")[0].split()[-1].replace(",", ""))
+    assert pyopenvdb.read(str(tmp_path / "p.vdb"), "density").activeVoxelCount() == occupied
+    assert (tmp_path / "p.ply").stat().st_size > 1000
+    r = cli("volume", samples / "menger_sponge.json", "--res", "27", "--bounds", "0", "0", "0", "1", "1", "1",
+            "--depth", "3", "-o", tmp_path / "m.vdb", check=True)
+    assert pyopenvdb.read(str(tmp_path / "m.vdb"), "density").activeVoxelCount() == 8000
+
+
+def test_cli_refuses_bad_input(cli, tmp_path, samples):
+    divergent = tmp_path / "divergent.json"
+    divergent.write_text(json.dumps({"format": "ifsforge/1", "name": "blow-up", "layout": "xyz", "maps": [
+        {"matrix": [[1.5, 0, 0], [0, 1.5, 0], [0, 0, 1.5]], "offset": [0, 0, 0], "probability": 0.5},
+        {"matrix": [[1.2, 0, 0], [0, 1.2, 0], [0, 0, 1.2]], "offset": [1, 0, 0], "probability": 0.5}]}))
+    out = tmp_path / "out.vdb"
+    cases = [((samples / "barnsley_fern.json", "-o", out), "3D system"),
+             ((samples / "menger_sponge.json", "--res", "0", "-o", out), "resolution"),
+             ((samples / "menger_sponge.json", "--res", "99999", "-o", out), "resolution"),
+             ((divergent, "-o", out), "divergent"),
+             ((samples / "menger_sponge.json", "-o", tmp_path / "out.png"), ".vdb"),
+             ((samples / "menger_sponge.json", "-o", tmp_path / "missing" / "out.vdb"), "does not exist"),
+             ((samples / "volume_fern_3d.json", "-a", "eta", "-o", out), "singular")]
+    for args, expected in cases:
+        r = cli("volume", *args)
+        assert r.returncode == 2, (args, r.stderr)
+        assert expected in r.stderr, (args, r.stderr)
+        assert len(r.stderr.strip().splitlines()) == 1
+    assert not list(tmp_path.glob("out*")) and not (tmp_path / "missing").exists()
+
+
+@pytest.mark.skipif(shutil.which("blender") is None, reason="Blender is not installed")
+def test_blender_imports_the_volume(tmp_path):
+    """Blender 3.4 reads our .vdb as a Volume object with 'density' and 'color' grids, places it
+    where the IFS puts it, and its Principled Volume renders it in the volume's colour."""
+    rgb = (0.9, 0.15, 0.1)
+    volume = ifsforge.render_volume(constant_colour_tetrahedron(rgb), "prr", 48)
+    path = tmp_path / "tinted.vdb"
+    ifsforge.write_vdb(str(path), volume)
+    h = volume.voxel_size
+    box = list(volume.positions.min(axis=0) - h / 2) + list(volume.positions.max(axis=0) + h / 2)
+    script = ROOT / "tests" / "blender" / "volume_import.py"
+    r = subprocess.run(["blender", "-b", "--factory-startup", "--python-exit-code", "1", "--python", str(script),
+                        "--", str(path), str(h), *map(str, box), *map(str, rgb)],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
+    assert "OK grids ['color', 'density']" in r.stdout
