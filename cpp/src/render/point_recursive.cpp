@@ -92,22 +92,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   }
   const int spatial = ifs.spatial_dims();
   const double w = frame.width(), h = frame.height();
-  const auto& projection = frame.projection();
-  // Pixel-space box of a node's piece M(B) of the attractor: [lo, hi) per axis.
-  auto pixel_box = [&](const AffineMap& m, double* lo, double* hi) {
-    double center[3], half[3];
-    image_box(m, plan, spatial, center, half);
-    Point c{};
-    std::copy(center, center + spatial, c.begin());
-    const auto px = frame.to_pixel(c);
-    for (int axis = 0; axis < 2; ++axis) {
-      double extent = 0.0;
-      for (int k = 0; k < spatial; ++k) extent += std::abs(projection[axis][k]) * half[k];
-      extent /= frame.pixel_size();
-      lo[axis] = px[axis] - extent;
-      hi[axis] = px[axis] + extent;
-    }
-  };
+  auto pixel_box = [&](const AffineMap& m, double* lo, double* hi) { piece_pixel_box(frame, plan, m, lo, hi); };
   // Pieces that stay wider than a pixel in one direction while thinning in the other (a rough
   // fractal interpolation graph) would split for ever: each job has a node budget, checked per
   // job so that the outcome does not depend on the thread count.

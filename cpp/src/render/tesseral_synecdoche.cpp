@@ -22,24 +22,8 @@ Raster TesseralSynecdoche::render(const Ifs& ifs, const RenderOptions& options) 
   RecursionPlan plan = plan_recursion(ifs, options.depth, eq59);
   const bool fit_pixels = options.depth <= 0;
   if (fit_pixels) plan.max_depth = depth_for_size(ifs, plan, frame.pixel_size(), 2, eq59);
-  const int spatial = ifs.spatial_dims();
   const double w = frame.width(), h = frame.height();
-  const auto& projection = frame.projection();
-  // Pixel-space box of a node's piece M(B): [lo, hi) per axis.
-  auto pixel_box = [&](const AffineMap& m, double* lo, double* hi) {
-    double center[3], half[3];
-    image_box(m, plan, spatial, center, half);
-    Point c{};
-    std::copy(center, center + spatial, c.begin());
-    const auto px = frame.to_pixel(c);
-    for (int axis = 0; axis < 2; ++axis) {
-      double extent = 0.0;
-      for (int k = 0; k < spatial; ++k) extent += std::abs(projection[axis][k]) * half[k];
-      extent /= frame.pixel_size();
-      lo[axis] = px[axis] - extent;
-      hi[axis] = px[axis] + extent;
-    }
-  };
+  auto pixel_box = [&](const AffineMap& m, double* lo, double* hi) { piece_pixel_box(frame, plan, m, lo, hi); };
   enum class Why { Depth, Probability, OnePixel, Small, Off };
   auto why = [&](const RecursionNode& node) {
     double lo[2], hi[2];

@@ -9,10 +9,13 @@
 /// p_a1 ... p_ak is exactly the invariant measure of that piece.
 /// Jobs are address prefixes of fixed length: the seam along which work splits across threads
 /// (and, later, machines); results merged in job order do not depend on the thread count.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "ifsforge/model/ifs.h"
+#include "ifsforge/render/frame.h"
 
 namespace ifsforge {
 
@@ -54,6 +57,23 @@ inline void image_box(const AffineMap& m, const RecursionPlan& plan, int rows, d
     }
     center[r] = c;
     half[r] = h;
+  }
+}
+
+/// @brief Pixel-space box [lo, hi) per image axis of a node's piece M(B), projected by `frame`.
+inline void piece_pixel_box(const Frame& frame, const RecursionPlan& plan, const AffineMap& m, double* lo, double* hi) {
+  const int spatial = frame.spatial_dims();
+  double center[3], half[3];
+  image_box(m, plan, spatial, center, half);
+  Point c{};
+  std::copy(center, center + spatial, c.begin());
+  const auto px = frame.to_pixel(c);
+  for (int axis = 0; axis < 2; ++axis) {
+    double extent = 0.0;
+    for (int k = 0; k < spatial; ++k) extent += std::abs(frame.projection()[axis][k]) * half[k];
+    extent /= frame.pixel_size();
+    lo[axis] = px[axis] - extent;
+    hi[axis] = px[axis] + extent;
   }
 }
 
