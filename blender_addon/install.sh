@@ -57,6 +57,10 @@ rm -rf "$addons/ifsforge_addon"
 mv "$new" "$addons/ifsforge_addon"
 echo "install: add-on -> $addons/ifsforge_addon"
 
+# Blender saves no preferences into a config folder that does not exist yet (a first run).
+config="$(ask "import bpy; print('ANSWER=' + bpy.utils.user_resource('CONFIG'))")"
+[ -n "$config" ] && mkdir -p "$config"
+
 # Enable and save the preferences (not --factory-startup: the user's preferences are kept).
 log="$("$blender" -b --python-expr "
 import addon_utils, bpy

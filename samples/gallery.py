@@ -50,8 +50,10 @@ def images(out):
         system = ifsforge.read_json(str(path))
         defaults = system.render_defaults
         start = time.perf_counter()
+        # A shaded 3D view needs the nearest surface per pixel, not a smooth density: PEPP 4.
         raster = ifsforge.render(system, defaults.get("algorithm", "chaos"), SIZE,
-                                 window=defaults.get("window"), view=defaults.get("view"))
+                                 window=defaults.get("window"), view=defaults.get("view"),
+                                 points_per_pixel=4 if system.spatial_dims == 3 else 16)
         image = raster.to_image()
         ifsforge.write_png(str(folder / f"{path.stem}.png"), image)
         made.append(image)
