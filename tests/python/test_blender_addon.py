@@ -4,6 +4,7 @@ in tests/blender/ (each prints CHECK lines and a RESULT line, see addon_harness.
 import importlib.util
 import json
 import os
+import signal
 import shutil
 import subprocess
 
@@ -33,10 +34,19 @@ def run_blender(script, tmp_path, timeout=120, window=False):
     if window:
         command = ["xvfb-run", "-a", "-s", "-screen 0 1024x800x24", BLENDER, "--factory-startup",
                    "--enable-event-simulate"]
-    result = subprocess.run(
+    # Its own process group: on a timeout the whole group goes (xvfb-run's Blender child too).
+    process = subprocess.Popen(
         command + ["--python", str(ROOT / "tests" / "blender" / script), "--",
                    "--python-path", str(BUILD_PYTHON), "--out", str(tmp_path)],
-        capture_output=True, text=True, timeout=timeout, env=dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache")))
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+        env=dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache")))
+    try:
+        stdout, stderr = process.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.communicate()
+        raise
+    result = subprocess.CompletedProcess(process.args, process.returncode, stdout, stderr)
     if window:  # panels and the draw handler run inside Blender's loop: a bug there only prints
         assert "Traceback" not in result.stdout + result.stderr, (result.stdout + result.stderr)[-4000:]
     lines = [line for line in result.stdout.splitlines() if line.startswith("RESULT ")]
