@@ -13,6 +13,7 @@
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/random.h"
+#include "ifsforge/model/fixed_maps.h"
 #include "ifsforge/model/map_sampler.h"
 #include "ifsforge/render/accumulator.h"
 
@@ -41,15 +42,7 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapSampler& sampl
                      const std::vector<MapSampler>* rows, std::uint64_t points, std::uint64_t skip,
                      std::uint64_t seed, std::uint64_t job, Accumulator& acc) {
   constexpr int kSpatialMax = N < 3 ? N : 3;
-  struct Map {
-    double a[N][N], b[N];
-  };
-  std::vector<Map> maps(ifs.size());
-  for (std::size_t i = 0; i < ifs.size(); ++i)
-    for (int r = 0; r < N; ++r) {
-      for (int c = 0; c < N; ++c) maps[i].a[r][c] = ifs.map(i).a(r, c);
-      maps[i].b[r] = ifs.map(i).b(r);
-    }
+  const auto maps = fixed_maps<N>(ifs);
   // Pixel coordinates straight from the spatial coordinates: px = U . x + u0, py = V . x + v0.
   const int spatial = ifs.spatial_dims();
   const auto& proj = frame.projection();
@@ -68,7 +61,7 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapSampler& sampl
   std::uint32_t state = rows ? sampler(rng.next()) : 0;  // recurrent: the previous map
   auto step = [&] {
     if (rows) state = (*rows)[state](rng.next());
-    const Map& m = maps[rows ? state : sampler(rng.next())];
+    const auto& m = maps[rows ? state : sampler(rng.next())];
     for (int r = 0; r < N; ++r) {
       double value = m.b[r];
       for (int c = 0; c < N; ++c) value += m.a[r][c] * p[c];

@@ -2,6 +2,7 @@
 #include <memory>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/named.h"
 #include "ifsforge/render/accurate_fractal.h"
 #include "ifsforge/render/chaos_game.h"
 #include "ifsforge/render/colour_stealing.h"
@@ -51,16 +52,7 @@ const std::vector<Entry>& registry() {
 
 }  // namespace
 
-const Renderer& renderer(const std::string& name) {
-  std::string known;
-  for (const auto& entry : registry()) {
-    if (entry.renderer->name() == name) return *entry.renderer;
-    for (const auto& alias : entry.aliases)
-      if (alias == name) return *entry.renderer;
-    known += (known.empty() ? "" : ", ") + entry.renderer->name();
-  }
-  throw InputError("unknown algorithm '" + name + "'; choose one of: " + known);
-}
+const Renderer& renderer(const std::string& name) { return find_named(registry(), name, "algorithm"); }
 
 std::vector<const Renderer*> renderers() {
   std::vector<const Renderer*> out;

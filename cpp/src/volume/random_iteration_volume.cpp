@@ -6,6 +6,7 @@
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/random.h"
+#include "ifsforge/model/fixed_maps.h"
 #include "ifsforge/model/map_sampler.h"
 #include "voxel_table.h"
 
@@ -21,21 +22,13 @@ template <int N>
 void chaos_job(const Ifs& ifs, const MapSampler& sampler, const VoxelGrid& grid,
                const ChannelQuantizer& quantizer, std::uint64_t points, std::uint64_t seed,
                std::uint64_t job, VoxelTable& table) {
-  struct Map {
-    double a[N][N], b[N];
-  };
-  std::vector<Map> maps(ifs.size());
-  for (std::size_t i = 0; i < ifs.size(); ++i)
-    for (int r = 0; r < N; ++r) {
-      for (int c = 0; c < N; ++c) maps[i].a[r][c] = ifs.map(i).a(r, c);
-      maps[i].b[r] = ifs.map(i).b(r);
-    }
+  const auto maps = fixed_maps<N>(ifs);
   Rng rng(seed, job);
   const Point start = ifs.start_point();
   double p[N], q[N];
   for (int c = 0; c < N; ++c) p[c] = start[c];
   auto step = [&] {
-    const Map& m = maps[sampler(rng.next())];
+    const auto& m = maps[sampler(rng.next())];
     for (int r = 0; r < N; ++r) {
       double value = m.b[r];
       for (int c = 0; c < N; ++c) value += m.a[r][c] * p[c];

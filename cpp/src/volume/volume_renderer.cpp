@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/named.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/render/recursion.h"
 #include "ifsforge/volume/deterministic_iteration_volume.h"
@@ -42,14 +43,7 @@ EscapeNorm escape_norm_from_string(const std::string& name) {
 }
 
 const VolumeRenderer& volume_renderer(const std::string& name) {
-  std::string known;
-  for (const auto& entry : registry()) {
-    if (entry.renderer->name() == name) return *entry.renderer;
-    for (const auto& alias : entry.aliases)
-      if (alias == name) return *entry.renderer;
-    known += (known.empty() ? "" : ", ") + entry.renderer->name();
-  }
-  throw InputError("unknown volume algorithm '" + name + "'; choose one of: " + known);
+  return find_named(registry(), name, "volume algorithm");
 }
 
 std::vector<const VolumeRenderer*> volume_renderers() {
