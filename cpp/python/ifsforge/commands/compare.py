@@ -231,10 +231,7 @@ def run(args):
     for name, content in (("comparison.md", text),
                           ("comparison.json", json.dumps({"system": system.name, "size": list(size),
                                                           "reference": reference, "rows": rows}, indent=2))):
-        path = os.path.join(args.output, name)
-        with open(path + ".tmp", "w") as f:
-            f.write(content)
-        os.replace(path + ".tmp", path)
+        common.write_atomic(os.path.join(args.output, name), lambda f, content=content: f.write(content))
     print(text, end="")
     print(f"{args.output}: contact_sheet.png, comparison.md, comparison.json and {len(images)} images")
     return 0

@@ -1,8 +1,6 @@
 """ifsforge instances: vector recursive rendering (seed 5.8.2) of a system into an instance list,
 written as a POV-Ray scene (optionally rendered), SVG, glTF, numpy, address CSV or a PNG drawing."""
 import argparse
-import os
-import tempfile
 import time
 
 import numpy as np
@@ -70,19 +68,7 @@ def register(subparsers):
 
 
 def atomic_save_npy(path, array):
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, temporary = tempfile.mkstemp(prefix=".ifsforge-", suffix=".npy", dir=folder)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            np.save(f, array)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)  # mkstemp's 0600 is not what a plain write gives
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.remove(temporary)
-        raise
+    common.write_atomic(path, lambda f: np.save(f, array), binary=True)
 
 
 def run(args):

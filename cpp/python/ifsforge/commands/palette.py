@@ -46,16 +46,7 @@ def parse_stop(text):
 
 
 def write_text(path, text):
-    """Write through a temporary beside `path`, then rename: never a partial file."""
-    tmp = f"{path}.{os.getpid()}.tmp"
-    try:
-        with open(tmp, "w") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    common.write_atomic(path, lambda f: f.write(text))
 
 
 def run(args):
