@@ -91,6 +91,20 @@ BENCHMARK(BM_PrrToVdb)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PrrToVdb)->Arg(512)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_PrrToVdb)->Arg(1024)->Unit(benchmark::kMillisecond)->Iterations(1);
 
+// The OpenVDB write alone (grids, metadata, compression, atomic rename) of the PRR volume.
+void BM_WriteVdb(benchmark::State& state) {
+  VolumeOptions o;
+  o.resolution = static_cast<int>(state.range(0));
+  const Volume v = render_volume(pyramid(), "prr", o);
+  const std::string path = "/tmp/ifsforge_bench_write_" + std::to_string(getpid()) + ".vdb";
+  VdbWriteOptions w;
+  w.system = &pyramid();
+  for (auto _ : state) write_vdb(path, v, w);
+  report(state, v);
+  std::remove(path.c_str());
+}
+BENCHMARK(BM_WriteVdb)->Arg(256)->Arg(512)->Unit(benchmark::kMillisecond);
+
 // Threads: the same 512^3 volume on 1 and on 2 threads (identical bytes, see the tests).
 void BM_PrrThreads(benchmark::State& state) {
   VolumeOptions o;

@@ -142,7 +142,8 @@ Volume DeterministicIterationVolume::render(const Ifs& ifs, const VolumeOptions&
     }
   }
   current.points.clear();
-  Volume volume = finish_volume(std::move(current), grid, ifs, quantizer, options.density, kVolumeMassUnit);
+  Volume volume = finish_volume(std::move(current), grid, ifs, quantizer, options.density, kVolumeMassUnit,
+                                setup.threads);
   volume.algorithm = name();
   volume.depth = level;
   volume.points = sources_mapped;

@@ -211,8 +211,7 @@ Volume EscapeTimeVolume::render(const Ifs& ifs, const VolumeOptions& options) co
       }
     steps[i] = search->steps;
   }, progress_range(options.progress, 0.0, 0.95));
-  VoxelList merged = merge_voxel_lists(lists, setup.threads);
-  Volume volume = finish_volume(std::move(merged), grid, ifs, setup.quantizer, options.density, kVolumeMassUnit);
+  Volume volume = finish_volume(lists, grid, ifs, setup.quantizer, options.density, kVolumeMassUnit, setup.threads);
   volume.algorithm = name();
   volume.depth = bound;
   for (std::uint64_t s : steps) volume.points += s;

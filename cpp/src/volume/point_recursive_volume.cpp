@@ -98,93 +98,131 @@ SubTree build_subtree(const Ifs& ifs, const RecursionPlan& plan, const std::vect
 }
 
 /// Evaluates the sub-tree below one node (automatic depth) in N dimensions, with the node's map
-/// held in fixed-size arrays so that the small products unroll. `Cols` is N, or 3 when the
-/// spatial rows do not read the other channels (their boxes then need the spatial block only).
+/// held in fixed-size arrays so that the small products unroll, its spatial rows scaled into
+/// continuous voxel coordinates. `Cols` is N, or 3 when the spatial rows do not read the other
+/// channels (their boxes then need the spatial block only). `weigh`: the density is the
+/// measure, so every piece's mass must reach a voxel; otherwise pieces that cannot change the
+/// occupancy stop without a trace.
 template <int N, int Cols>
 struct PieceExpander {
-  const SubTree& tree;
+  PieceExpander(const SubTree& t, const VoxelGrid& g, VoxelAccumulator& accumulator, std::size_t n, bool weigh_mass)
+      : center(t.center.data()), half(t.half.data()), focus(t.focus.data()), points(t.points.data()),
+        mass_of(t.mass.data()), first_child(t.first_child.data()), level(t.level.data()), reps(t.reps),
+        grid(g), acc(accumulator), maps(static_cast<std::uint32_t>(n)), weigh(weigh_mass) {}
+
+  const double *center, *half, *focus, *points, *mass_of;
+  const std::uint32_t* first_child;
+  const int* level;
+  int reps;
   const VoxelGrid& grid;
   VoxelAccumulator& acc;
-  std::size_t maps;
-  double inverse;
+  std::uint32_t maps;
+  bool weigh;
   std::uint64_t plotted = 0;
   int depth = 0;
   double a[N][N] = {}, b[N] = {};
-  double q[N] = {};
-  double marked[64][N] = {};
 
-  void apply(const double* x, double* y) const {
-    for (int r = 0; r < N; ++r) {
+  /// y = M x on the spatial rows only: where the voxel is.
+  void locate(const double* x, double* y) const {
+    for (int r = 0; r < 3; ++r) {
       double v = b[r];
-      for (int c = 0; c < N; ++c) v += a[r][c] * x[c];
+      for (int c = 0; c < Cols; ++c) v += a[r][c] * x[c];
       y[r] = v;
     }
   }
-  /// The box M(centre +- half) of sub-node k in continuous voxel coordinates.
+  /// y = M x on every row (position and channels).
+  void apply(const double* x, double* y) const {
+    for (int r = 0; r < N; ++r) {
+      double v = b[r];
+      for (int c = 0; c < (r < 3 ? Cols : N); ++c) v += a[r][c] * x[c];
+      y[r] = v;
+    }
+  }
+  /// The box M(centre +- half) of sub-node k.
   void box(std::uint32_t k, double* lo, double* hi) const {
-    const double* c0 = &tree.center[k * N];
-    const double* h0 = &tree.half[k * N];
+    const double* c0 = center + k * N;
+    const double* h0 = half + k * N;
     for (int r = 0; r < 3; ++r) {
       double c = b[r], h = 0.0;
       for (int col = 0; col < Cols; ++col) {
         c += a[r][col] * c0[col];
         h += std::abs(a[r][col]) * h0[col];
       }
-      lo[r] = (c - h - grid.origin[r]) * inverse;
-      hi[r] = (c + h - grid.origin[r]) * inverse;
+      lo[r] = c - h;
+      hi[r] = c + h;
     }
   }
-  void plot(const double* point, double mass, bool hit = true) {
+  /// A point of the attractor: its voxel counts it (a hit: occupancy, channels) and gets `mass`.
+  void plot(const double* point, double mass) {
+    double q[N];
     apply(point, q);
-    acc.add(q, mass, hit);
+    acc.add_voxel(q, q + 3, mass);
   }
+  void reached(std::uint32_t k, int length) { depth = std::max(depth, length + level[k]); }
 
   void run(const AffineMap& m, double mass, int length) {
+    const double inverse = 1.0 / grid.voxel_size;
     for (int r = 0; r < N; ++r) {
-      for (int c = 0; c < N; ++c) a[r][c] = m.a(r, c);
-      b[r] = m.b(r);
+      const double scale = r < 3 ? inverse : 1.0;
+      for (int c = 0; c < N; ++c) a[r][c] = m.a(r, c) * scale;
+      b[r] = r < 3 ? (m.b(r) - grid.origin[r]) * inverse : m.b(r);
     }
     expand(0, mass, length);
   }
 
   // A piece inside one voxel is plotted there (deeper levels cannot change the occupancy). A
-  // piece smaller than a voxel that straddles voxels stops if every voxel its box meets is
-  // occupied already; otherwise it marks its representatives (occupancy and channels) and is
-  // split further while a voxel its box meets is still empty, down to kFinest; its mass then
-  // goes to its representatives.
+  // piece smaller than a voxel whose box meets only occupied voxels stops: its mass goes to
+  // the voxel of its centre, which is occupied, so the voxel's channels are left as they are.
+  // Otherwise the piece marks the voxels of its representatives (images of the attractor's
+  // extreme points, so points of the attractor): a representative in an empty voxel is a hit,
+  // one in an occupied voxel costs only its position. The piece is then split further while
+  // a voxel its box meets is still empty, down to kFinest; its mass then goes to its first
+  // representative's voxel.
   void expand(std::uint32_t k, double mass, int length) {
     double l[3], h[3];
     box(k, l, h);
     for (int r = 0; r < 3; ++r)
       if (h[r] < 0.0 || l[r] >= grid.dims[r]) return;
-    const double piece = mass * tree.mass[k];
+    const double piece = mass * mass_of[k];
     const bool one_voxel = std::floor(l[0]) == std::floor(h[0]) && std::floor(l[1]) == std::floor(h[1]) &&
                            std::floor(l[2]) == std::floor(h[2]);
-    const double extent = std::max({h[0] - l[0], h[1] - l[1], h[2] - l[2]});
-    const std::uint32_t child = tree.first_child[k];
-    if (one_voxel || (extent < kCheckBelow && acc.occupied(l, h))) {
-      // Inside one voxel, or every voxel the piece can reach is occupied: deeper levels
-      // cannot change the occupancy; its mass and channels go to the image of B's centre.
-      plot(&tree.focus[k * N], piece);
+    if (one_voxel) {
+      plot(focus + k * N, piece);
       ++plotted;
-      depth = std::max(depth, length + tree.level[k]);
+      reached(k, length);
+      return;
+    }
+    const double extent = std::max({h[0] - l[0], h[1] - l[1], h[2] - l[2]});
+    const std::uint32_t child = first_child[k];
+    if (extent < kCheckBelow && acc.occupied(l, h)) {
+      if (weigh) {
+        double u[3];
+        locate(focus + k * N, u);
+        acc.add_voxel(u, nullptr, piece, false);
+      }
+      ++plotted;
+      reached(k, length);
       return;
     }
     if (extent >= kSplitAbove && child) {
-      for (std::uint32_t i = 0; i < maps; ++i) expand(child + static_cast<std::uint32_t>(i), mass, length);
+      for (std::uint32_t i = 0; i < maps; ++i) expand(child + i, mass, length);
       return;
     }
-    for (int e = 0; e < tree.reps; ++e) {
-      apply(&tree.points[(k * tree.reps + e) * N], marked[e]);
-      acc.add(marked[e], 0.0);
+    double first[3];
+    for (int e = 0; e < reps; ++e) {
+      const double* point = points + (k * reps + e) * N;
+      double u[3];
+      locate(point, u);
+      if (e == 0) std::copy(u, u + 3, first);
+      if (!acc.occupied_voxel(u)) plot(point, 0.0);
     }
-    plotted += tree.reps;
+    plotted += reps;
     if (child && extent >= kFinest && !acc.occupied(l, h)) {
-      for (std::uint32_t i = 0; i < maps; ++i) expand(child + static_cast<std::uint32_t>(i), mass, length);
+      for (std::uint32_t i = 0; i < maps; ++i) expand(child + i, mass, length);
       return;
     }
-    for (int e = 0; e < tree.reps; ++e) acc.add(marked[e], piece / tree.reps, false);
-    depth = std::max(depth, length + tree.level[k]);
+    if (weigh) acc.add_voxel(first, nullptr, piece, false);
+    reached(k, length);
   }
 };
 
@@ -199,8 +237,8 @@ struct Expander {
 template <int N, int Cols>
 struct FixedExpander : Expander {
   PieceExpander<N, Cols> impl;
-  FixedExpander(const SubTree& t, const VoxelGrid& g, VoxelAccumulator& acc, std::size_t maps)
-      : impl{t, g, acc, maps, 1.0 / g.voxel_size} {}
+  FixedExpander(const SubTree& t, const VoxelGrid& g, VoxelAccumulator& acc, std::size_t maps, bool weigh)
+      : impl(t, g, acc, maps, weigh) {}
   void run(const AffineMap& m, double mass, int length) override { impl.run(m, mass, length); }
   std::uint64_t plotted() const override { return impl.plotted; }
   int depth() const override { return impl.depth; }
@@ -208,20 +246,20 @@ struct FixedExpander : Expander {
 
 template <int N>
 std::unique_ptr<Expander> expander_for(bool spatial, const SubTree& t, const VoxelGrid& g, VoxelAccumulator& acc,
-                                       std::size_t maps) {
-  if (spatial) return std::make_unique<FixedExpander<N, 3>>(t, g, acc, maps);
-  return std::make_unique<FixedExpander<N, N>>(t, g, acc, maps);
+                                       std::size_t maps, bool weigh) {
+  if (spatial) return std::make_unique<FixedExpander<N, 3>>(t, g, acc, maps, weigh);
+  return std::make_unique<FixedExpander<N, N>>(t, g, acc, maps, weigh);
 }
 
 std::unique_ptr<Expander> make_expander(int dim, bool spatial, const SubTree& t, const VoxelGrid& g,
-                                        VoxelAccumulator& acc, std::size_t maps) {
+                                        VoxelAccumulator& acc, std::size_t maps, bool weigh) {
   switch (dim) {
-    case 3: return expander_for<3>(true, t, g, acc, maps);
-    case 4: return expander_for<4>(spatial, t, g, acc, maps);
-    case 5: return expander_for<5>(spatial, t, g, acc, maps);
-    case 6: return expander_for<6>(spatial, t, g, acc, maps);
-    case 7: return expander_for<7>(spatial, t, g, acc, maps);
-    default: return expander_for<8>(spatial, t, g, acc, maps);
+    case 3: return expander_for<3>(true, t, g, acc, maps, weigh);
+    case 4: return expander_for<4>(spatial, t, g, acc, maps, weigh);
+    case 5: return expander_for<5>(spatial, t, g, acc, maps, weigh);
+    case 6: return expander_for<6>(spatial, t, g, acc, maps, weigh);
+    case 7: return expander_for<7>(spatial, t, g, acc, maps, weigh);
+    default: return expander_for<8>(spatial, t, g, acc, maps, weigh);
   }
 }
 
@@ -339,7 +377,7 @@ Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options
         int depth = 0;
         Point q;
         std::unique_ptr<Expander> expander;
-        if (!fixed) expander = make_expander(dim, spatial, tree, grid, acc, n);
+        if (!fixed) expander = make_expander(dim, spatial, tree, grid, acc, n, options.density == VolumeDensity::Measure);
 
         auto stop = [&](const RecursionNode& node) {
           double l[3], h[3];
@@ -370,9 +408,8 @@ Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options
       },
       progress_range(options.progress, 0.0, 0.9));
 
-  VoxelList merged = merge_voxel_lists(lists, setup.threads);
   if (options.progress && !options.progress(0.95)) throw Cancelled();
-  Volume volume = finish_volume(std::move(merged), grid, ifs, setup.quantizer, options.density, kVolumeMassUnit);
+  Volume volume = finish_volume(lists, grid, ifs, setup.quantizer, options.density, kVolumeMassUnit, setup.threads);
   volume.algorithm = name();
   volume.depth = *std::max_element(deepest.begin(), deepest.end());
   for (std::uint64_t l : leaves) volume.points += l;

@@ -106,7 +106,7 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
     }
   }
   Volume volume = finish_volume(std::move(total), setup.grid, ifs, setup.quantizer, options.density,
-                                static_cast<double>(points));
+                                static_cast<double>(points), setup.threads);
   volume.algorithm = name();
   volume.points = points;
   if (options.progress && !options.progress(1.0)) throw Cancelled();

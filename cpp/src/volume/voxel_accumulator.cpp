@@ -27,6 +27,9 @@ void VoxelAccumulator::begin(const double* lo, const double* hi) {
 
 VoxelList VoxelAccumulator::finish() {
   VoxelList list(channels_);
+  std::size_t occupied = overflow_.size();
+  for (std::size_t cell = 0; cell < size_[0] * size_[1] * size_[2]; ++cell) occupied += cells_[cell * stride_] != 0;
+  list.reserve(occupied);
   std::size_t cell = 0;
   for (std::uint64_t i = 0; i < size_[0]; ++i)
     for (std::uint64_t j = 0; j < size_[1]; ++j)

@@ -16,108 +16,183 @@ ChannelQuantizer::ChannelQuantizer(std::vector<double> lo, std::vector<double> h
 
 namespace {
 
-/// Sums the entries `order` of `from` (sorted by key) into `out`, one entry per key.
-void reduce_sorted(const std::vector<std::pair<std::uint64_t, std::uint64_t>>& order,
-                   const std::vector<const VoxelList*>& sources, VoxelList& out) {
-  const int nc = out.channels;
-  const bool points = !sources.empty() && !sources.front()->points.empty();
-  std::vector<std::uint64_t> sums(nc);
-  std::size_t k = 0;
-  while (k < order.size()) {
-    const std::uint64_t key = order[k].first;
-    std::uint64_t hits = 0, mass = 0;
-    std::uint64_t extremes[VoxelList::kExtremes];
-    for (int e = 0; e < VoxelList::kExtremes; ++e) extremes[e] = e % 2 ? 0 : ~std::uint64_t(0);
-    std::fill(sums.begin(), sums.end(), 0);
-    for (; k < order.size() && order[k].first == key; ++k) {
-      const VoxelList& list = *sources[order[k].second >> 32];
-      const std::size_t i = order[k].second & 0xFFFFFFFFu;
-      hits += list.hits[i];
-      mass += list.mass[i];
-      for (int c = 0; c < nc; ++c) sums[c] += list.sums[i * nc + c];
-      for (int e = 0; points && e < VoxelList::kExtremes; ++e) {
-        const std::uint64_t v = list.points[i * VoxelList::kExtremes + e];
-        extremes[e] = e % 2 ? std::max(extremes[e], v) : std::min(extremes[e], v);
-      }
+/// An entry of a source list: its key, and which list (high 32 bits) and index (low 32 bits).
+struct Ref {
+  std::uint64_t key, where;
+};
+
+/// Sorts refs by key: an LSD radix sort on the key's bits from `low` up to the highest bit set
+/// in any key (11 bits a pass). Stable, so equal keys keep their order (sums do not care).
+void radix_sort(std::vector<Ref>& refs, std::vector<Ref>& scratch) {
+  std::uint64_t any = 0;
+  for (const Ref& r : refs) any |= r.key;
+  constexpr int kBits = 11;
+  constexpr std::size_t kBuckets = std::size_t(1) << kBits;
+  scratch.resize(refs.size());
+  std::vector<std::size_t> count(kBuckets);
+  for (int shift = 0; shift < 64 && (any >> shift); shift += kBits) {
+    // A digit that is the same in every key leaves the order as it is.
+    std::fill(count.begin(), count.end(), 0);
+    for (const Ref& r : refs) ++count[(r.key >> shift) & (kBuckets - 1)];
+    if (count[(refs.front().key >> shift) & (kBuckets - 1)] == refs.size()) continue;
+    std::size_t sum = 0;
+    for (std::size_t& c : count) {
+      const std::size_t here = c;
+      c = sum;
+      sum += here;
     }
-    out.push(key, hits, mass, sums.data());
-    if (points) out.points.insert(out.points.end(), extremes, extremes + VoxelList::kExtremes);
+    for (const Ref& r : refs) scratch[count[(r.key >> shift) & (kBuckets - 1)]++] = r;
+    refs.swap(scratch);
   }
+}
+
+/// The sorted lists of jobs or workers cut into a fixed number of x-slabs (slab s holds the
+/// keys with i in [s w, (s + 1) w)): the slabs are reduced independently, in parallel, and
+/// are disjoint and ascending, so their results only need to be put side by side.
+class SlabMerge {
+ public:
+  explicit SlabMerge(const std::vector<VoxelList>& lists) {
+    std::uint64_t last_key = 0;
+    for (const VoxelList& list : lists)
+      if (list.size()) {
+        sources_.push_back(&list);
+        last_key = std::max(last_key, list.keys.back());
+      }
+    channels_ = lists.empty() ? 0 : lists.front().channels;
+    points_ = !sources_.empty() && !sources_.front()->points.empty();
+    const std::uint64_t rows = VoxelGrid::coord(last_key)[0] + 1;
+    slabs_ = sources_.empty() ? 0 : static_cast<std::size_t>(std::min<std::uint64_t>(64, rows));
+    width_ = slabs_ ? (rows + slabs_ - 1) / slabs_ : 1;
+    rows_ = rows;
+    cuts_.assign(sources_.size(), std::vector<std::size_t>(slabs_ + 1));
+    for (std::size_t l = 0; l < sources_.size(); ++l) {
+      const auto& keys = sources_[l]->keys;
+      for (std::size_t s = 0; s <= slabs_; ++s)
+        cuts_[l][s] = static_cast<std::size_t>(std::lower_bound(keys.begin(), keys.end(), start(s)) - keys.begin());
+    }
+  }
+  std::size_t slabs() const { return slabs_; }
+  int channels() const { return channels_; }
+  bool points() const { return points_; }
+  /// @brief Entries of all lists in slab s (an upper bound of its voxels).
+  std::size_t entries(std::size_t s) const {
+    std::size_t total = 0;
+    for (std::size_t l = 0; l < sources_.size(); ++l) total += cuts_[l][s + 1] - cuts_[l][s];
+    return total;
+  }
+  /// @brief Calls visit(key, hits, mass, sums, extremes) for every voxel of slab s in key
+  /// order, with the sums of its entries (extremes: merged by min / max, or nullptr).
+  template <typename Visit>
+  void reduce(std::size_t s, std::vector<Ref>& order, std::vector<Ref>& scratch, Visit&& visit) const {
+    order.clear();
+    const std::uint64_t base = start(s);  // keys relative to it: fewer radix passes
+    for (std::size_t l = 0; l < sources_.size(); ++l)
+      for (std::size_t i = cuts_[l][s]; i < cuts_[l][s + 1]; ++i)
+        order.push_back({sources_[l]->keys[i] - base, (std::uint64_t(l) << 32) | i});
+    if (order.empty()) return;
+    if (sources_.size() > 1) radix_sort(order, scratch);
+    const int nc = channels_;
+    std::uint64_t sums[64];
+    std::uint64_t extremes[VoxelList::kExtremes];
+    std::size_t k = 0;
+    while (k < order.size()) {
+      const std::uint64_t key = order[k].key;
+      std::uint64_t hits = 0, mass = 0;
+      for (int e = 0; e < VoxelList::kExtremes; ++e) extremes[e] = e % 2 ? 0 : ~std::uint64_t(0);
+      std::fill_n(sums, nc, 0);
+      for (; k < order.size() && order[k].key == key; ++k) {
+        const VoxelList& list = *sources_[order[k].where >> 32];
+        const std::size_t i = order[k].where & 0xFFFFFFFFu;
+        hits += list.hits[i];
+        mass += list.mass[i];
+        for (int c = 0; c < nc; ++c) sums[c] += list.sums[i * nc + c];
+        for (int e = 0; points_ && e < VoxelList::kExtremes; ++e) {
+          const std::uint64_t v = list.points[i * VoxelList::kExtremes + e];
+          extremes[e] = e % 2 ? std::max(extremes[e], v) : std::min(extremes[e], v);
+        }
+      }
+      visit(key + base, hits, mass, sums, points_ ? extremes : nullptr);
+    }
+  }
+
+ private:
+  std::uint64_t start(std::size_t s) const { return VoxelGrid::key(std::min<std::uint64_t>(s * width_, rows_), 0, 0); }
+
+  std::vector<const VoxelList*> sources_;
+  std::vector<std::vector<std::size_t>> cuts_;
+  std::size_t slabs_ = 0;
+  std::uint64_t width_ = 1, rows_ = 0;
+  int channels_ = 0;
+  bool points_ = false;
+};
+
+/// Runs `reduce(slab, order, scratch)` for every slab on `threads` threads (each worker keeps
+/// its sort buffers), then `place(s, at)` for every slab once the slab sizes (`count(s)`)
+/// fix where each one starts; returns the total.
+template <typename Reduce, typename Count, typename Place>
+std::size_t by_slabs(std::size_t slabs, int threads, Reduce&& reduce, Count&& count, Place&& place) {
+  const std::size_t workers = static_cast<std::size_t>(std::max(1, threads));
+  std::vector<std::vector<Ref>> orders(workers), scratch(workers);
+  parallel_jobs(slabs, threads, [&](std::size_t s, int worker) { reduce(s, orders[worker], scratch[worker]); });
+  std::vector<std::size_t> at(slabs + 1, 0);
+  for (std::size_t s = 0; s < slabs; ++s) at[s + 1] = at[s] + count(s);
+  place(at);
+  return at[slabs];
 }
 
 }  // namespace
 
-void sort_and_reduce(VoxelList& list) {
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> order(list.size());
-  for (std::size_t i = 0; i < list.size(); ++i) order[i] = {list.keys[i], i};
-  // Integer sums make the order among equal keys irrelevant.
-  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  VoxelList out(list.channels);
-  reduce_sorted(order, {&list}, out);
-  list = std::move(out);
-}
-
 VoxelList merge_voxel_lists(std::vector<VoxelList>& lists, int threads) {
-  const int nc = lists.empty() ? 0 : lists.front().channels;
-  std::vector<const VoxelList*> sources;
-  std::uint64_t last_key = 0;
-  for (const VoxelList& list : lists)
-    if (list.size()) {
-      sources.push_back(&list);
-      last_key = std::max(last_key, list.keys.back());
-    }
-  if (sources.size() <= 1) {
-    VoxelList out(nc);
-    for (VoxelList& list : lists)
-      if (list.size()) out = std::move(list);
-    lists.clear();
-    return out;
-  }
-  // A fixed number of x-slabs: slab s holds the keys with i in [s w, (s + 1) w).
-  const std::uint64_t rows = VoxelGrid::coord(last_key)[0] + 1;
-  const std::size_t slabs = static_cast<std::size_t>(std::min<std::uint64_t>(64, rows));
-  const std::uint64_t width = (rows + slabs - 1) / slabs;
-  auto slab_start = [&](std::size_t s) { return VoxelGrid::key(std::min<std::uint64_t>(s * width, rows), 0, 0); };
-  std::vector<std::vector<std::size_t>> cuts(sources.size(), std::vector<std::size_t>(slabs + 1));
-  for (std::size_t l = 0; l < sources.size(); ++l) {
-    const auto& keys = sources[l]->keys;
-    for (std::size_t s = 0; s <= slabs; ++s)
-      cuts[l][s] = static_cast<std::size_t>(std::lower_bound(keys.begin(), keys.end(), slab_start(s)) - keys.begin());
-  }
-  std::vector<VoxelList> parts(slabs, VoxelList(nc));
-  parallel_jobs(slabs, threads, [&](std::size_t s, int) {
-    std::vector<std::pair<std::uint64_t, std::uint64_t>> order;
-    std::size_t total = 0;
-    for (std::size_t l = 0; l < sources.size(); ++l) total += cuts[l][s + 1] - cuts[l][s];
-    order.reserve(total);
-    for (std::size_t l = 0; l < sources.size(); ++l)
-      for (std::size_t i = cuts[l][s]; i < cuts[l][s + 1]; ++i)
-        order.emplace_back(sources[l]->keys[i], (std::uint64_t(l) << 32) | i);
-    std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    reduce_sorted(order, sources, parts[s]);
-  });
-  lists.clear();
+  const SlabMerge merge(lists);
+  const int nc = merge.channels();
+  std::vector<VoxelList> parts(merge.slabs(), VoxelList(nc));
   VoxelList out(nc);
-  std::size_t total = 0;
-  for (const auto& p : parts) total += p.size();
-  out.keys.reserve(total);
-  out.hits.reserve(total);
-  out.mass.reserve(total);
-  out.sums.reserve(total * nc);
-  if (!sources.front()->points.empty()) out.points.reserve(total * VoxelList::kExtremes);
-  for (auto& p : parts) {
-    out.keys.insert(out.keys.end(), p.keys.begin(), p.keys.end());
-    out.hits.insert(out.hits.end(), p.hits.begin(), p.hits.end());
-    out.mass.insert(out.mass.end(), p.mass.begin(), p.mass.end());
-    out.sums.insert(out.sums.end(), p.sums.begin(), p.sums.end());
-    out.points.insert(out.points.end(), p.points.begin(), p.points.end());
-    p = VoxelList(nc);
-  }
+  by_slabs(
+      merge.slabs(), threads,
+      [&](std::size_t s, std::vector<Ref>& order, std::vector<Ref>& scratch) {
+        VoxelList& part = parts[s];
+        part.reserve(merge.entries(s));
+        merge.reduce(s, order, scratch, [&](std::uint64_t key, std::uint64_t hits, std::uint64_t mass,
+                                            const std::uint64_t* sums, const std::uint64_t* extremes) {
+          part.push(key, hits, mass, sums);
+          if (extremes) part.points.insert(part.points.end(), extremes, extremes + VoxelList::kExtremes);
+        });
+      },
+      [&](std::size_t s) { return parts[s].size(); },
+      [&](const std::vector<std::size_t>& at) {
+        const std::size_t total = at.back();
+        out.keys.resize(total);
+        out.hits.resize(total);
+        out.mass.resize(total);
+        out.sums.resize(total * nc);
+        if (merge.points()) out.points.resize(total * VoxelList::kExtremes);
+        parallel_jobs(parts.size(), threads, [&](std::size_t s, int) {
+          const VoxelList& part = parts[s];
+          std::copy(part.keys.begin(), part.keys.end(), out.keys.begin() + at[s]);
+          std::copy(part.hits.begin(), part.hits.end(), out.hits.begin() + at[s]);
+          std::copy(part.mass.begin(), part.mass.end(), out.mass.begin() + at[s]);
+          std::copy(part.sums.begin(), part.sums.end(), out.sums.begin() + at[s] * nc);
+          std::copy(part.points.begin(), part.points.end(), out.points.begin() + at[s] * VoxelList::kExtremes);
+          parts[s] = VoxelList(nc);
+        });
+      });
+  lists.clear();
   return out;
 }
 
-Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs,
-                     const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass) {
+void sort_and_reduce(VoxelList& list) {
+  // Sorted (equal keys side by side), the list merges with itself alone.
+  std::vector<Ref> order(list.size()), scratch;
+  for (std::size_t i = 0; i < list.size(); ++i) order[i] = {list.keys[i], i};
+  if (!order.empty()) radix_sort(order, scratch);
+  std::vector<VoxelList> sorted(1, VoxelList(list.channels));
+  sorted[0].reserve(order.size());
+  for (const Ref& r : order) sorted[0].push_from(list, r.where);
+  list = merge_voxel_lists(sorted, 1);
+}
+
+Volume finish_volume(std::vector<VoxelList>& lists, const VoxelGrid& grid, const Ifs& ifs,
+                     const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads) {
   Volume volume;
   volume.grid = grid;
   volume.density_mode = mode;
@@ -126,23 +201,56 @@ Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs,
   volume.color_model = ifs.layout().color_model();
   volume.channel_lo = quantizer.lo();
   volume.channel_hi = quantizer.hi();
-  const std::size_t n = list.size();
-  const int nc = list.channels;
-  volume.density.resize(n);
-  volume.channels.resize(n * nc);
+  const SlabMerge merge(lists);
+  const int nc = merge.channels();
+  // Each slab's voxels in their final form (key, density, channel means), then side by side.
+  struct Part {
+    std::vector<std::uint64_t> keys;
+    std::vector<float> density, channels;
+  };
+  std::vector<Part> parts(merge.slabs());
   constexpr float kCovered = std::numeric_limits<float>::denorm_min();
-  for (std::size_t v = 0; v < n; ++v) {
-    float d = 1.0f;
-    if (mode == VolumeDensity::Hits) d = static_cast<float>(list.hits[v]);
-    if (mode == VolumeDensity::Measure)
-      d = std::max(static_cast<float>(static_cast<double>(list.mass[v]) / total_mass), kCovered);
-    volume.density[v] = d;
-    for (int c = 0; c < nc; ++c)
-      volume.channels[v * nc + c] = static_cast<float>(quantizer.mean(c, list.sums[v * nc + c], list.hits[v]));
-  }
-  volume.keys = std::move(list.keys);
-  list = VoxelList(nc);
+  by_slabs(
+      merge.slabs(), threads,
+      [&](std::size_t s, std::vector<Ref>& order, std::vector<Ref>& scratch) {
+        Part& part = parts[s];
+        const std::size_t entries = merge.entries(s);
+        part.keys.reserve(entries);
+        part.density.reserve(entries);
+        part.channels.reserve(entries * nc);
+        merge.reduce(s, order, scratch, [&](std::uint64_t key, std::uint64_t hits, std::uint64_t mass,
+                                            const std::uint64_t* sums, const std::uint64_t*) {
+          float d = 1.0f;
+          if (mode == VolumeDensity::Hits) d = static_cast<float>(hits);
+          if (mode == VolumeDensity::Measure)
+            d = std::max(static_cast<float>(static_cast<double>(mass) / total_mass), kCovered);
+          part.keys.push_back(key);
+          part.density.push_back(d);
+          for (int c = 0; c < nc; ++c) part.channels.push_back(static_cast<float>(quantizer.mean(c, sums[c], hits)));
+        });
+      },
+      [&](std::size_t s) { return parts[s].keys.size(); },
+      [&](const std::vector<std::size_t>& at) {
+        volume.keys.resize(at.back());
+        volume.density.resize(at.back());
+        volume.channels.resize(at.back() * nc);
+        parallel_jobs(parts.size(), threads, [&](std::size_t s, int) {
+          Part& part = parts[s];
+          std::copy(part.keys.begin(), part.keys.end(), volume.keys.begin() + at[s]);
+          std::copy(part.density.begin(), part.density.end(), volume.density.begin() + at[s]);
+          std::copy(part.channels.begin(), part.channels.end(), volume.channels.begin() + at[s] * nc);
+          part = Part();
+        });
+      });
+  lists.clear();
   return volume;
+}
+
+Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs, const ChannelQuantizer& quantizer,
+                     VolumeDensity mode, double total_mass, int threads) {
+  std::vector<VoxelList> lists;
+  lists.push_back(std::move(list));
+  return finish_volume(lists, grid, ifs, quantizer, mode, total_mass, threads);
 }
 
 ProgressCallback progress_range(const ProgressCallback& progress, double from, double to) {

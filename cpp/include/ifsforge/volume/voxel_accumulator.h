@@ -2,6 +2,7 @@
 /// @file Per-worker accumulation of one job's points: a small dense box of integer sums around
 /// the job's piece of the attractor (cache-friendly, no hashing), with a sorted overflow list
 /// for points that fall outside it. A job's result is a VoxelList sorted by key.
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -25,11 +26,18 @@ class VoxelAccumulator {
   /// Points outside the grid are dropped. With `hit` false only the mass is added: the point
   /// must then have been added before (its voxel counted it and its channels).
   void add(const double* point, double mass, bool hit = true) {
+    double u[3];
+    for (int a = 0; a < 3; ++a) u[a] = (point[a] - grid_.origin[a]) * inverse_;
+    add_voxel(u, point + 3, mass, hit);
+  }
+  /// @brief The same with the position `u` in continuous voxel coordinates and the channels
+  /// apart (unused, and may be null, when `hit` is false).
+  void add_voxel(const double* u, const double* channels, double mass, bool hit = true) {
     std::int64_t v[3];
     for (int a = 0; a < 3; ++a) {
-      const double u = std::floor((point[a] - grid_.origin[a]) * inverse_);
-      if (!(u >= 0.0 && u < grid_.dims[a])) return;
-      v[a] = static_cast<std::int64_t>(u);
+      const double f = std::floor(u[a]);
+      if (!(f >= 0.0 && f < grid_.dims[a])) return;
+      v[a] = static_cast<std::int64_t>(f);
     }
     const std::uint64_t units = static_cast<std::uint64_t>(mass * kVolumeMassUnit + 0.5);
     const std::uint64_t di = v[0] - lo_[0], dj = v[1] - lo_[1], dk = v[2] - lo_[2];
@@ -39,11 +47,23 @@ class VoxelAccumulator {
       cell[1] += units;
       if (!hit) return;
       ++cell[0];
-      for (int c = 0; c < channels_; ++c) cell[2 + c] += quantizer_.quantize(c, point[3 + c]);
+      for (int c = 0; c < channels_; ++c) cell[2 + c] += quantizer_.quantize(c, channels[c]);
       return;
     }
-    for (int c = 0; c < channels_; ++c) values_[c] = hit ? quantizer_.quantize(c, point[3 + c]) : 0;
+    for (int c = 0; c < channels_; ++c) values_[c] = hit ? quantizer_.quantize(c, channels[c]) : 0;
     overflow_.push(VoxelGrid::key(v[0], v[1], v[2]), hit ? 1 : 0, units, values_.data());
+  }
+  /// @brief True when the voxel at continuous voxel coordinates `u` lies in the job's box and
+  /// holds a point.
+  bool occupied_voxel(const double* u) const {
+    std::uint64_t d[3];
+    for (int a = 0; a < 3; ++a) {
+      const double f = std::floor(u[a]);
+      if (!(f >= 0.0 && f < grid_.dims[a])) return false;
+      d[a] = static_cast<std::uint64_t>(static_cast<std::int64_t>(f) - lo_[a]);
+      if (d[a] >= size_[a]) return false;
+    }
+    return cells_[((d[0] * size_[1] + d[1]) * size_[2] + d[2]) * stride_] != 0;
   }
   /// @brief True when every voxel meeting the continuous voxel box [lo, hi] already holds a
   /// point of this job (false when one lies outside the job's box).

@@ -54,6 +54,12 @@ struct VoxelList {
 
   explicit VoxelList(int channel_count = 0) : channels(channel_count) {}
   std::size_t size() const { return keys.size(); }
+  void reserve(std::size_t entries) {
+    keys.reserve(entries);
+    hits.reserve(entries);
+    mass.reserve(entries);
+    sums.reserve(entries * channels);
+  }
   void push(std::uint64_t key, std::uint64_t h, std::uint64_t m, const std::uint64_t* s) {
     keys.push_back(key);
     hits.push_back(h);
@@ -77,10 +83,14 @@ void sort_and_reduce(VoxelList& list);
 /// Work is split into a fixed number of x-slabs merged in parallel.
 VoxelList merge_voxel_lists(std::vector<VoxelList>& lists, int threads);
 
-/// @brief Turns sums into a volume: density by `mode` (Measure divides mass by
-/// `total_mass`), channel means through `quantizer`, channel metadata from the layout.
-Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs,
-                     const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass);
+/// @brief Turns the sums of sorted lists (consumed) into a volume: entries with equal keys
+/// summed, density by `mode` (Measure divides mass by `total_mass`), channel means through
+/// `quantizer`, channel metadata from the layout. Merges and converts in one pass.
+Volume finish_volume(std::vector<VoxelList>& lists, const VoxelGrid& grid, const Ifs& ifs,
+                     const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads);
+/// @brief The same for one sorted list.
+Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs, const ChannelQuantizer& quantizer,
+                     VolumeDensity mode, double total_mass, int threads);
 
 /// @brief A callback reporting `progress` scaled into [from, to] (empty if `progress` is).
 ProgressCallback progress_range(const ProgressCallback& progress, double from, double to);
