@@ -6,14 +6,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <sstream>
-#include <thread>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
+#include "ifsforge/core/parallel.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/ifs_json.h"
 
@@ -40,7 +40,9 @@ openvdb::Coord coord_of(std::uint64_t key) {
 }
 
 /// A grid holding `value(values + v * components)` at every voxel of the volume. Voxels come
-/// sorted by (i, j, k), so runs share a leaf node: the leaf is looked up once per run.
+/// sorted by (i, j, k), so the voxels of one x-row of leaf nodes (8 values of i) are a
+/// contiguous run: rows are filled into new leaves in parallel, then the leaves are added to
+/// the tree in row order (the tree is the same whatever the thread count).
 template <typename GridT, typename Value>
 typename GridT::Ptr make_grid(const Volume& volume, const std::string& name, Value (*value)(const float*),
                               const float* values, int components) {
@@ -48,18 +50,33 @@ typename GridT::Ptr make_grid(const Volume& volume, const std::string& name, Val
   auto grid = GridT::create();
   grid->setName(name);
   grid->setTransform(transform_of(volume.grid));
-  auto& tree = grid->tree();
-  Leaf* leaf = nullptr;
-  openvdb::Coord origin(std::numeric_limits<int>::min());
-  for (std::size_t v = 0; v < volume.size(); ++v) {
-    const openvdb::Coord ijk = coord_of(volume.keys[v]);
-    const openvdb::Coord base = ijk & ~(Leaf::DIM - 1);
-    if (base != origin) {
-      leaf = tree.touchLeaf(ijk);
-      origin = base;
+  if (volume.size() == 0) return grid;
+  // Row r holds the voxels with i in [r DIM, (r + 1) DIM).
+  const std::uint64_t rows = static_cast<std::uint64_t>(VoxelGrid::coord(volume.keys.back())[0]) / Leaf::DIM + 1;
+  std::vector<std::size_t> first(rows + 1);
+  for (std::uint64_t r = 0; r <= rows; ++r)
+    first[r] = static_cast<std::size_t>(
+        std::lower_bound(volume.keys.begin(), volume.keys.end(), VoxelGrid::key(r * Leaf::DIM, 0, 0)) -
+        volume.keys.begin());
+  // Leaves of one row are found by their (j, k) block.
+  const std::uint64_t blocks_j = static_cast<std::uint64_t>(volume.grid.dims[1]) / Leaf::DIM + 1;
+  const std::uint64_t blocks_k = static_cast<std::uint64_t>(volume.grid.dims[2]) / Leaf::DIM + 1;
+  std::vector<std::vector<std::unique_ptr<Leaf>>> leaves(rows);
+  parallel_jobs(rows, 0, [&](std::size_t r, int) {
+    std::vector<Leaf*> block(blocks_j * blocks_k, nullptr);
+    for (std::size_t v = first[r]; v < first[r + 1]; ++v) {
+      const openvdb::Coord ijk = coord_of(volume.keys[v]);
+      Leaf*& leaf = block[(ijk.y() / Leaf::DIM) * blocks_k + ijk.z() / Leaf::DIM];
+      if (!leaf) {
+        leaves[r].push_back(std::make_unique<Leaf>(ijk & ~(Leaf::DIM - 1), grid->background(), false));
+        leaf = leaves[r].back().get();
+      }
+      leaf->setValueOn(Leaf::coordToOffset(ijk), value(values + v * components));
     }
-    leaf->setValueOn(Leaf::coordToOffset(ijk), value(values + v * components));
-  }
+  });
+  auto& tree = grid->tree();
+  for (auto& row : leaves)
+    for (auto& leaf : row) tree.addLeaf(leaf.release());  // the tree owns it from here
   return grid;
 }
 
@@ -80,36 +97,22 @@ void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOpti
   check_writable(path);
   const int components = 1 + 3 + volume.channel_count();
   check_memory(volume.size() * (8.0 * components + 16.0), "writing a volume of " + std::to_string(volume.size()) + " voxels");
-  // The grids are independent: build them on parallel threads.
   const std::vector<VolumeAttribute> attributes = volume_attributes(volume, options.color_scale);
-  openvdb::GridPtrVec grids(1 + attributes.size());
-  std::vector<std::exception_ptr> failures(grids.size());
-  auto build = [&](std::size_t g) {
-    try {
-      if (g == 0) {
-        auto density = make_grid<openvdb::FloatGrid>(volume, "density", &scalar, volume.density.data(), 1);
-        density->setGridClass(openvdb::GRID_FOG_VOLUME);
-        grids[0] = density;
-        return;
-      }
-      const VolumeAttribute& attribute = attributes[g - 1];
-      if (attribute.components == 3) {
-        auto grid = make_grid<openvdb::Vec3fGrid>(volume, attribute.name, &vector3, attribute.values.data(), 3);
-        grid->setVectorType(openvdb::VEC_INVARIANT);
-        grids[g] = grid;
-      } else {
-        grids[g] = make_grid<openvdb::FloatGrid>(volume, attribute.name, &scalar, attribute.values.data(), 1);
-      }
-    } catch (...) {
-      failures[g] = std::current_exception();
+  openvdb::GridPtrVec grids;
+  auto density = make_grid<openvdb::FloatGrid>(volume, "density", &scalar, volume.density.data(), 1);
+  density->setGridClass(openvdb::GRID_FOG_VOLUME);
+  density->setSaveFloatAsHalf(options.half && volume.density_mode == VolumeDensity::Binary);
+  grids.push_back(density);
+  for (const VolumeAttribute& attribute : attributes) {
+    if (attribute.components == 3) {
+      auto grid = make_grid<openvdb::Vec3fGrid>(volume, attribute.name, &vector3, attribute.values.data(), 3);
+      grid->setVectorType(openvdb::VEC_INVARIANT);
+      grids.push_back(grid);
+    } else {
+      grids.push_back(make_grid<openvdb::FloatGrid>(volume, attribute.name, &scalar, attribute.values.data(), 1));
     }
-  };
-  std::vector<std::thread> builders;
-  for (std::size_t g = 1; g < grids.size(); ++g) builders.emplace_back(build, g);
-  build(0);
-  for (auto& t : builders) t.join();
-  for (const auto& failure : failures)
-    if (failure) std::rethrow_exception(failure);
+    grids.back()->setSaveFloatAsHalf(options.half);
+  }
 
   openvdb::MetaMap meta;
   meta.insertMeta("creator", openvdb::StringMetadata("ifsforge"));
@@ -137,6 +140,8 @@ void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOpti
   AtomicFile out(path);
   try {
     openvdb::io::File file(out.temporary_path());
+    // Inactive values are all background: the active mask alone restores them.
+    file.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK | (options.compress ? openvdb::io::COMPRESS_BLOSC : 0));
     file.write(grids, meta);
     file.close();
   } catch (const openvdb::Exception& e) {

@@ -20,6 +20,12 @@ struct VdbWriteOptions {
   const Ifs* system = nullptr;
   /// Extra file metadata (string values).
   std::map<std::string, std::string> metadata;
+  /// Store the [0, 1] grids (colour, gray, alpha, ..., and a binary density) as 16-bit
+  /// halves: relative error <= 2^-11, far below an 8-bit colour step, and half the bytes.
+  /// Hits and measure densities stay 32-bit floats.
+  bool half = true;
+  /// Blosc-compress the leaf buffers: about a third smaller, at about 1.5x the writing time.
+  bool compress = false;
 };
 
 /// @brief Writes `volume` as a .vdb: FloatGrid "density" (a fog volume), Vec3fGrid "color"
@@ -28,7 +34,8 @@ struct VdbWriteOptions {
 /// that puts voxel (i, j, k)'s centre at origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size in
 /// the system's coordinates. File metadata describes the volume (algorithm, depth, points,
 /// density, grid origin, voxel size and dimensions, channel ranges), the source system when
-/// given, and options.metadata. Atomic; FileError when it cannot write.
+/// given, and options.metadata. The grids' leaves are built in parallel (the file does not
+/// depend on the thread count). Atomic; FileError when it cannot write.
 void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOptions& options = {});
 
 struct VdbGridInfo {

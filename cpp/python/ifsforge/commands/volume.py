@@ -37,6 +37,9 @@ def register(subparsers):
     p.add_argument("--threads", type=int, default=0, help="0: every core (the volume never depends on it)")
     p.add_argument("--color-scale", default="auto", choices=["auto", "range", "clamp"],
                    help="channels to [0, 1]: auto keeps values already in [0, 1], else range (Eq. 101)")
+    p.add_argument("--full-precision", action="store_true",
+                   help="store colour grids as 32-bit floats (default: 16-bit halves, error <= 2^-11)")
+    p.add_argument("--compress", action="store_true", help="Blosc-compress the .vdb (about a third smaller, slower)")
     p.add_argument("--iso", type=float, default=0.5, help="mesh: iso level of the occupancy (default 0.5)")
     p.add_argument("--adaptivity", type=float, default=0.0, help="mesh: 0 (every voxel) .. 1 (merge flat areas)")
     p.set_defaults(run=run)
@@ -66,7 +69,8 @@ def run(args):
     if args.output:
         parameters = {"ifsforge_resolution": str(args.res), "ifsforge_command": "ifsforge volume " + " ".join(
             f"{k}={v}" for k, v in sorted(vars(args).items()) if k not in ("run", "command"))}
-        ifsforge.write_vdb(args.output, volume, system=system, metadata=parameters, color_scale=args.color_scale)
+        ifsforge.write_vdb(args.output, volume, system=system, metadata=parameters, color_scale=args.color_scale,
+                           half=not args.full_precision, compress=args.compress)
         print(f"{args.output}: {os.path.getsize(args.output):,} bytes")
     if args.mesh:
         mesh = ifsforge.volume_to_mesh(volume, iso=args.iso, adaptivity=args.adaptivity, color_scale=args.color_scale)
