@@ -23,19 +23,21 @@ void VoxelAccumulator::begin(const double* lo, const double* hi) {
     cells = 0;
   }
   if (cells_.size() < cells * stride_) cells_.resize(cells * stride_, 0);
+  if (occupied_.size() < cells) occupied_.resize(cells, 0);
 }
 
 VoxelList VoxelAccumulator::finish() {
   VoxelList list(channels_);
   std::size_t occupied = overflow_.size();
-  for (std::size_t cell = 0; cell < size_[0] * size_[1] * size_[2]; ++cell) occupied += cells_[cell * stride_] != 0;
+  for (std::size_t cell = 0; cell < size_[0] * size_[1] * size_[2]; ++cell) occupied += occupied_[cell];
   list.reserve(occupied);
   std::size_t cell = 0;
   for (std::uint64_t i = 0; i < size_[0]; ++i)
     for (std::uint64_t j = 0; j < size_[1]; ++j)
       for (std::uint64_t k = 0; k < size_[2]; ++k, ++cell) {
         std::uint64_t* c = &cells_[cell * stride_];
-        if (!c[0]) continue;
+        if (!occupied_[cell]) continue;
+        occupied_[cell] = 0;
         list.push(VoxelGrid::key(lo_[0] + i, lo_[1] + j, lo_[2] + k), c[0], c[1], c + 2);
         std::fill_n(c, stride_, 0);
       }

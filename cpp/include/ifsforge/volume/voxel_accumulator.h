@@ -43,10 +43,12 @@ class VoxelAccumulator {
     const std::uint64_t di = v[0] - lo_[0], dj = v[1] - lo_[1], dk = v[2] - lo_[2];
     if (di < size_[0] && dj < size_[1] && dk < size_[2]) {
       // A cell is (hits, mass, channel sums) side by side: one cache line per point.
-      std::uint64_t* cell = &cells_[((di * size_[1] + dj) * size_[2] + dk) * stride_];
+      const std::size_t index = (di * size_[1] + dj) * size_[2] + dk;
+      std::uint64_t* cell = &cells_[index * stride_];
       cell[1] += units;
       if (!hit) return;
       ++cell[0];
+      occupied_[index] = 1;
       for (int c = 0; c < channels_; ++c) cell[2 + c] += quantizer_.quantize(c, channels[c]);
       return;
     }
@@ -63,7 +65,7 @@ class VoxelAccumulator {
       d[a] = static_cast<std::uint64_t>(static_cast<std::int64_t>(f) - lo_[a]);
       if (d[a] >= size_[a]) return false;
     }
-    return cells_[((d[0] * size_[1] + d[1]) * size_[2] + d[2]) * stride_] != 0;
+    return occupied_[(d[0] * size_[1] + d[1]) * size_[2] + d[2]] != 0;
   }
   /// @brief True when every voxel meeting the continuous voxel box [lo, hi] already holds a
   /// point of this job (false when one lies outside the job's box).
@@ -74,10 +76,14 @@ class VoxelAccumulator {
       last[a] = static_cast<std::int64_t>(std::floor(hi[a])) - lo_[a];
       if (first[a] < 0 || last[a] >= static_cast<std::int64_t>(size_[a])) return false;
     }
-    for (std::int64_t i = first[0]; i <= last[0]; ++i)
-      for (std::int64_t j = first[1]; j <= last[1]; ++j)
+    const std::int64_t row = static_cast<std::int64_t>(size_[2]), slice = row * static_cast<std::int64_t>(size_[1]);
+    const std::uint8_t* base = occupied_.data() + first[0] * slice + first[1] * row;
+    for (std::int64_t i = 0; i <= last[0] - first[0]; ++i, base += slice) {
+      const std::uint8_t* line = base;
+      for (std::int64_t j = 0; j <= last[1] - first[1]; ++j, line += row)
         for (std::int64_t k = first[2]; k <= last[2]; ++k)
-          if (!cells_[((i * size_[1] + j) * size_[2] + k) * stride_]) return false;
+          if (!line[k]) return false;
+    }
     return true;
   }
   /// @brief The job's occupied voxels, sorted by key; the accumulator is ready for begin().
@@ -91,6 +97,8 @@ class VoxelAccumulator {
   std::int64_t lo_[3] = {0, 0, 0};
   std::uint64_t size_[3] = {0, 0, 0};
   std::vector<std::uint64_t> cells_, values_;
+  /// 1 where the cell holds a hit: the occupancy tests read these bytes, which stay in cache.
+  std::vector<std::uint8_t> occupied_;
   VoxelList overflow_;
 };
 
