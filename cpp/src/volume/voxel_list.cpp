@@ -21,27 +21,35 @@ struct Ref {
   std::uint64_t key, where;
 };
 
-/// Sorts refs by key: an LSD radix sort on the key's bits from `low` up to the highest bit set
-/// in any key (11 bits a pass). Stable, so equal keys keep their order (sums do not care).
+/// Bits needed to hold `v`.
+int bit_width(std::uint64_t v) {
+  int bits = 0;
+  for (; v; v >>= 1) ++bits;
+  return bits;
+}
+
+/// Sorts refs by key: an LSD radix sort over the bits any key uses, in as few passes of at
+/// most 12 bits as they allow. Stable, so equal keys keep their order (sums do not care).
 void radix_sort(std::vector<Ref>& refs, std::vector<Ref>& scratch) {
   std::uint64_t any = 0;
   for (const Ref& r : refs) any |= r.key;
-  constexpr int kBits = 11;
-  constexpr std::size_t kBuckets = std::size_t(1) << kBits;
+  const int bits = bit_width(any);
+  const int passes = (bits + 11) / 12;
+  if (passes == 0) return;
+  const int digit = (bits + passes - 1) / passes;
+  const std::uint64_t mask = (std::uint64_t(1) << digit) - 1;
   scratch.resize(refs.size());
-  std::vector<std::size_t> count(kBuckets);
-  for (int shift = 0; shift < 64 && (any >> shift); shift += kBits) {
-    // A digit that is the same in every key leaves the order as it is.
+  std::vector<std::size_t> count(mask + 1);
+  for (int shift = 0; shift < bits; shift += digit) {
     std::fill(count.begin(), count.end(), 0);
-    for (const Ref& r : refs) ++count[(r.key >> shift) & (kBuckets - 1)];
-    if (count[(refs.front().key >> shift) & (kBuckets - 1)] == refs.size()) continue;
+    for (const Ref& r : refs) ++count[(r.key >> shift) & mask];
     std::size_t sum = 0;
     for (std::size_t& c : count) {
       const std::size_t here = c;
       c = sum;
       sum += here;
     }
-    for (const Ref& r : refs) scratch[count[(r.key >> shift) & (kBuckets - 1)]++] = r;
+    for (const Ref& r : refs) scratch[count[(r.key >> shift) & mask]++] = r;
     refs.swap(scratch);
   }
 }
@@ -52,12 +60,16 @@ void radix_sort(std::vector<Ref>& refs, std::vector<Ref>& scratch) {
 class SlabMerge {
  public:
   explicit SlabMerge(const std::vector<VoxelList>& lists) {
-    std::uint64_t last_key = 0;
+    std::uint64_t last_key = 0, any = 0;
     for (const VoxelList& list : lists)
       if (list.size()) {
         sources_.push_back(&list);
         last_key = std::max(last_key, list.keys.back());
+        for (std::uint64_t key : list.keys) any |= key;
       }
+    constexpr std::uint64_t field = (std::uint64_t(1) << VoxelGrid::kKeyBits) - 1;
+    bits_j_ = bit_width((any >> VoxelGrid::kKeyBits) & field);
+    bits_k_ = bit_width(any & field);
     channels_ = lists.empty() ? 0 : lists.front().channels;
     points_ = !sources_.empty() && !sources_.front()->points.empty();
     const std::uint64_t rows = VoxelGrid::coord(last_key)[0] + 1;
@@ -85,10 +97,23 @@ class SlabMerge {
   template <typename Visit>
   void reduce(std::size_t s, std::vector<Ref>& order, std::vector<Ref>& scratch, Visit&& visit) const {
     order.clear();
-    const std::uint64_t base = start(s);  // keys relative to it: fewer radix passes
+    // Keys relative to the slab's start, the bits of i, j and k side by side: fewer radix passes.
+    const std::uint64_t base = start(s);
+    constexpr std::uint64_t field = (std::uint64_t(1) << VoxelGrid::kKeyBits) - 1;
+    auto compact = [&](std::uint64_t key) {
+      const std::uint64_t r = key - base;
+      return ((r >> (2 * VoxelGrid::kKeyBits)) << (bits_j_ + bits_k_)) |
+             (((r >> VoxelGrid::kKeyBits) & field) << bits_k_) | (r & field);
+    };
+    auto expand = [&](std::uint64_t c) {
+      const std::uint64_t k = c & ((std::uint64_t(1) << bits_k_) - 1);
+      const std::uint64_t j = (c >> bits_k_) & ((std::uint64_t(1) << bits_j_) - 1);
+      const std::uint64_t i = c >> (bits_j_ + bits_k_);
+      return base + (i << (2 * VoxelGrid::kKeyBits)) + (j << VoxelGrid::kKeyBits) + k;
+    };
     for (std::size_t l = 0; l < sources_.size(); ++l)
       for (std::size_t i = cuts_[l][s]; i < cuts_[l][s + 1]; ++i)
-        order.push_back({sources_[l]->keys[i] - base, (std::uint64_t(l) << 32) | i});
+        order.push_back({compact(sources_[l]->keys[i]), (std::uint64_t(l) << 32) | i});
     if (order.empty()) return;
     if (sources_.size() > 1) radix_sort(order, scratch);
     const int nc = channels_;
@@ -111,7 +136,7 @@ class SlabMerge {
           extremes[e] = e % 2 ? std::max(extremes[e], v) : std::min(extremes[e], v);
         }
       }
-      visit(key + base, hits, mass, sums, points_ ? extremes : nullptr);
+      visit(expand(key), hits, mass, sums, points_ ? extremes : nullptr);
     }
   }
 
@@ -122,6 +147,7 @@ class SlabMerge {
   std::vector<std::vector<std::size_t>> cuts_;
   std::size_t slabs_ = 0;
   std::uint64_t width_ = 1, rows_ = 0;
+  int bits_j_ = 0, bits_k_ = 0;
   int channels_ = 0;
   bool points_ = false;
 };
