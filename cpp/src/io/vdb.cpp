@@ -39,13 +39,12 @@ openvdb::Coord coord_of(std::uint64_t key) {
   return openvdb::Coord(v[0], v[1], v[2]);
 }
 
-/// A grid holding `value(values + v * components)` at every voxel of the volume. Voxels come
-/// sorted by (i, j, k), so the voxels of one x-row of leaf nodes (8 values of i) are a
-/// contiguous run: rows are filled into new leaves in parallel, then the leaves are added to
-/// the tree in row order (the tree is the same whatever the thread count).
+/// A grid holding value(v) at every voxel v of the volume. Voxels come sorted by (i, j, k), so
+/// the voxels of one x-row of leaf nodes (8 values of i) are a contiguous run: rows are filled
+/// into new leaves in parallel, then the leaves are added to the tree in row order (the tree
+/// is the same whatever the thread count).
 template <typename GridT, typename Value>
-typename GridT::Ptr make_grid(const Volume& volume, const std::string& name, Value (*value)(const float*),
-                              const float* values, int components) {
+typename GridT::Ptr make_grid(const Volume& volume, const std::string& name, Value&& value) {
   using Leaf = typename GridT::TreeType::LeafNodeType;
   auto grid = GridT::create();
   grid->setName(name);
@@ -71,7 +70,7 @@ typename GridT::Ptr make_grid(const Volume& volume, const std::string& name, Val
         leaves[r].push_back(std::make_unique<Leaf>(ijk & ~(Leaf::DIM - 1), grid->background(), false));
         leaf = leaves[r].back().get();
       }
-      leaf->setValueOn(Leaf::coordToOffset(ijk), value(values + v * components));
+      leaf->setValueOn(Leaf::coordToOffset(ijk), value(v));
     }
   });
   auto& tree = grid->tree();
@@ -80,8 +79,24 @@ typename GridT::Ptr make_grid(const Volume& volume, const std::string& name, Val
   return grid;
 }
 
-float scalar(const float* p) { return *p; }
-openvdb::Vec3f vector3(const float* p) { return openvdb::Vec3f(p[0], p[1], p[2]); }
+/// A grid of one attribute, evaluated voxel by voxel from the channel means.
+openvdb::GridBase::Ptr attribute_grid(const Volume& volume, const AttributeRecipe& recipe) {
+  const int nc = volume.channel_count();
+  if (recipe.components == 3) {
+    auto grid = make_grid<openvdb::Vec3fGrid>(volume, recipe.name, [&](std::size_t v) {
+      openvdb::Vec3f rgb;
+      recipe.evaluate(&volume.channels[v * nc], rgb.asPointer());
+      return rgb;
+    });
+    grid->setVectorType(openvdb::VEC_INVARIANT);
+    return grid;
+  }
+  return make_grid<openvdb::FloatGrid>(volume, recipe.name, [&](std::size_t v) {
+    float x;
+    recipe.evaluate(&volume.channels[v * nc], &x);
+    return x;
+  });
+}
 
 std::string text(double value) {
   std::ostringstream out;
@@ -97,20 +112,13 @@ void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOpti
   check_writable(path);
   const int components = 1 + 3 + volume.channel_count();
   check_memory(volume.size() * (8.0 * components + 16.0), "writing a volume of " + std::to_string(volume.size()) + " voxels");
-  const std::vector<VolumeAttribute> attributes = volume_attributes(volume, options.color_scale);
   openvdb::GridPtrVec grids;
-  auto density = make_grid<openvdb::FloatGrid>(volume, "density", &scalar, volume.density.data(), 1);
+  auto density = make_grid<openvdb::FloatGrid>(volume, "density", [&](std::size_t v) { return volume.density[v]; });
   density->setGridClass(openvdb::GRID_FOG_VOLUME);
   density->setSaveFloatAsHalf(options.half && volume.density_mode == VolumeDensity::Binary);
   grids.push_back(density);
-  for (const VolumeAttribute& attribute : attributes) {
-    if (attribute.components == 3) {
-      auto grid = make_grid<openvdb::Vec3fGrid>(volume, attribute.name, &vector3, attribute.values.data(), 3);
-      grid->setVectorType(openvdb::VEC_INVARIANT);
-      grids.push_back(grid);
-    } else {
-      grids.push_back(make_grid<openvdb::FloatGrid>(volume, attribute.name, &scalar, attribute.values.data(), 1));
-    }
+  for (const AttributeRecipe& recipe : attribute_recipes(volume, options.color_scale)) {
+    grids.push_back(attribute_grid(volume, recipe));
     grids.back()->setSaveFloatAsHalf(options.half);
   }
 
@@ -186,10 +194,8 @@ TriangleMesh volume_to_mesh(const Volume& volume, const IsoSurfaceOptions& optio
   if (volume.size() == 0) return mesh;
   check_memory(volume.size() * 120.0, "the iso-surface of a volume of " + std::to_string(volume.size()) + " voxels");
   // The scalar field: occupancy (1 in occupied voxels) or the density, 0 outside.
-  std::vector<float> ones;
-  if (!options.use_density) ones.assign(volume.size(), 1.0f);
-  auto field = make_grid<openvdb::FloatGrid>(volume, "field", &scalar,
-                                             options.use_density ? volume.density.data() : ones.data(), 1);
+  auto field = make_grid<openvdb::FloatGrid>(
+      volume, "field", [&](std::size_t v) { return options.use_density ? volume.density[v] : 1.0f; });
   std::vector<openvdb::Vec3s> points;
   std::vector<openvdb::Vec3I> triangles;
   std::vector<openvdb::Vec4I> quads;

@@ -35,9 +35,20 @@ std::size_t Volume::find(std::uint64_t key) const {
   return it != keys.end() && *it == key ? static_cast<std::size_t>(it - keys.begin()) : keys.size();
 }
 
-std::vector<VolumeAttribute> volume_attributes(const Volume& volume, ColorScale scale) {
+void AttributeRecipe::evaluate(const float* channels, float* out) const {
+  auto unit = [&](int c) { return static_cast<float>(std::clamp(scale[c] * channels[c] + offset[c], 0.0, 1.0)); };
+  switch (source) {
+    case Source::Rgb:
+      for (int c = 0; c < 3; ++c) out[c] = unit(first + c);
+      break;
+    case Source::Hsi: hsi_to_rgb(unit(first), unit(first + 1), unit(first + 2), out); break;
+    case Source::GrayAsRgb: std::fill_n(out, 3, unit(first)); break;
+    case Source::Channel: out[0] = unit(first); break;
+  }
+}
+
+std::vector<AttributeRecipe> attribute_recipes(const Volume& volume, ColorScale scale) {
   const int nc = volume.channel_count();
-  const std::size_t n = volume.size();
   // Per channel v -> a * v + b, then clamped to [0, 1].
   std::vector<double> a(nc, 1.0), b(nc, 0.0);
   for (int c = 0; c < nc; ++c) {
@@ -49,43 +60,39 @@ std::vector<VolumeAttribute> volume_attributes(const Volume& volume, ColorScale 
       b[c] = -lo / (hi - lo);
     }
   }
-  auto unit = [&](std::size_t v, int c) {
-    return static_cast<float>(std::clamp(a[c] * volume.channels[v * nc + c] + b[c], 0.0, 1.0));
-  };
   auto channel = [&](const std::string& name) {
     const auto it = std::find(volume.channel_names.begin(), volume.channel_names.end(), name);
     return it == volume.channel_names.end() ? -1 : static_cast<int>(it - volume.channel_names.begin());
   };
+  auto recipe = [&](std::string name, AttributeRecipe::Source source, int first) {
+    return AttributeRecipe{std::move(name), source == AttributeRecipe::Source::Channel ? 1 : 3, source, first, a, b};
+  };
 
-  std::vector<VolumeAttribute> out;
+  std::vector<AttributeRecipe> out;
   std::vector<bool> used(nc, false);
   const ColorModel model = volume.color_model;
-  if (model == ColorModel::Rgb || model == ColorModel::Rgba || model == ColorModel::Hsi ||
-      model == ColorModel::Gray) {
-    VolumeAttribute color{"color", 3, std::vector<float>(n * 3)};
-    if (model == ColorModel::Gray) {
-      const int g = channel("gray");
-      for (std::size_t v = 0; v < n; ++v) std::fill_n(&color.values[v * 3], 3, unit(v, g));
-      // Gray also gets its own grid below, so it is not marked used.
-    } else {
-      const bool hsi = model == ColorModel::Hsi;
-      const int first = channel(hsi ? "h" : "r");
-      for (std::size_t v = 0; v < n; ++v) {
-        float* rgb = &color.values[v * 3];
-        if (hsi)
-          hsi_to_rgb(unit(v, first), unit(v, first + 1), unit(v, first + 2), rgb);
-        else
-          for (int c = 0; c < 3; ++c) rgb[c] = unit(v, first + c);
-      }
-      for (int c = 0; c < 3; ++c) used[first + c] = true;
-    }
-    out.push_back(std::move(color));
+  if (model == ColorModel::Gray) {
+    // Gray also gets its own grid below, so it is not marked used.
+    out.push_back(recipe("color", AttributeRecipe::Source::GrayAsRgb, channel("gray")));
+  } else if (model == ColorModel::Rgb || model == ColorModel::Rgba || model == ColorModel::Hsi) {
+    const bool hsi = model == ColorModel::Hsi;
+    const int first = channel(hsi ? "h" : "r");
+    out.push_back(recipe("color", hsi ? AttributeRecipe::Source::Hsi : AttributeRecipe::Source::Rgb, first));
+    for (int c = 0; c < 3; ++c) used[first + c] = true;
   }
-  for (int c = 0; c < nc; ++c) {
-    if (used[c]) continue;
-    VolumeAttribute single{volume.channel_names[c], 1, std::vector<float>(n)};
-    for (std::size_t v = 0; v < n; ++v) single.values[v] = unit(v, c);
-    out.push_back(std::move(single));
+  for (int c = 0; c < nc; ++c)
+    if (!used[c]) out.push_back(recipe(volume.channel_names[c], AttributeRecipe::Source::Channel, c));
+  return out;
+}
+
+std::vector<VolumeAttribute> volume_attributes(const Volume& volume, ColorScale scale) {
+  const int nc = volume.channel_count();
+  std::vector<VolumeAttribute> out;
+  for (const AttributeRecipe& recipe : attribute_recipes(volume, scale)) {
+    VolumeAttribute attribute{recipe.name, recipe.components, std::vector<float>(volume.size() * recipe.components)};
+    for (std::size_t v = 0; v < volume.size(); ++v)
+      recipe.evaluate(&volume.channels[v * nc], &attribute.values[v * recipe.components]);
+    out.push_back(std::move(attribute));
   }
   return out;
 }

@@ -86,38 +86,35 @@ class SlabMerge {
   std::size_t slabs() const { return slabs_; }
   int channels() const { return channels_; }
   bool points() const { return points_; }
-  /// @brief Entries of all lists in slab s (an upper bound of its voxels).
-  std::size_t entries(std::size_t s) const {
-    std::size_t total = 0;
-    for (std::size_t l = 0; l < sources_.size(); ++l) total += cuts_[l][s + 1] - cuts_[l][s];
-    return total;
-  }
-  /// @brief Calls visit(key, hits, mass, sums, extremes) for every voxel of slab s in key
-  /// order, with the sums of its entries (extremes: merged by min / max, or nullptr).
-  template <typename Visit>
-  void reduce(std::size_t s, std::vector<Ref>& order, std::vector<Ref>& scratch, Visit&& visit) const {
+  /// @brief The entries of slab s in `order`, sorted by key (compacted: see key_of).
+  void sort(std::size_t s, std::vector<Ref>& order, std::vector<Ref>& scratch) const {
     order.clear();
     // Keys relative to the slab's start, the bits of i, j and k side by side: fewer radix passes.
     const std::uint64_t base = start(s);
     constexpr std::uint64_t field = (std::uint64_t(1) << VoxelGrid::kKeyBits) - 1;
-    auto compact = [&](std::uint64_t key) {
-      const std::uint64_t r = key - base;
-      return ((r >> (2 * VoxelGrid::kKeyBits)) << (bits_j_ + bits_k_)) |
-             (((r >> VoxelGrid::kKeyBits) & field) << bits_k_) | (r & field);
-    };
-    auto expand = [&](std::uint64_t c) {
-      const std::uint64_t k = c & ((std::uint64_t(1) << bits_k_) - 1);
-      const std::uint64_t j = (c >> bits_k_) & ((std::uint64_t(1) << bits_j_) - 1);
-      const std::uint64_t i = c >> (bits_j_ + bits_k_);
-      return base + (i << (2 * VoxelGrid::kKeyBits)) + (j << VoxelGrid::kKeyBits) + k;
-    };
     for (std::size_t l = 0; l < sources_.size(); ++l)
-      for (std::size_t i = cuts_[l][s]; i < cuts_[l][s + 1]; ++i)
-        order.push_back({compact(sources_[l]->keys[i]), (std::uint64_t(l) << 32) | i});
-    if (order.empty()) return;
+      for (std::size_t i = cuts_[l][s]; i < cuts_[l][s + 1]; ++i) {
+        const std::uint64_t r = sources_[l]->keys[i] - base;
+        const std::uint64_t compact = ((r >> (2 * VoxelGrid::kKeyBits)) << (bits_j_ + bits_k_)) |
+                                      (((r >> VoxelGrid::kKeyBits) & field) << bits_k_) | (r & field);
+        order.push_back({compact, (std::uint64_t(l) << 32) | i});
+      }
     if (sources_.size() > 1) radix_sort(order, scratch);
+  }
+  /// @brief The voxel key of a compacted key of slab s.
+  std::uint64_t key_of(std::size_t s, std::uint64_t compact) const {
+    const std::uint64_t k = compact & ((std::uint64_t(1) << bits_k_) - 1);
+    const std::uint64_t j = (compact >> bits_k_) & ((std::uint64_t(1) << bits_j_) - 1);
+    const std::uint64_t i = compact >> (bits_j_ + bits_k_);
+    return start(s) + (i << (2 * VoxelGrid::kKeyBits)) + (j << VoxelGrid::kKeyBits) + k;
+  }
+  /// @brief Calls visit(key, hits, mass, sums, extremes) for every voxel of slab s (sorted into
+  /// `order`) in key order, with the sums of its entries (extremes: merged by min / max, or
+  /// nullptr).
+  template <typename Visit>
+  void reduce(std::size_t s, const std::vector<Ref>& order, Visit&& visit) const {
     const int nc = channels_;
-    std::uint64_t sums[64];
+    std::uint64_t sums[kMaxDim];  // more than the channels of any system
     std::uint64_t extremes[VoxelList::kExtremes];
     std::size_t k = 0;
     while (k < order.size()) {
@@ -136,8 +133,34 @@ class SlabMerge {
           extremes[e] = e % 2 ? std::max(extremes[e], v) : std::min(extremes[e], v);
         }
       }
-      visit(expand(key), hits, mass, sums, points_ ? extremes : nullptr);
+      visit(key_of(s, key), hits, mass, sums, points_ ? extremes : nullptr);
     }
+  }
+
+  /// @brief Merges on `threads` threads in two passes, so that nothing is built twice: the
+  /// first counts each slab's voxels, `allocate(total)` sizes the output, the second calls
+  /// write(index, key, hits, mass, sums, extremes) for every voxel, index in key order.
+  template <typename Allocate, typename Write>
+  void run(int threads, Allocate&& allocate, Write&& write) const {
+    const std::size_t workers = static_cast<std::size_t>(std::max(1, threads));
+    std::vector<std::vector<Ref>> orders(workers), scratch(workers);
+    std::vector<std::size_t> at(slabs_ + 1, 0);
+    parallel_jobs(slabs_, threads, [&](std::size_t s, int worker) {
+      std::vector<Ref>& order = orders[worker];
+      sort(s, order, scratch[worker]);
+      std::size_t voxels = 0;
+      for (std::size_t k = 0; k < order.size(); ++k) voxels += k == 0 || order[k].key != order[k - 1].key;
+      at[s + 1] = voxels;
+    });
+    for (std::size_t s = 0; s < slabs_; ++s) at[s + 1] += at[s];
+    allocate(at[slabs_]);
+    parallel_jobs(slabs_, threads, [&](std::size_t s, int worker) {
+      std::vector<Ref>& order = orders[worker];
+      sort(s, order, scratch[worker]);
+      std::size_t index = at[s];
+      reduce(s, order, [&](std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* sums,
+                           const std::uint64_t* extremes) { write(index++, key, hits, mass, sums, extremes); });
+    });
   }
 
  private:
@@ -152,55 +175,28 @@ class SlabMerge {
   bool points_ = false;
 };
 
-/// Runs `reduce(slab, order, scratch)` for every slab on `threads` threads (each worker keeps
-/// its sort buffers), then `place(s, at)` for every slab once the slab sizes (`count(s)`)
-/// fix where each one starts; returns the total.
-template <typename Reduce, typename Count, typename Place>
-std::size_t by_slabs(std::size_t slabs, int threads, Reduce&& reduce, Count&& count, Place&& place) {
-  const std::size_t workers = static_cast<std::size_t>(std::max(1, threads));
-  std::vector<std::vector<Ref>> orders(workers), scratch(workers);
-  parallel_jobs(slabs, threads, [&](std::size_t s, int worker) { reduce(s, orders[worker], scratch[worker]); });
-  std::vector<std::size_t> at(slabs + 1, 0);
-  for (std::size_t s = 0; s < slabs; ++s) at[s + 1] = at[s] + count(s);
-  place(at);
-  return at[slabs];
-}
-
 }  // namespace
 
 VoxelList merge_voxel_lists(std::vector<VoxelList>& lists, int threads) {
   const SlabMerge merge(lists);
   const int nc = merge.channels();
-  std::vector<VoxelList> parts(merge.slabs(), VoxelList(nc));
   VoxelList out(nc);
-  by_slabs(
-      merge.slabs(), threads,
-      [&](std::size_t s, std::vector<Ref>& order, std::vector<Ref>& scratch) {
-        VoxelList& part = parts[s];
-        part.reserve(merge.entries(s));
-        merge.reduce(s, order, scratch, [&](std::uint64_t key, std::uint64_t hits, std::uint64_t mass,
-                                            const std::uint64_t* sums, const std::uint64_t* extremes) {
-          part.push(key, hits, mass, sums);
-          if (extremes) part.points.insert(part.points.end(), extremes, extremes + VoxelList::kExtremes);
-        });
-      },
-      [&](std::size_t s) { return parts[s].size(); },
-      [&](const std::vector<std::size_t>& at) {
-        const std::size_t total = at.back();
+  merge.run(
+      threads,
+      [&](std::size_t total) {
         out.keys.resize(total);
         out.hits.resize(total);
         out.mass.resize(total);
         out.sums.resize(total * nc);
         if (merge.points()) out.points.resize(total * VoxelList::kExtremes);
-        parallel_jobs(parts.size(), threads, [&](std::size_t s, int) {
-          const VoxelList& part = parts[s];
-          std::copy(part.keys.begin(), part.keys.end(), out.keys.begin() + at[s]);
-          std::copy(part.hits.begin(), part.hits.end(), out.hits.begin() + at[s]);
-          std::copy(part.mass.begin(), part.mass.end(), out.mass.begin() + at[s]);
-          std::copy(part.sums.begin(), part.sums.end(), out.sums.begin() + at[s] * nc);
-          std::copy(part.points.begin(), part.points.end(), out.points.begin() + at[s] * VoxelList::kExtremes);
-          parts[s] = VoxelList(nc);
-        });
+      },
+      [&](std::size_t v, std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* sums,
+          const std::uint64_t* extremes) {
+        out.keys[v] = key;
+        out.hits[v] = hits;
+        out.mass[v] = mass;
+        std::copy(sums, sums + nc, out.sums.begin() + v * nc);
+        if (extremes) std::copy(extremes, extremes + VoxelList::kExtremes, out.points.begin() + v * VoxelList::kExtremes);
       });
   lists.clear();
   return out;
@@ -229,44 +225,23 @@ Volume finish_volume(std::vector<VoxelList>& lists, const VoxelGrid& grid, const
   volume.channel_hi = quantizer.hi();
   const SlabMerge merge(lists);
   const int nc = merge.channels();
-  // Each slab's voxels in their final form (key, density, channel means), then side by side.
-  struct Part {
-    std::vector<std::uint64_t> keys;
-    std::vector<float> density, channels;
-  };
-  std::vector<Part> parts(merge.slabs());
   constexpr float kCovered = std::numeric_limits<float>::denorm_min();
-  by_slabs(
-      merge.slabs(), threads,
-      [&](std::size_t s, std::vector<Ref>& order, std::vector<Ref>& scratch) {
-        Part& part = parts[s];
-        const std::size_t entries = merge.entries(s);
-        part.keys.reserve(entries);
-        part.density.reserve(entries);
-        part.channels.reserve(entries * nc);
-        merge.reduce(s, order, scratch, [&](std::uint64_t key, std::uint64_t hits, std::uint64_t mass,
-                                            const std::uint64_t* sums, const std::uint64_t*) {
-          float d = 1.0f;
-          if (mode == VolumeDensity::Hits) d = static_cast<float>(hits);
-          if (mode == VolumeDensity::Measure)
-            d = std::max(static_cast<float>(static_cast<double>(mass) / total_mass), kCovered);
-          part.keys.push_back(key);
-          part.density.push_back(d);
-          for (int c = 0; c < nc; ++c) part.channels.push_back(static_cast<float>(quantizer.mean(c, sums[c], hits)));
-        });
+  merge.run(
+      threads,
+      [&](std::size_t total) {
+        volume.keys.resize(total);
+        volume.density.resize(total);
+        volume.channels.resize(total * nc);
       },
-      [&](std::size_t s) { return parts[s].keys.size(); },
-      [&](const std::vector<std::size_t>& at) {
-        volume.keys.resize(at.back());
-        volume.density.resize(at.back());
-        volume.channels.resize(at.back() * nc);
-        parallel_jobs(parts.size(), threads, [&](std::size_t s, int) {
-          Part& part = parts[s];
-          std::copy(part.keys.begin(), part.keys.end(), volume.keys.begin() + at[s]);
-          std::copy(part.density.begin(), part.density.end(), volume.density.begin() + at[s]);
-          std::copy(part.channels.begin(), part.channels.end(), volume.channels.begin() + at[s] * nc);
-          part = Part();
-        });
+      [&](std::size_t v, std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* sums,
+          const std::uint64_t*) {
+        float d = 1.0f;
+        if (mode == VolumeDensity::Hits) d = static_cast<float>(hits);
+        if (mode == VolumeDensity::Measure)
+          d = std::max(static_cast<float>(static_cast<double>(mass) / total_mass), kCovered);
+        volume.keys[v] = key;
+        volume.density[v] = d;
+        for (int c = 0; c < nc; ++c) volume.channels[v * nc + c] = static_cast<float>(quantizer.mean(c, sums[c], hits));
       });
   lists.clear();
   return volume;

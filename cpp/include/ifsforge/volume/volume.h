@@ -56,7 +56,24 @@ struct VolumeAttribute {
   std::vector<float> values;  ///< voxel-major, size() * components
 };
 
-/// @brief The attributes a volume exports, in a fixed order (color first).
+/// How one exported attribute is made from a voxel's channel means: each channel scaled to
+/// [0, 1] (a v + b, clamped; Eq. 101 for ranges), then taken as RGB, converted from HSI,
+/// repeated (gray as colour) or taken alone.
+struct AttributeRecipe {
+  enum class Source { Rgb, Hsi, GrayAsRgb, Channel };
+  std::string name;
+  int components = 1;
+  Source source = Source::Channel;
+  int first = 0;                     ///< the first channel read
+  std::vector<double> scale, offset;  ///< a and b of every channel
+  /// @brief The attribute (`components` values) of a voxel with these channel means.
+  void evaluate(const float* channels, float* out) const;
+};
+
+/// @brief The attributes a volume exports, in a fixed order (color first), as recipes.
+std::vector<AttributeRecipe> attribute_recipes(const Volume& volume, ColorScale scale = ColorScale::Auto);
+
+/// @brief The attributes a volume exports, evaluated for every voxel.
 std::vector<VolumeAttribute> volume_attributes(const Volume& volume, ColorScale scale = ColorScale::Auto);
 
 }  // namespace ifsforge
