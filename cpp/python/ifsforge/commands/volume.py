@@ -69,9 +69,10 @@ def run(args):
     if args.output:
         parameters = {"ifsforge_resolution": str(args.res), "ifsforge_command": "ifsforge volume " + " ".join(
             f"{k}={v}" for k, v in sorted(vars(args).items()) if k not in ("run", "command"))}
+        start = time.perf_counter()
         ifsforge.write_vdb(args.output, volume, system=system, metadata=parameters, color_scale=args.color_scale,
                            half=not args.full_precision, compress=args.compress)
-        print(f"{args.output}: {os.path.getsize(args.output):,} bytes")
+        print(f"{args.output}: {os.path.getsize(args.output):,} bytes, {time.perf_counter() - start:.2f} s")
     if args.mesh:
         mesh = ifsforge.volume_to_mesh(volume, iso=args.iso, adaptivity=args.adaptivity, color_scale=args.color_scale)
         ifsforge.write_mesh(args.mesh, mesh["positions"], mesh["triangles"], normals=mesh["normals"],
