@@ -72,16 +72,25 @@ class VoxelAccumulator {
   bool occupied(const double* lo, const double* hi) const {
     std::int64_t first[3], last[3];
     for (int a = 0; a < 3; ++a) {
-      first[a] = static_cast<std::int64_t>(std::floor(lo[a])) - lo_[a];
-      last[a] = static_cast<std::int64_t>(std::floor(hi[a])) - lo_[a];
-      if (first[a] < 0 || last[a] >= static_cast<std::int64_t>(size_[a])) return false;
+      first[a] = static_cast<std::int64_t>(std::floor(lo[a]));
+      last[a] = static_cast<std::int64_t>(std::floor(hi[a]));
+    }
+    return occupied(first, last);
+  }
+  /// @brief The same for the voxels [first, last] (inclusive, per axis).
+  bool occupied(const std::int64_t* first, const std::int64_t* last) const {
+    std::int64_t from[3], count[3];
+    for (int a = 0; a < 3; ++a) {
+      from[a] = first[a] - lo_[a];
+      count[a] = last[a] - first[a] + 1;
+      if (from[a] < 0 || from[a] + count[a] > static_cast<std::int64_t>(size_[a])) return false;
     }
     const std::int64_t row = static_cast<std::int64_t>(size_[2]), slice = row * static_cast<std::int64_t>(size_[1]);
-    const std::uint8_t* base = occupied_.data() + first[0] * slice + first[1] * row;
-    for (std::int64_t i = 0; i <= last[0] - first[0]; ++i, base += slice) {
+    const std::uint8_t* base = occupied_.data() + from[0] * slice + from[1] * row + from[2];
+    for (std::int64_t i = 0; i < count[0]; ++i, base += slice) {
       const std::uint8_t* line = base;
-      for (std::int64_t j = 0; j <= last[1] - first[1]; ++j, line += row)
-        for (std::int64_t k = first[2]; k <= last[2]; ++k)
+      for (std::int64_t j = 0; j < count[1]; ++j, line += row)
+        for (std::int64_t k = 0; k < count[2]; ++k)
           if (!line[k]) return false;
     }
     return true;
