@@ -23,8 +23,8 @@ Raster ConstantMass::render(const Ifs& ifs, const RenderOptions& options) const 
   plan.target.assign(ifs.size(), 0);
   const TransportResult t = transport_mass(ifs, space, plan, options);
   Raster raster = empty_raster(ifs, space);
-  for (std::size_t p = 0; p < space.pixels(); ++p)
-    if (t.mass[p] > 0.0) raster.density[p] = std::max(static_cast<float>(t.mass[p]), std::numeric_limits<float>::denorm_min());
+  for (std::size_t k = 0; k < t.pixel.size(); ++k)
+    raster.density[t.pixel[k]] = std::max(static_cast<float>(t.mass[k]), std::numeric_limits<float>::denorm_min());
   raster.channels = t.channels;
   raster.points = t.operations;
   return reduce_supersampled(std::move(raster), supersample, true);

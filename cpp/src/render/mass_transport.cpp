@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <new>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
@@ -14,6 +18,7 @@ namespace {
 constexpr double kUnit = 4611686018427387904.0;  // 2^62 units: the whole mass
 constexpr int kWeightShift = 24;                 // weights: mass >> 24, so weighted sums fit 64 bits
 constexpr double kOffsetSteps = 65536.0;         // position within a pixel: 16 bits per axis
+constexpr std::size_t kChunk = 1u << 14;         // cells per job (a fixed decomposition)
 
 /// The part of the interval [centre - half, centre + half] in one cell of a row or column: the
 /// cell, the fraction of the interval in it and the middle of that part within the cell.
@@ -39,16 +44,225 @@ int overlaps(double centre, double half, int cells, Overlap* out) {
   return count;
 }
 
-/// Per pixel: C masses, then (when needed) the weight W (mass >> 24), W x the mass centroid's
-/// offset within the pixel (x, y, 16-bit; when spreading), W x each channel code.
-struct Layout {
+/// How the mass image is kept: cells holding a record of `values` integers, the first
+/// `masses` of them masses. Rounding without channels (`by_component`): a cell per pixel of
+/// each component's image (cell = component x pixels + pixel) holding that component's mass
+/// alone, so that a component's image takes room only where it holds mass (in most pixels
+/// of a photo-copy only one component does). Otherwise a cell per pixel holding the C masses,
+/// then the weight W (mass >> 24), W x the mass centroid's offset within the pixel (x, y,
+/// 16-bit; when spreading) and W x each channel code.
+struct Cells {
   int C, ch;
-  bool position;  ///< the centroid offsets are kept (spreading)
-  bool weighted() const { return position || ch > 0; }
-  int values() const { return C + (weighted() ? 1 : 0) + (position ? 2 : 0) + ch; }
+  bool position;      ///< the centroid offsets are kept (spreading)
+  bool by_component;  ///< neither centroids nor channels: one mass per cell
+  std::size_t pixels;
+  std::size_t count() const { return by_component ? pixels * C : pixels; }
+  int masses() const { return by_component ? 1 : C; }
+  int values() const { return by_component ? 1 : C + 1 + (position ? 2 : 0) + ch; }
   int weight() const { return C; }
   int offset(int axis) const { return C + 1 + axis; }
   int channel(int c) const { return C + 1 + (position ? 2 : 0) + c; }
+};
+
+/// 64-bit words from calloc: large blocks come zeroed from the system, so the pages where no
+/// mass ever lands are never touched.
+struct FreeWords {
+  void operator()(std::uint64_t* words) const { std::free(words); }
+};
+using Words = std::unique_ptr<std::uint64_t[], FreeWords>;
+
+Words zeroed_words(std::size_t count) {
+  auto* words = static_cast<std::uint64_t*>(std::calloc(std::max<std::size_t>(count, 1), sizeof(std::uint64_t)));
+  if (!words) throw std::bad_alloc();
+  return Words(words);
+}
+
+/// One worker's landing area for a step: the values added per cell, a bit per cell touched,
+/// and the mass that landed. Integer sums: totals do not depend on which worker ran which job.
+struct Landing {
+  Words sums, touched;
+  std::uint64_t landed = 0;
+};
+
+/// A job's hold on its worker's Landing. Make it a local of the loop that writes (the mass
+/// stores could otherwise alias its members); the landed mass is written back at the end.
+class Writer {
+ public:
+  Writer(Landing& landing, const Cells& cells)
+      : sums_(landing.sums.get()), touched_(landing.touched.get()), values_(cells.values()), masses_(cells.masses()),
+        landed_(0), out_(landing.landed) {}
+  ~Writer() { out_ += landed_; }
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
+  /// Adds mass `v` to a one-value cell.
+  void add_mass(std::size_t cell, std::uint64_t v) {
+    touched_[cell >> 6] |= std::uint64_t(1) << (cell & 63);
+    sums_[cell] += v;
+    landed_ += v;
+  }
+  /// Adds a whole record to `cell`.
+  void add(std::size_t cell, const std::uint64_t* v) {
+    touched_[cell >> 6] |= std::uint64_t(1) << (cell & 63);
+    std::uint64_t* s = sums_ + cell * values_;
+    for (int k = 0; k < values_; ++k) s[k] += v[k];
+    for (int k = 0; k < masses_; ++k) landed_ += v[k];
+  }
+
+ private:
+  std::uint64_t* sums_;
+  std::uint64_t* touched_;
+  int values_, masses_;
+  std::uint64_t landed_;
+  std::uint64_t& out_;
+};
+
+/// The mass image between steps: the cells holding mass (increasing) and their records, side
+/// by side in the same order.
+struct MassImage {
+  std::vector<std::uint32_t> cells;
+  std::vector<std::uint64_t> records;
+};
+
+/// What a step reads: the maps, the plan and its weights, and the mass image with its decoded
+/// centroids and channel means (per cell; spreading / colour only).
+struct Step {
+  const PixelSpace& space;
+  const TransportPlan& plan;
+  const Cells& at;
+  const std::vector<double>& weight;  ///< (C + 1) x maps: the plan's, then the start's
+  const ChannelCodec& codec;
+  const MassImage& image;
+  const std::vector<float>& centroid;
+  const std::vector<float>& colour;
+  const std::vector<std::array<double, 2>>& half;
+};
+
+/// The seed's rounding without channels (5.4, 5.12.1): map j sends the share weight(i, j) of
+/// the mass of component i at a pixel to the pixel holding w_j(pixel centre), component
+/// target[j] (Eq. 50, 72). Batch by batch (one component each) and map by map: the arithmetic
+/// in plain loops over arrays (vectorised), then the neighbours landing on the same pixel
+/// (about 1/|a| of them along a row for a contraction) summed and added to the image once.
+void transport_rounded(const Step& s, std::size_t begin, std::size_t end, Landing& landing) {
+  constexpr std::size_t kBatch = 1024;
+  constexpr std::uint32_t kNowhere = 0xFFFFFFFFu;
+  Writer out(landing, s.at);
+  const std::size_t maps = s.space.maps.size(), pixels = s.at.pixels;
+  const auto width = static_cast<std::uint32_t>(s.space.width);
+  const double w = s.space.width, h = s.space.height, per_row = 1.0 / w;
+  const std::uint32_t* cells = s.image.cells.data();
+  const std::uint64_t* records = s.image.records.data();
+  double x[kBatch], y[kBatch], mass[kBatch];
+  std::uint32_t q[kBatch];
+  std::uint64_t v[kBatch];
+  for (std::size_t base = begin, n; base < end; base += n) {
+    // A batch of one component's cells.
+    const std::size_t i = cells[base] / pixels, first = i * pixels;
+    n = std::min(kBatch, end - base);
+    n = std::lower_bound(cells + base, cells + base + n, static_cast<std::uint32_t>(first + pixels)) - (cells + base);
+    // Pixel centres. The row is floor((p + 1/2) / width): the product below is within
+    // pixels x 2^-52 of it, and it is at least 1 / (2 width) from an integer.
+    for (std::size_t k = 0; k < n; ++k) {
+      const double p = static_cast<double>(cells[base + k] - first), row = std::floor((p + 0.5) * per_row);
+      x[k] = p - row * w + 0.5;
+      y[k] = row + 0.5;
+      mass[k] = static_cast<double>(records[base + k]);
+    }
+    for (std::size_t j = 0; j < maps; ++j) {
+      const double weight = s.weight[i * maps + j];
+      if (!(weight > 0.0)) continue;
+      const PixelMap& m = s.space.maps[j];
+      const double a = m.a, b = m.b, c = m.c, d = m.d, e = m.e, f = m.f;
+      for (std::size_t k = 0; k < n; ++k) {
+        const double share = weight * mass[k];
+        const double tx = a * x[k] + b * y[k] + e, ty = c * x[k] + d * y[k] + f;
+        // Less than one unit of mass, or off the image: nothing lands.
+        const bool lands = (share >= 0.5) & (tx >= 0.0) & (tx < w) & (ty >= 0.0) & (ty < h);
+        const std::uint32_t pixel = static_cast<std::uint32_t>(lands ? ty : 0.0) * width + static_cast<std::uint32_t>(lands ? tx : 0.0);
+        q[k] = lands ? pixel : kNowhere;
+        v[k] = lands ? static_cast<std::uint64_t>(share + 0.5) : 0;
+      }
+      const std::size_t image = static_cast<std::size_t>(s.plan.target[j]) * pixels;
+      std::uint32_t run = kNowhere;  // the pixel being summed into, and its sum so far
+      std::uint64_t run_mass = 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        if (q[k] != run) {
+          if (run_mass) out.add_mass(image + run, run_mass);
+          run = q[k];
+          run_mass = 0;
+        }
+        run_mass += v[k];
+      }
+      if (run_mass) out.add_mass(image + run, run_mass);
+    }
+  }
+}
+
+/// The general step: channels carried along and, when spreading, a pixel's mass (spread
+/// evenly over the pixel about its centroid) shared among the cells its image overlaps.
+void transport_spread(const Step& s, std::size_t begin, std::size_t end, Landing& landing) {
+  Writer out(landing, s.at);
+  const TransportPlan& plan = s.plan;
+  const Cells& at = s.at;
+  const std::size_t maps = s.space.maps.size();
+  const int C = at.C, ch = at.ch, values = at.values();
+  const auto width = static_cast<std::uint32_t>(s.space.width);
+  std::uint64_t codes[kMaxDim * 2 + 2];
+  // Cells are increasing: follow the row instead of dividing.
+  std::uint32_t row = s.image.cells[begin] / width, row_start = row * width;
+  for (std::size_t k = begin; k < end; ++k) {
+    const std::uint32_t p = s.image.cells[k];
+    while (p >= row_start + width) {
+      ++row;
+      row_start += width;
+    }
+    const std::uint64_t* r = &s.image.records[k * values];
+    // Spreading, the mass sits about its centroid (an affine map sends the centroid of the
+    // mass to the centroid of its image); rounding, at the pixel centre, as in the seed
+    // (centroids drifting across pixel edges would keep the support from settling).
+    Point from{}, to;
+    from[0] = p - row_start + (plan.spread ? s.centroid[k * 2] : 0.5);
+    from[1] = row + (plan.spread ? s.centroid[k * 2 + 1] : 0.5);
+    for (int c = 0; c < ch; ++c) from[2 + c] = s.colour[k * ch + c];
+    for (std::size_t j = 0; j < maps; ++j) {
+      double w = 0.0;
+      for (int i = 0; i < C; ++i) w += plan.weight[i * maps + j] * static_cast<double>(r[i]);
+      if (!(w >= 0.5)) continue;  // less than one unit of mass
+      const PixelMap& m = s.space.maps[j];
+      if (ch) {
+        m.map.apply(from.data(), to.data());
+      } else {
+        to[0] = m.a * from[0] + m.b * from[1] + m.e;
+        to[1] = m.c * from[0] + m.d * from[1] + m.f;
+      }
+      // The pixel's mass lands on a parallelogram about w(centroid): spread it as a box with
+      // the same mean and the same variance along x and y (widths |(a, b)| and |(c, d)| in
+      // pixels) over the cells it overlaps, each share keeping the centroid of its part.
+      Overlap xs[kMaxCells], ys[kMaxCells];
+      const double hx = plan.spread ? s.half[j][0] : 0.0, hy = plan.spread ? s.half[j][1] : 0.0;
+      const int nx = overlaps(to[0], hx, s.space.width, xs), ny = overlaps(to[1], hy, s.space.height, ys);
+      for (int yi = 0; yi < ny; ++yi)
+        for (int xi = 0; xi < nx; ++xi) {
+          const double share = w * xs[xi].fraction * ys[yi].fraction;
+          if (!(share >= 0.5)) continue;
+          const std::uint32_t cell = static_cast<std::uint32_t>(ys[yi].cell) * width + static_cast<std::uint32_t>(xs[xi].cell);
+          std::fill(codes, codes + values, 0);
+          codes[plan.target[j]] = static_cast<std::uint64_t>(share + 0.5);
+          const std::uint64_t weight = codes[at.weight()] = codes[plan.target[j]] >> kWeightShift;
+          if (at.position) {
+            codes[at.offset(0)] = weight * std::min<std::uint64_t>(65535, static_cast<std::uint64_t>(xs[xi].offset * kOffsetSteps));
+            codes[at.offset(1)] = weight * std::min<std::uint64_t>(65535, static_cast<std::uint64_t>(ys[yi].offset * kOffsetSteps));
+          }
+          for (int c = 0; c < ch; ++c) codes[at.channel(c)] = weight * s.codec.encode(c, to[2 + c]);
+          out.add(cell, codes);
+        }
+    }
+  }
+}
+
+/// What a job of the settling pass sums: the L1 change against the old image on the new
+/// cells, the old mass found there, the new (rescaled) mass.
+struct Settled {
+  std::uint64_t change = 0, old_inside = 0, total = 0;
 };
 
 }  // namespace
@@ -69,194 +283,191 @@ bool spread_mass(const std::string& value, bool binary) {
 TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const TransportPlan& plan,
                                const RenderOptions& options) {
   const int C = plan.components, ch = space.channels;
-  const std::size_t maps = space.maps.size(), pixels = space.pixels();
-  const Layout at{C, ch, plan.spread};
-  const int values = at.values();
+  const std::size_t pixels = space.pixels(), maps = space.maps.size();
+  const Cells at{C, ch, plan.spread, !plan.spread && ch == 0, pixels};
+  const int values = at.values(), masses = at.masses();
+  const std::size_t cells = at.count(), words = (cells + 63) / 64;
   const int threads = resolve_threads(options.threads);
-  check_memory(pixels * (2.0 * 8.0 * values + 1.0 + 4.0 * ch + 12.0) + PixelScatter::bytes(pixels, values, threads),
-               "a " + std::to_string(space.width) + "x" + std::to_string(space.height) + " mass image with " +
-                   std::to_string(C) + " component(s)");
+  const std::string what = "a " + std::to_string(space.width) + "x" + std::to_string(space.height) +
+                           " mass image with " + std::to_string(C) + " component(s)";
+  if (static_cast<double>(pixels) * (C + 1) >= 4294967295.0) throw InputError(what + ": too many cells");
+  check_memory(cells * (8.0 * values * (threads + 2) + 8.0 + 4.0 * (2 + ch) + threads / 8.0), what);
   const ChannelCodec codec(space.channel_lo, space.channel_hi);
-  std::vector<std::uint64_t> state(pixels * values, 0), next(pixels * values, 0);
-  std::vector<float> colour(pixels * ch, 0.0f);  // decoded channel means of the current state
-  std::vector<float> centroid(pixels * 2, 0.5f);  // where the mass of each pixel sits in it
-  // The seed's start: the same grey value on every pixel (mass spread evenly).
+  // The seed's start: the same grey value on every pixel (mass spread evenly). Kept by
+  // component, it is one image of a pseudo component C whose map weights are the sums of the
+  // components' (the step from it is that of the C uniform images together).
+  std::vector<double> weight = plan.weight;
+  weight.resize((C + 1) * maps, 0.0);
+  for (int i = 0; i < C; ++i)
+    for (std::size_t j = 0; j < maps; ++j) weight[C * maps + j] += plan.weight[i * maps + j];
   const Point start = ifs.start_point();
+  const auto share = static_cast<std::uint64_t>(kUnit / (static_cast<double>(pixels) * C));
+  MassImage image, next;
+  image.cells.resize(pixels);
+  for (std::size_t p = 0; p < pixels; ++p) image.cells[p] = static_cast<std::uint32_t>((at.by_component ? C * pixels : 0) + p);
   {
-    const auto share = static_cast<std::uint64_t>(kUnit / (static_cast<double>(pixels) * C));
-    for (std::size_t p = 0; p < pixels; ++p) {
-      std::uint64_t* s = &state[p * values];
-      for (int k = 0; k < C; ++k) s[k] = share;
-      if (!at.weighted()) continue;
+    std::vector<std::uint64_t> s(values, 0);
+    for (int k = 0; k < masses; ++k) s[k] = share;
+    if (!at.by_component) {
       s[at.weight()] = (share * C) >> kWeightShift;
       for (int axis = 0; axis < 2 && at.position; ++axis) s[at.offset(axis)] = s[at.weight()] * static_cast<std::uint64_t>(kOffsetSteps / 2);
       for (int c = 0; c < ch; ++c) s[at.channel(c)] = s[at.weight()] * codec.encode(c, start[2 + c]);
     }
+    image.records.resize(pixels * values);
+    for (std::size_t p = 0; p < pixels; ++p) std::copy(s.begin(), s.end(), &image.records[p * values]);
   }
+  std::uint64_t old_total = share * C * pixels;  // the mass of `image`
   const std::vector<std::uint32_t> condensation = condensation_pixels(ifs, space.frame);
-  PixelScatter scatter(pixels, values, threads);
+  std::vector<Landing> landings(threads);
+  for (Landing& l : landings) {
+    l.sums = zeroed_words(cells * values);
+    l.touched = zeroed_words(words);
+  }
   std::vector<std::array<double, 2>> half;  // per map: half widths of the spread box
   for (const PixelMap& m : space.maps)
     half.push_back({0.5 * std::min(std::hypot(m.a, m.b), double(kMaxCells - 2)), 0.5 * std::min(std::hypot(m.c, m.d), double(kMaxCells - 2))});
-  std::vector<std::uint32_t> support(pixels);  // pixels holding mass, increasing
-  for (std::size_t p = 0; p < pixels; ++p) support[p] = static_cast<std::uint32_t>(p);
+  std::vector<float> centroid, colour;  // per cell: where its mass sits in it, channel means
   TransportResult result;
-  constexpr std::size_t kChunk = 1u << 14;
   for (result.iterations = 0; result.iterations < plan.max_iterations;) {
-    for (std::uint32_t p : support) {
-      if (!at.weighted()) break;
-      const std::uint64_t* s = &state[std::size_t(p) * values];
-      const double w = static_cast<double>(s[at.weight()]);
-      for (int axis = 0; axis < 2 && at.position; ++axis)
-        centroid[std::size_t(p) * 2 + axis] =
-            w > 0 ? static_cast<float>((static_cast<double>(s[at.offset(axis)]) / w + 0.5) / kOffsetSteps) : 0.5f;
-      for (int c = 0; c < ch; ++c)
-        colour[std::size_t(p) * ch + c] =
-            static_cast<float>(codec.decode(c, w > 0 ? static_cast<double>(s[at.channel(c)]) / w : 0.0));
+    const std::vector<std::uint32_t>& old_cells = image.cells;
+    if (!at.by_component) {
+      centroid.assign(at.position ? old_cells.size() * 2 : 0, 0.5f);
+      colour.assign(old_cells.size() * ch, 0.0f);
+      for (std::size_t k = 0; k < old_cells.size(); ++k) {
+        const std::uint64_t* s = &image.records[k * values];
+        const double w = static_cast<double>(s[at.weight()]);
+        for (int axis = 0; axis < 2 && at.position; ++axis)
+          centroid[k * 2 + axis] = w > 0 ? static_cast<float>((static_cast<double>(s[at.offset(axis)]) / w + 0.5) / kOffsetSteps) : 0.5f;
+        for (int c = 0; c < ch; ++c)
+          colour[k * ch + c] = static_cast<float>(codec.decode(c, w > 0 ? static_cast<double>(s[at.channel(c)]) / w : 0.0));
+      }
     }
-    const std::size_t jobs = (support.size() + kChunk - 1) / kChunk;
-    const auto width = static_cast<std::uint32_t>(space.width);
-    const double wd = space.width, hd = space.height;
-    parallel_jobs(jobs, threads, [&](std::size_t job, int worker) {
-      PixelScatter::Writer out = scatter.writer(worker);
-      std::uint64_t codes[kMaxDim * 2 + 2];
-      const std::size_t begin = job * kChunk, end = std::min(support.size(), (job + 1) * kChunk);
-      // Support pixels are increasing: follow the row instead of dividing.
-      std::uint32_t row = support[begin] / width, row_start = row * width;
-      if (C == 1 && !ch && !plan.spread && maps <= 64) {
-        // The seed's CMA on a binary-or-gray image: one mass per pixel, rounded to one cell.
-        // Maps and weights in locals (the scatter's byte stores would force reloads).
-        double m[64][7];
-        for (std::size_t j = 0; j < maps; ++j) {
-          const PixelMap& pm = space.maps[j];
-          const double coefficients[7] = {pm.a, pm.b, pm.c, pm.d, pm.e, pm.f, plan.weight[j]};
-          std::copy(coefficients, coefficients + 7, m[j]);
-        }
-        const double w = wd, h = hd;
-        const std::uint32_t stride = width;
-        for (std::size_t k = begin; k < end; ++k) {
-          const std::uint32_t p = support[k];
-          while (p >= row_start + stride) {
-            ++row;
-            row_start += stride;
-          }
-          const double x = p - row_start + 0.5, y = row + 0.5, mass = static_cast<double>(state[p]);
-          for (std::size_t j = 0; j < maps; ++j) {
-            const double share = m[j][6] * mass;
-            const double tx = m[j][0] * x + m[j][1] * y + m[j][4], ty = m[j][2] * x + m[j][3] * y + m[j][5];
-            if (!(share >= 0.5) || !(tx >= 0.0 && tx < w && ty >= 0.0 && ty < h)) continue;
-            const std::uint64_t v = static_cast<std::uint64_t>(share + 0.5);
-            out.add(static_cast<std::uint32_t>(ty) * stride + static_cast<std::uint32_t>(tx), &v);
-          }
-        }
-        return;
-      }
-      for (std::size_t k = begin; k < end; ++k) {
-        const std::uint32_t p = support[k];
-        while (p >= row_start + width) {
-          ++row;
-          row_start += width;
-        }
-        const std::uint64_t* s = &state[std::size_t(p) * values];
-        // Spreading, the mass sits about its centroid (an affine map sends the centroid of the
-        // mass to the centroid of its image); rounding, at the pixel centre, as in the seed
-        // (centroids drifting across pixel edges would keep the support from settling).
-        Point from{}, to;
-        from[0] = p - row_start + (plan.spread ? centroid[std::size_t(p) * 2] : 0.5);
-        from[1] = row + (plan.spread ? centroid[std::size_t(p) * 2 + 1] : 0.5);
-        for (int c = 0; c < ch; ++c) from[2 + c] = colour[std::size_t(p) * ch + c];
-        for (std::size_t j = 0; j < maps; ++j) {
-          double w = 0.0;
-          for (int i = 0; i < C; ++i) w += plan.weight[i * maps + j] * static_cast<double>(s[i]);
-          if (!(w >= 0.5)) continue;  // less than one unit of mass
-          const PixelMap& m = space.maps[j];
-          if (ch) {
-            m.map.apply(from.data(), to.data());
-          } else {
-            to[0] = m.a * from[0] + m.b * from[1] + m.e;
-            to[1] = m.c * from[0] + m.d * from[1] + m.f;
-          }
-          // The pixel's mass, spread evenly over the pixel about its centroid, lands on a
-          // parallelogram about w(centroid): spread it as a box with the same mean and the same
-          // variance along x and y (widths |(a, b)| and |(c, d)| in pixels) over the cells it
-          // overlaps, each share keeping the centroid of its part.
-          Overlap xs[kMaxCells], ys[kMaxCells];
-          const double hx = plan.spread ? half[j][0] : 0.0, hy = plan.spread ? half[j][1] : 0.0;
-          const int nx = overlaps(to[0], hx, space.width, xs), ny = overlaps(to[1], hy, space.height, ys);
-          for (int yi = 0; yi < ny; ++yi)
-            for (int xi = 0; xi < nx; ++xi) {
-              const double share = w * xs[xi].fraction * ys[yi].fraction;
-              if (!(share >= 0.5)) continue;
-              const std::uint32_t cell = static_cast<std::uint32_t>(ys[yi].cell) * width + static_cast<std::uint32_t>(xs[xi].cell);
-              if (!at.weighted()) {  // only the mass of one component changes
-                out.add_one(cell, plan.target[j], static_cast<std::uint64_t>(share + 0.5));
-                continue;
-              }
-              std::fill(codes, codes + values, 0);
-              codes[plan.target[j]] = static_cast<std::uint64_t>(share + 0.5);
-              if (at.weighted()) {
-                const std::uint64_t weight = codes[at.weight()] = codes[plan.target[j]] >> kWeightShift;
-                if (at.position) {
-                  codes[at.offset(0)] = weight * std::min<std::uint64_t>(65535, static_cast<std::uint64_t>(xs[xi].offset * kOffsetSteps));
-                  codes[at.offset(1)] = weight * std::min<std::uint64_t>(65535, static_cast<std::uint64_t>(ys[yi].offset * kOffsetSteps));
-                }
-                for (int c = 0; c < ch; ++c) codes[at.channel(c)] = weight * codec.encode(c, to[2 + c]);
-              }
-              out.add(cell, codes);
-            }
-        }
-      }
+    const Step step{space, plan, at, weight, codec, image, centroid, colour, half};
+    parallel_jobs((old_cells.size() + kChunk - 1) / kChunk, threads, [&](std::size_t job, int worker) {
+      const std::size_t begin = job * kChunk, end = std::min(old_cells.size(), (job + 1) * kChunk);
+      if (at.by_component)
+        transport_rounded(step, begin, end, landings[worker]);
+      else
+        transport_spread(step, begin, end, landings[worker]);
     });
-    result.operations += support.size() * maps;
+    // Map applications: each cell by each map that carries some of its component.
+    for (int i = 0; i <= C; ++i) {
+      const auto first = std::lower_bound(old_cells.begin(), old_cells.end(), static_cast<std::uint32_t>(i * pixels));
+      const auto last = at.by_component ? std::lower_bound(first, old_cells.end(), static_cast<std::uint32_t>((i + 1) * pixels)) : old_cells.end();
+      const auto row = weight.begin() + i * maps;
+      const std::size_t carrying = at.by_component ? std::count_if(row, row + maps, [](double w) { return w > 0.0; }) : maps;
+      result.operations += (last - first) * carrying;
+      if (!at.by_component) break;
+    }
     if (!condensation.empty() && plan.condensation_share > 0.0) {
       std::uint64_t codes[kMaxDim * 2 + 2] = {};
       codes[0] = static_cast<std::uint64_t>(plan.condensation_share * kUnit / condensation.size());
-      if (at.weighted()) {
+      if (!at.by_component) {
         codes[at.weight()] = codes[0] >> kWeightShift;
         for (int axis = 0; axis < 2 && at.position; ++axis) codes[at.offset(axis)] = codes[at.weight()] * static_cast<std::uint64_t>(kOffsetSteps / 2);
         for (int c = 0; c < ch; ++c) codes[at.channel(c)] = codes[at.weight()] * codec.encode(c, ifs.condensation().channels[c]);
       }
-      for (std::uint32_t p : condensation) scatter.add(0, p, codes);
+      Writer out(landings[0], at);
+      for (std::uint32_t p : condensation) out.add(p, codes);  // component 0's image: cell = pixel
     }
-    std::vector<std::uint32_t> grown;
-    scatter.merge(next, grown);
-    // Mass that left the image is dropped: rescale the rest to the whole mass.
-    // The total stays near 2^62, so integer sums cannot overflow and are exact.
-    std::uint64_t total = 0, old_total = 0, old_inside = 0, change = 0;
-    for (std::uint32_t p : grown)
-      for (int k = 0; k < C; ++k) total += next[std::size_t(p) * values + k];
+    // Mass that left the image is dropped: rescale the rest to the whole mass. The total
+    // stays near 2^62, so integer sums cannot overflow and are exact.
+    std::uint64_t total = 0;
+    for (Landing& l : landings) {
+      total += l.landed;
+      l.landed = 0;
+    }
     if (total == 0)
       throw InputError("all the mass left the image: the window misses the attractor of '" + ifs.name() + "'");
     const double factor = kUnit / static_cast<double>(total);
-    // L1 change: |new - old| on the new support, plus the old mass where nothing arrived.
-    for (std::uint32_t p : support)
-      for (int k = 0; k < C; ++k) old_total += state[std::size_t(p) * values + k];
-    for (std::uint32_t p : grown)
-      for (int k = 0; k < C; ++k) {
-        std::uint64_t& m = next[std::size_t(p) * values + k];
-        m = static_cast<std::uint64_t>(static_cast<double>(m) * factor);
-        const std::uint64_t old = state[std::size_t(p) * values + k];
-        change += m > old ? m - old : old - m;
-        old_inside += old;
+    // Settling, over fixed ranges of cells: gather the workers' sums into records in cell
+    // order (clearing the landings for the next step), rescale, and measure the L1 change:
+    // |new - old| on the new cells, plus the old mass where nothing arrived.
+    constexpr std::size_t kWordsPerJob = kChunk / 64;
+    const std::size_t settle_jobs = (words + kWordsPerJob - 1) / kWordsPerJob;
+    std::vector<std::size_t> offset(settle_jobs + 1, 0);  // where each job's cells start
+    parallel_jobs(settle_jobs, threads, [&](std::size_t job, int) {
+      std::size_t count = 0;
+      for (std::size_t word = job * kWordsPerJob; word < std::min(words, (job + 1) * kWordsPerJob); ++word) {
+        std::uint64_t bits = 0;
+        for (const Landing& l : landings) bits |= l.touched[word];
+        count += __builtin_popcountll(bits);
       }
-    change += old_total - old_inside;
-    result.change = static_cast<double>(change) / kUnit;
-    const bool support_changed = grown != support;
-    for (std::uint32_t p : support) std::fill_n(&state[std::size_t(p) * values], values, 0);
-    state.swap(next);
-    support.swap(grown);
+      offset[job + 1] = count;
+    });
+    for (std::size_t job = 0; job < settle_jobs; ++job) offset[job + 1] += offset[job];
+    next.cells.resize(offset.back());
+    next.records.resize(offset.back() * values);
+    std::vector<Settled> settled(settle_jobs);
+    parallel_jobs(settle_jobs, threads, [&](std::size_t job, int) {
+      const std::size_t first_word = job * kWordsPerJob, last_word = std::min(words, (job + 1) * kWordsPerJob);
+      std::size_t old = std::lower_bound(old_cells.begin(), old_cells.end(), static_cast<std::uint32_t>(first_word * 64)) - old_cells.begin();
+      std::size_t k = offset[job];
+      Settled sum;  // in locals: the record stores could alias it
+      for (std::size_t word = first_word; word < last_word; ++word) {
+        std::uint64_t bits = 0;
+        for (const Landing& l : landings) bits |= l.touched[word];
+        for (; bits; bits &= bits - 1, ++k) {
+          const std::size_t cell = word * 64 + __builtin_ctzll(bits);
+          next.cells[k] = static_cast<std::uint32_t>(cell);
+          std::uint64_t* r = &next.records[k * values];
+          std::fill_n(r, values, 0);
+          for (const Landing& l : landings) {
+            if (!(l.touched[word] >> (cell & 63) & 1)) continue;
+            std::uint64_t* s = &l.sums[cell * values];
+            for (int v = 0; v < values; ++v) {
+              r[v] += s[v];
+              s[v] = 0;
+            }
+          }
+          while (old < old_cells.size() && old_cells[old] < cell) ++old;
+          const std::uint64_t* before = old < old_cells.size() && old_cells[old] == cell ? &image.records[old * values] : nullptr;
+          for (int c = 0; c < masses; ++c) {
+            r[c] = static_cast<std::uint64_t>(static_cast<double>(r[c]) * factor);
+            const std::uint64_t o = before ? before[c] : 0;
+            sum.change += r[c] > o ? r[c] - o : o - r[c];
+            sum.old_inside += o;
+            sum.total += r[c];
+          }
+        }
+        for (Landing& l : landings) l.touched[word] = 0;
+      }
+      settled[job] = sum;
+    });
+    Settled all;
+    for (const Settled& s : settled) {
+      all.change += s.change;
+      all.old_inside += s.old_inside;
+      all.total += s.total;
+    }
+    // (From the start, a pseudo component, everything changes; it takes two steps to stop.)
+    result.change = static_cast<double>(all.change + (old_total - all.old_inside)) / kUnit;
+    old_total = all.total;
+    const bool support_changed = next.cells != image.cells;
+    std::swap(image, next);
     ++result.iterations;
     report_progress(options, std::min(1.0, std::log(std::max(result.change, 1e-300)) / std::log(plan.threshold)));
     if (result.iterations >= 2 && result.change < plan.threshold && !support_changed) break;
   }
-  result.mass.assign(pixels * C, 0.0);
+  result.pixel.reserve(image.cells.size());
+  result.component.reserve(image.cells.size());
+  result.mass.reserve(image.cells.size());
   result.channels.assign(pixels * ch, 0.0f);
-  for (std::size_t p = 0; p < pixels; ++p) {
-    const std::uint64_t* s = &state[p * values];
-    for (int k = 0; k < C; ++k) result.mass[p * C + k] = static_cast<double>(s[k]) / kUnit;
-    const double w = at.weighted() ? static_cast<double>(s[at.weight()]) : 0.0;
+  for (std::size_t p = 0; p < pixels && ch; ++p)
+    for (int c = 0; c < ch; ++c) result.channels[p * ch + c] = static_cast<float>(start[2 + c]);
+  for (std::size_t k = 0; k < image.cells.size(); ++k) {
+    const std::uint64_t* s = &image.records[k * values];
+    const std::uint32_t cell = image.cells[k];
+    const std::uint32_t pixel = static_cast<std::uint32_t>(cell % pixels);
+    for (int c = 0; c < masses; ++c) {
+      if (!s[c]) continue;
+      result.pixel.push_back(pixel);
+      result.component.push_back(at.by_component ? static_cast<int>(cell / pixels) : c);
+      result.mass.push_back(static_cast<double>(s[c]) / kUnit);
+    }
+    const double w = at.by_component ? 0.0 : static_cast<double>(s[at.weight()]);
     for (int c = 0; c < ch; ++c)
-      result.channels[p * ch + c] = static_cast<float>(w > 0 ? codec.decode(c, static_cast<double>(s[at.channel(c)]) / w) : start[2 + c]);
+      if (w > 0) result.channels[std::size_t(pixel) * ch + c] = static_cast<float>(codec.decode(c, static_cast<double>(s[at.channel(c)]) / w));
   }
   return result;
 }

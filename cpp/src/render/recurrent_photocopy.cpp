@@ -27,12 +27,10 @@ Raster RecurrentPhotocopy::render(const Ifs& ifs, const RenderOptions& options) 
   for (int j = 0; j < n; ++j) plan.target.push_back(j);
   const TransportResult t = transport_mass(ifs, space, plan, options);
   Raster raster = empty_raster(ifs, space);
-  for (std::size_t p = 0; p < space.pixels(); ++p) {
-    double mass = 0.0;
-    for (int j = 0; j < n; ++j)
-      if (component < 0 || component == j) mass += t.mass[p * n + j];
-    if (mass > 0.0) raster.density[p] = std::max(static_cast<float>(mass), std::numeric_limits<float>::denorm_min());
-  }
+  for (std::size_t k = 0; k < t.pixel.size(); ++k)
+    if (component < 0 || component == t.component[k])
+      raster.density[t.pixel[k]] = std::max(raster.density[t.pixel[k]] + static_cast<float>(t.mass[k]),
+                                            std::numeric_limits<float>::denorm_min());
   raster.channels = t.channels;
   raster.points = t.operations;
   return reduce_supersampled(std::move(raster), supersample, true);

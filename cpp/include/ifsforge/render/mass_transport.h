@@ -31,10 +31,13 @@ struct TransportPlan {
 RendererParameter spread_parameter();
 bool spread_mass(const std::string& value, bool binary);
 
-/// @brief Mass per component and pixel (fractions of the total, which stays 1: mass leaving the
-/// image is dropped and the rest rescaled) and mass-weighted channel means.
+/// @brief The mass of each component on each pixel where it is not zero (fractions of the
+/// total, which stays 1: mass leaving the image is dropped and the rest rescaled), and
+/// mass-weighted channel means.
 struct TransportResult {
-  std::vector<double> mass;      ///< pixels x components
+  std::vector<std::uint32_t> pixel;  ///< per entry
+  std::vector<int> component;        ///< per entry
+  std::vector<double> mass;          ///< per entry
   std::vector<float> channels;   ///< pixels x channels
   long long iterations = 0;
   double change = 0.0;           ///< L1 change of the last iteration
@@ -43,7 +46,8 @@ struct TransportResult {
 
 /// @brief Iterates from uniform mass until the change is below the threshold and the support
 /// no longer changes (or max_iterations). Integer (fixed-point) mass: the result does not
-/// depend on `threads`.
+/// depend on `threads`. Only the pixels holding mass are visited, each component's apart
+/// when there are neither centroids nor channels to keep.
 TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const TransportPlan& plan,
                                const RenderOptions& options);
 
