@@ -117,10 +117,13 @@ class Writer {
 };
 
 /// The mass image between steps: the cells holding mass (increasing) and their records, side
-/// by side in the same order.
+/// by side in the same order, `stride` values apart (0 for the seed's start, where one record
+/// stands for every cell).
 struct MassImage {
   std::vector<std::uint32_t> cells;
   std::vector<std::uint64_t> records;
+  std::size_t stride = 0;
+  const std::uint64_t* record(std::size_t k) const { return records.data() + k * stride; }
 };
 
 /// What a step reads: the maps, the plan and its weights, and the mass image with its decoded
@@ -151,6 +154,7 @@ void transport_rounded(const Step& s, std::size_t begin, std::size_t end, Landin
   const double w = s.space.width, h = s.space.height, per_row = 1.0 / w;
   const std::uint32_t* cells = s.image.cells.data();
   const std::uint64_t* records = s.image.records.data();
+  const std::size_t stride = s.image.stride;
   double x[kBatch], y[kBatch], mass[kBatch];
   std::uint32_t q[kBatch];
   std::uint64_t v[kBatch];
@@ -165,7 +169,7 @@ void transport_rounded(const Step& s, std::size_t begin, std::size_t end, Landin
       const double p = static_cast<double>(cells[base + k] - first), row = std::floor((p + 0.5) * per_row);
       x[k] = p - row * w + 0.5;
       y[k] = row + 0.5;
-      mass[k] = static_cast<double>(records[base + k]);
+      mass[k] = static_cast<double>(records[(base + k) * stride]);
     }
     for (std::size_t j = 0; j < maps; ++j) {
       const double weight = s.weight[i * maps + j];
@@ -215,7 +219,7 @@ void transport_spread(const Step& s, std::size_t begin, std::size_t end, Landing
       ++row;
       row_start += width;
     }
-    const std::uint64_t* r = &s.image.records[k * values];
+    const std::uint64_t* r = s.image.record(k);
     // Spreading, the mass sits about its centroid (an affine map sends the centroid of the
     // mass to the centroid of its image); rounding, at the pixel centre, as in the seed
     // (centroids drifting across pixel edges would keep the support from settling).
@@ -306,15 +310,14 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
   image.cells.resize(pixels);
   for (std::size_t p = 0; p < pixels; ++p) image.cells[p] = static_cast<std::uint32_t>((at.by_component ? C * pixels : 0) + p);
   {
-    std::vector<std::uint64_t> s(values, 0);
+    std::vector<std::uint64_t>& s = image.records;
+    s.assign(values, 0);
     for (int k = 0; k < masses; ++k) s[k] = share;
     if (!at.by_component) {
       s[at.weight()] = (share * C) >> kWeightShift;
       for (int axis = 0; axis < 2 && at.position; ++axis) s[at.offset(axis)] = s[at.weight()] * static_cast<std::uint64_t>(kOffsetSteps / 2);
       for (int c = 0; c < ch; ++c) s[at.channel(c)] = s[at.weight()] * codec.encode(c, start[2 + c]);
     }
-    image.records.resize(pixels * values);
-    for (std::size_t p = 0; p < pixels; ++p) std::copy(s.begin(), s.end(), &image.records[p * values]);
   }
   std::uint64_t old_total = share * C * pixels;  // the mass of `image`
   const std::vector<std::uint32_t> condensation = condensation_pixels(ifs, space.frame);
@@ -334,7 +337,7 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
       centroid.assign(at.position ? old_cells.size() * 2 : 0, 0.5f);
       colour.assign(old_cells.size() * ch, 0.0f);
       for (std::size_t k = 0; k < old_cells.size(); ++k) {
-        const std::uint64_t* s = &image.records[k * values];
+        const std::uint64_t* s = image.record(k);
         const double w = static_cast<double>(s[at.weight()]);
         for (int axis = 0; axis < 2 && at.position; ++axis)
           centroid[k * 2 + axis] = w > 0 ? static_cast<float>((static_cast<double>(s[at.offset(axis)]) / w + 0.5) / kOffsetSteps) : 0.5f;
@@ -398,6 +401,7 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
     for (std::size_t job = 0; job < settle_jobs; ++job) offset[job + 1] += offset[job];
     next.cells.resize(offset.back());
     next.records.resize(offset.back() * values);
+    next.stride = values;
     std::vector<Settled> settled(settle_jobs);
     parallel_jobs(settle_jobs, threads, [&](std::size_t job, int) {
       const std::size_t first_word = job * kWordsPerJob, last_word = std::min(words, (job + 1) * kWordsPerJob);
@@ -411,17 +415,17 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
           const std::size_t cell = word * 64 + __builtin_ctzll(bits);
           next.cells[k] = static_cast<std::uint32_t>(cell);
           std::uint64_t* r = &next.records[k * values];
-          std::fill_n(r, values, 0);
-          for (const Landing& l : landings) {
-            if (!(l.touched[word] >> (cell & 63) & 1)) continue;
-            std::uint64_t* s = &l.sums[cell * values];
-            for (int v = 0; v < values; ++v) {
-              r[v] += s[v];
-              s[v] = 0;
+          for (int v = 0; v < values; ++v) {
+            std::uint64_t gathered = 0;
+            for (const Landing& l : landings) {
+              if (!(l.touched[word] >> (cell & 63) & 1)) continue;
+              gathered += l.sums[cell * values + v];
+              l.sums[cell * values + v] = 0;
             }
+            r[v] = gathered;
           }
           while (old < old_cells.size() && old_cells[old] < cell) ++old;
-          const std::uint64_t* before = old < old_cells.size() && old_cells[old] == cell ? &image.records[old * values] : nullptr;
+          const std::uint64_t* before = old < old_cells.size() && old_cells[old] == cell ? image.record(old) : nullptr;
           for (int c = 0; c < masses; ++c) {
             r[c] = static_cast<std::uint64_t>(static_cast<double>(r[c]) * factor);
             const std::uint64_t o = before ? before[c] : 0;
@@ -456,7 +460,7 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
   for (std::size_t p = 0; p < pixels && ch; ++p)
     for (int c = 0; c < ch; ++c) result.channels[p * ch + c] = static_cast<float>(start[2 + c]);
   for (std::size_t k = 0; k < image.cells.size(); ++k) {
-    const std::uint64_t* s = &image.records[k * values];
+    const std::uint64_t* s = image.record(k);
     const std::uint32_t cell = image.cells[k];
     const std::uint32_t pixel = static_cast<std::uint32_t>(cell % pixels);
     for (int c = 0; c < masses; ++c) {
