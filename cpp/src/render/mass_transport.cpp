@@ -126,6 +126,22 @@ struct MassImage {
   const std::uint64_t* record(std::size_t k) const { return records.data() + k * stride; }
 };
 
+/// The mass centroid within the pixel and the channel means of each cell of `image`.
+void decode_records(const Cells& at, const MassImage& image, const ChannelCodec& codec, std::vector<float>& centroid,
+                    std::vector<float>& colour) {
+  const std::size_t cells = image.cells.size();
+  centroid.assign(at.position ? cells * 2 : 0, 0.5f);
+  colour.assign(cells * at.ch, 0.0f);
+  for (std::size_t k = 0; k < cells; ++k) {
+    const std::uint64_t* s = image.record(k);
+    const double w = static_cast<double>(s[at.weight()]);
+    for (int axis = 0; axis < 2 && at.position; ++axis)
+      centroid[k * 2 + axis] = w > 0 ? static_cast<float>((static_cast<double>(s[at.offset(axis)]) / w + 0.5) / kOffsetSteps) : 0.5f;
+    for (int c = 0; c < at.ch; ++c)
+      colour[k * at.ch + c] = static_cast<float>(codec.decode(c, w > 0 ? static_cast<double>(s[at.channel(c)]) / w : 0.0));
+  }
+}
+
 /// What a step reads: the maps, the plan and its weights, and the mass image with its decoded
 /// centroids and channel means (per cell; spreading / colour only).
 struct Step {
@@ -139,6 +155,48 @@ struct Step {
   const std::vector<float>& colour;
   const std::vector<std::array<double, 2>>& half;
 };
+
+/// The seed's start: the same grey value on every pixel (mass spread evenly), one record for
+/// all. Kept by component, it is the image of a pseudo component C whose map weights (row C
+/// of `weight`, after the plan's) are the sums of the components': the step from it is that
+/// of the C uniform images together.
+MassImage start_image(const Cells& at, const TransportPlan& plan, std::size_t maps, const ChannelCodec& codec,
+                      const Point& start, std::vector<double>& weight) {
+  const int C = at.C;
+  weight = plan.weight;
+  weight.resize((C + 1) * maps, 0.0);
+  for (int i = 0; i < C; ++i)
+    for (std::size_t j = 0; j < maps; ++j) weight[C * maps + j] += plan.weight[i * maps + j];
+  MassImage image;
+  image.cells.resize(at.pixels);
+  const std::size_t first = at.by_component ? C * at.pixels : 0;
+  for (std::size_t p = 0; p < at.pixels; ++p) image.cells[p] = static_cast<std::uint32_t>(first + p);
+  std::vector<std::uint64_t>& s = image.records;
+  s.assign(at.values(), 0);
+  const auto share = static_cast<std::uint64_t>(kUnit / (static_cast<double>(at.pixels) * C));
+  for (int k = 0; k < at.masses(); ++k) s[k] = share;
+  if (!at.by_component) {
+    s[at.weight()] = (share * C) >> kWeightShift;
+    for (int axis = 0; axis < 2 && at.position; ++axis) s[at.offset(axis)] = s[at.weight()] * static_cast<std::uint64_t>(kOffsetSteps / 2);
+    for (int c = 0; c < at.ch; ++c) s[at.channel(c)] = s[at.weight()] * codec.encode(c, start[2 + c]);
+  }
+  return image;
+}
+
+/// Map applications of a step from `cells`: each cell by each map that carries some of its
+/// component's mass.
+std::uint64_t map_applications(const Cells& at, const std::vector<double>& weight, const std::vector<std::uint32_t>& cells,
+                               std::size_t maps) {
+  if (!at.by_component) return cells.size() * maps;
+  std::uint64_t count = 0;
+  for (int i = 0; i <= at.C; ++i) {
+    const auto first = std::lower_bound(cells.begin(), cells.end(), static_cast<std::uint32_t>(i * at.pixels));
+    const auto last = std::lower_bound(first, cells.end(), static_cast<std::uint32_t>((i + 1) * at.pixels));
+    const auto row = weight.begin() + i * maps;
+    count += (last - first) * std::count_if(row, row + maps, [](double w) { return w > 0.0; });
+  }
+  return count;
+}
 
 /// The seed's rounding without channels (5.4, 5.12.1): map j sends the share weight(i, j) of
 /// the mass of component i at a pixel to the pixel holding w_j(pixel centre), component
@@ -163,8 +221,8 @@ void transport_rounded(const Step& s, std::size_t begin, std::size_t end, Landin
     const std::size_t i = cells[base] / pixels, first = i * pixels;
     n = std::min(kBatch, end - base);
     n = std::lower_bound(cells + base, cells + base + n, static_cast<std::uint32_t>(first + pixels)) - (cells + base);
-    // Pixel centres. The row is floor((p + 1/2) / width): the product below is within
-    // pixels x 2^-52 of it, and it is at least 1 / (2 width) from an integer.
+    // Pixel centres. The row is the floor of (p + 1/2) x (1 / width), which is within
+    // height x 2^-52 of (p + 1/2) / width, itself at least 1 / (2 width) from an integer.
     for (std::size_t k = 0; k < n; ++k) {
       const double p = static_cast<double>(cells[base + k] - first), row = std::floor((p + 0.5) * per_row);
       x[k] = p - row * w + 0.5;
@@ -269,6 +327,75 @@ struct Settled {
   std::uint64_t change = 0, old_inside = 0, total = 0;
 };
 
+/// Settles a step, over fixed ranges of cells: gathers the workers' sums into `next` in cell
+/// order (clearing the landings for the next step), rescales the masses by `factor`, and sums
+/// the L1 change against `image` on the new cells.
+Settled settle(std::vector<Landing>& landings, const Cells& at, const MassImage& image, double factor, int threads,
+               MassImage& next) {
+  constexpr std::size_t kWordsPerJob = kChunk / 64;
+  const int values = at.values(), masses = at.masses();
+  const std::size_t words = (at.count() + 63) / 64, jobs = (words + kWordsPerJob - 1) / kWordsPerJob;
+  const std::vector<std::uint32_t>& old_cells = image.cells;
+  std::vector<std::size_t> offset(jobs + 1, 0);  // where each job's cells start
+  parallel_jobs(jobs, threads, [&](std::size_t job, int) {
+    std::size_t count = 0;
+    for (std::size_t word = job * kWordsPerJob; word < std::min(words, (job + 1) * kWordsPerJob); ++word) {
+      std::uint64_t bits = 0;
+      for (const Landing& l : landings) bits |= l.touched[word];
+      count += __builtin_popcountll(bits);
+    }
+    offset[job + 1] = count;
+  });
+  for (std::size_t job = 0; job < jobs; ++job) offset[job + 1] += offset[job];
+  next.cells.resize(offset.back());
+  next.records.resize(offset.back() * values);
+  next.stride = values;
+  std::vector<Settled> settled(jobs);
+  parallel_jobs(jobs, threads, [&](std::size_t job, int) {
+    const std::size_t first_word = job * kWordsPerJob, last_word = std::min(words, (job + 1) * kWordsPerJob);
+    std::size_t old = std::lower_bound(old_cells.begin(), old_cells.end(), static_cast<std::uint32_t>(first_word * 64)) - old_cells.begin();
+    std::size_t k = offset[job];
+    Settled sum;  // in locals: the record stores could alias it
+    for (std::size_t word = first_word; word < last_word; ++word) {
+      std::uint64_t bits = 0;
+      for (const Landing& l : landings) bits |= l.touched[word];
+      for (; bits; bits &= bits - 1, ++k) {
+        const std::size_t cell = word * 64 + __builtin_ctzll(bits);
+        next.cells[k] = static_cast<std::uint32_t>(cell);
+        std::uint64_t* r = &next.records[k * values];
+        for (int v = 0; v < values; ++v) {
+          std::uint64_t gathered = 0;
+          for (const Landing& l : landings) {
+            if (!(l.touched[word] >> (cell & 63) & 1)) continue;
+            gathered += l.sums[cell * values + v];
+            l.sums[cell * values + v] = 0;
+          }
+          r[v] = gathered;
+        }
+        // |new - old| here; the old mass where nothing arrived is what old_inside misses.
+        while (old < old_cells.size() && old_cells[old] < cell) ++old;
+        const std::uint64_t* before = old < old_cells.size() && old_cells[old] == cell ? image.record(old) : nullptr;
+        for (int c = 0; c < masses; ++c) {
+          r[c] = static_cast<std::uint64_t>(static_cast<double>(r[c]) * factor);
+          const std::uint64_t o = before ? before[c] : 0;
+          sum.change += r[c] > o ? r[c] - o : o - r[c];
+          sum.old_inside += o;
+          sum.total += r[c];
+        }
+      }
+      for (Landing& l : landings) l.touched[word] = 0;
+    }
+    settled[job] = sum;
+  });
+  Settled all;
+  for (const Settled& s : settled) {
+    all.change += s.change;
+    all.old_inside += s.old_inside;
+    all.total += s.total;
+  }
+  return all;
+}
+
 }  // namespace
 
 RendererParameter spread_parameter() {
@@ -297,29 +424,10 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
   if (static_cast<double>(pixels) * (C + 1) >= 4294967295.0) throw InputError(what + ": too many cells");
   check_memory(cells * (8.0 * values * (threads + 2) + 8.0 + 4.0 * (2 + ch) + threads / 8.0), what);
   const ChannelCodec codec(space.channel_lo, space.channel_hi);
-  // The seed's start: the same grey value on every pixel (mass spread evenly). Kept by
-  // component, it is one image of a pseudo component C whose map weights are the sums of the
-  // components' (the step from it is that of the C uniform images together).
-  std::vector<double> weight = plan.weight;
-  weight.resize((C + 1) * maps, 0.0);
-  for (int i = 0; i < C; ++i)
-    for (std::size_t j = 0; j < maps; ++j) weight[C * maps + j] += plan.weight[i * maps + j];
   const Point start = ifs.start_point();
-  const auto share = static_cast<std::uint64_t>(kUnit / (static_cast<double>(pixels) * C));
-  MassImage image, next;
-  image.cells.resize(pixels);
-  for (std::size_t p = 0; p < pixels; ++p) image.cells[p] = static_cast<std::uint32_t>((at.by_component ? C * pixels : 0) + p);
-  {
-    std::vector<std::uint64_t>& s = image.records;
-    s.assign(values, 0);
-    for (int k = 0; k < masses; ++k) s[k] = share;
-    if (!at.by_component) {
-      s[at.weight()] = (share * C) >> kWeightShift;
-      for (int axis = 0; axis < 2 && at.position; ++axis) s[at.offset(axis)] = s[at.weight()] * static_cast<std::uint64_t>(kOffsetSteps / 2);
-      for (int c = 0; c < ch; ++c) s[at.channel(c)] = s[at.weight()] * codec.encode(c, start[2 + c]);
-    }
-  }
-  std::uint64_t old_total = share * C * pixels;  // the mass of `image`
+  std::vector<double> weight;  // (C + 1) x maps: the plan's, then the start's
+  MassImage image = start_image(at, plan, maps, codec, start, weight), next;
+  std::uint64_t old_total = image.records[0] * C * pixels;  // the mass of `image`
   const std::vector<std::uint32_t> condensation = condensation_pixels(ifs, space.frame);
   std::vector<Landing> landings(threads);
   for (Landing& l : landings) {
@@ -333,18 +441,7 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
   TransportResult result;
   for (result.iterations = 0; result.iterations < plan.max_iterations;) {
     const std::vector<std::uint32_t>& old_cells = image.cells;
-    if (!at.by_component) {
-      centroid.assign(at.position ? old_cells.size() * 2 : 0, 0.5f);
-      colour.assign(old_cells.size() * ch, 0.0f);
-      for (std::size_t k = 0; k < old_cells.size(); ++k) {
-        const std::uint64_t* s = image.record(k);
-        const double w = static_cast<double>(s[at.weight()]);
-        for (int axis = 0; axis < 2 && at.position; ++axis)
-          centroid[k * 2 + axis] = w > 0 ? static_cast<float>((static_cast<double>(s[at.offset(axis)]) / w + 0.5) / kOffsetSteps) : 0.5f;
-        for (int c = 0; c < ch; ++c)
-          colour[k * ch + c] = static_cast<float>(codec.decode(c, w > 0 ? static_cast<double>(s[at.channel(c)]) / w : 0.0));
-      }
-    }
+    if (!at.by_component) decode_records(at, image, codec, centroid, colour);
     const Step step{space, plan, at, weight, codec, image, centroid, colour, half};
     parallel_jobs((old_cells.size() + kChunk - 1) / kChunk, threads, [&](std::size_t job, int worker) {
       const std::size_t begin = job * kChunk, end = std::min(old_cells.size(), (job + 1) * kChunk);
@@ -353,15 +450,7 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
       else
         transport_spread(step, begin, end, landings[worker]);
     });
-    // Map applications: each cell by each map that carries some of its component.
-    for (int i = 0; i <= C; ++i) {
-      const auto first = std::lower_bound(old_cells.begin(), old_cells.end(), static_cast<std::uint32_t>(i * pixels));
-      const auto last = at.by_component ? std::lower_bound(first, old_cells.end(), static_cast<std::uint32_t>((i + 1) * pixels)) : old_cells.end();
-      const auto row = weight.begin() + i * maps;
-      const std::size_t carrying = at.by_component ? std::count_if(row, row + maps, [](double w) { return w > 0.0; }) : maps;
-      result.operations += (last - first) * carrying;
-      if (!at.by_component) break;
-    }
+    result.operations += map_applications(at, weight, old_cells, maps);
     if (!condensation.empty() && plan.condensation_share > 0.0) {
       std::uint64_t codes[kMaxDim * 2 + 2] = {};
       codes[0] = static_cast<std::uint64_t>(plan.condensation_share * kUnit / condensation.size());
@@ -383,70 +472,10 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
     if (total == 0)
       throw InputError("all the mass left the image: the window misses the attractor of '" + ifs.name() + "'");
     const double factor = kUnit / static_cast<double>(total);
-    // Settling, over fixed ranges of cells: gather the workers' sums into records in cell
-    // order (clearing the landings for the next step), rescale, and measure the L1 change:
-    // |new - old| on the new cells, plus the old mass where nothing arrived.
-    constexpr std::size_t kWordsPerJob = kChunk / 64;
-    const std::size_t settle_jobs = (words + kWordsPerJob - 1) / kWordsPerJob;
-    std::vector<std::size_t> offset(settle_jobs + 1, 0);  // where each job's cells start
-    parallel_jobs(settle_jobs, threads, [&](std::size_t job, int) {
-      std::size_t count = 0;
-      for (std::size_t word = job * kWordsPerJob; word < std::min(words, (job + 1) * kWordsPerJob); ++word) {
-        std::uint64_t bits = 0;
-        for (const Landing& l : landings) bits |= l.touched[word];
-        count += __builtin_popcountll(bits);
-      }
-      offset[job + 1] = count;
-    });
-    for (std::size_t job = 0; job < settle_jobs; ++job) offset[job + 1] += offset[job];
-    next.cells.resize(offset.back());
-    next.records.resize(offset.back() * values);
-    next.stride = values;
-    std::vector<Settled> settled(settle_jobs);
-    parallel_jobs(settle_jobs, threads, [&](std::size_t job, int) {
-      const std::size_t first_word = job * kWordsPerJob, last_word = std::min(words, (job + 1) * kWordsPerJob);
-      std::size_t old = std::lower_bound(old_cells.begin(), old_cells.end(), static_cast<std::uint32_t>(first_word * 64)) - old_cells.begin();
-      std::size_t k = offset[job];
-      Settled sum;  // in locals: the record stores could alias it
-      for (std::size_t word = first_word; word < last_word; ++word) {
-        std::uint64_t bits = 0;
-        for (const Landing& l : landings) bits |= l.touched[word];
-        for (; bits; bits &= bits - 1, ++k) {
-          const std::size_t cell = word * 64 + __builtin_ctzll(bits);
-          next.cells[k] = static_cast<std::uint32_t>(cell);
-          std::uint64_t* r = &next.records[k * values];
-          for (int v = 0; v < values; ++v) {
-            std::uint64_t gathered = 0;
-            for (const Landing& l : landings) {
-              if (!(l.touched[word] >> (cell & 63) & 1)) continue;
-              gathered += l.sums[cell * values + v];
-              l.sums[cell * values + v] = 0;
-            }
-            r[v] = gathered;
-          }
-          while (old < old_cells.size() && old_cells[old] < cell) ++old;
-          const std::uint64_t* before = old < old_cells.size() && old_cells[old] == cell ? image.record(old) : nullptr;
-          for (int c = 0; c < masses; ++c) {
-            r[c] = static_cast<std::uint64_t>(static_cast<double>(r[c]) * factor);
-            const std::uint64_t o = before ? before[c] : 0;
-            sum.change += r[c] > o ? r[c] - o : o - r[c];
-            sum.old_inside += o;
-            sum.total += r[c];
-          }
-        }
-        for (Landing& l : landings) l.touched[word] = 0;
-      }
-      settled[job] = sum;
-    });
-    Settled all;
-    for (const Settled& s : settled) {
-      all.change += s.change;
-      all.old_inside += s.old_inside;
-      all.total += s.total;
-    }
+    const Settled settled = settle(landings, at, image, factor, threads, next);
     // (From the start, a pseudo component, everything changes; it takes two steps to stop.)
-    result.change = static_cast<double>(all.change + (old_total - all.old_inside)) / kUnit;
-    old_total = all.total;
+    result.change = static_cast<double>(settled.change + (old_total - settled.old_inside)) / kUnit;
+    old_total = settled.total;
     const bool support_changed = next.cells != image.cells;
     std::swap(image, next);
     ++result.iterations;
