@@ -23,13 +23,16 @@ namespace {
 
 using namespace ifsforge;
 
+/// A system of samples/systems.
+Ifs sample(const std::string& name) {
+  std::string here = __FILE__;
+  here = here.substr(0, here.rfind('/'));
+  return read_ifs_json(here + "/../../samples/systems/" + name + ".json");
+}
+
 /// Table 2's system: the 5-map Sierpinski pyramid as a 3D + RGB (6D) IFS.
 const Ifs& pyramid() {
-  static const Ifs ifs = [] {
-    std::string here = __FILE__;
-    here = here.substr(0, here.rfind('/'));
-    return read_ifs_json(here + "/../../samples/systems/volume_sierpinski_pyramid_rgb.json");
-  }();
+  static const Ifs ifs = sample("volume_sierpinski_pyramid_rgb");
   return ifs;
 }
 
@@ -104,6 +107,19 @@ void BM_WriteVdb(benchmark::State& state) {
   std::remove(path.c_str());
 }
 BENCHMARK(BM_WriteVdb)->Arg(256)->Arg(512)->Unit(benchmark::kMillisecond);
+
+// Harder systems than the pyramid, at the gallery's resolutions: the 3D fern (thin, unequal
+// contractions: deep and lopsided address trees) and the 6D coral (average-contractive only).
+void BM_PrrSample(benchmark::State& state, const char* name, int resolution) {
+  const Ifs ifs = sample(name);
+  VolumeOptions o;
+  o.resolution = resolution;
+  Volume v;
+  for (auto _ : state) v = render_volume(ifs, "prr", o);
+  report(state, v);
+}
+BENCHMARK_CAPTURE(BM_PrrSample, fern_3d_192, "volume_fern_3d", 192)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_PrrSample, coral_6d_128, "volume_coral_6d", 128)->Unit(benchmark::kMillisecond);
 
 // Threads: the same 512^3 volume on 1 and on 2 threads (identical bytes, see the tests).
 void BM_PrrThreads(benchmark::State& state) {

@@ -319,9 +319,11 @@ Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options
   }
 
   // Jobs: address prefixes whose pieces of the attractor span at most ~16 voxels, so that
-  // each accumulates in a small dense box (in cache); at least 64 of them for load balance.
+  // each accumulates in a small dense box (in cache); at least 64 of them for load balance,
+  // at most 2^15 (a system with one weakly contracting map would otherwise ask for millions
+  // of jobs, each walking its prefix).
   double side = std::max({grid.dims[0], grid.dims[1], grid.dims[2]});
-  while (n > 1 && plan.prefix < plan.max_depth && plan.jobs * n <= (1u << 20) &&
+  while (n > 1 && plan.prefix < plan.max_depth && plan.jobs * n <= (1u << 15) &&
          (plan.jobs < 64 || (shrink < 1.0 && side > 16.0))) {
     ++plan.prefix;
     plan.jobs *= n;

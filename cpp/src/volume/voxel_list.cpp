@@ -29,8 +29,14 @@ int bit_width(std::uint64_t v) {
 }
 
 /// Sorts refs by key: an LSD radix sort over the bits any key uses, in as few passes of at
-/// most 12 bits as they allow. Stable, so equal keys keep their order (sums do not care).
+/// most 12 bits as they allow. The order among equal keys is left open: their sums, minima
+/// and maxima do not depend on it.
 void radix_sort(std::vector<Ref>& refs, std::vector<Ref>& scratch) {
+  // Below a few thousand entries the bucket counts would cost more than the entries.
+  if (refs.size() < 4096) {
+    std::sort(refs.begin(), refs.end(), [](const Ref& a, const Ref& b) { return a.key < b.key; });
+    return;
+  }
   std::uint64_t any = 0;
   for (const Ref& r : refs) any |= r.key;
   const int bits = bit_width(any);
@@ -59,7 +65,8 @@ void radix_sort(std::vector<Ref>& refs, std::vector<Ref>& scratch) {
 /// are disjoint and ascending, so their results only need to be put side by side.
 class SlabMerge {
  public:
-  explicit SlabMerge(const std::vector<VoxelList>& lists) {
+  /// `most`: the largest number of slabs (1: one sort of everything, for small lists).
+  explicit SlabMerge(const std::vector<VoxelList>& lists, std::uint64_t most = 64) {
     std::uint64_t last_key = 0, any = 0;
     for (const VoxelList& list : lists)
       if (list.size()) {
@@ -73,7 +80,7 @@ class SlabMerge {
     channels_ = lists.empty() ? 0 : lists.front().channels;
     points_ = !sources_.empty() && !sources_.front()->points.empty();
     const std::uint64_t rows = VoxelGrid::coord(last_key)[0] + 1;
-    slabs_ = sources_.empty() ? 0 : static_cast<std::size_t>(std::min<std::uint64_t>(64, rows));
+    slabs_ = sources_.empty() ? 0 : static_cast<std::size_t>(std::min<std::uint64_t>(most, rows));
     width_ = slabs_ ? (rows + slabs_ - 1) / slabs_ : 1;
     rows_ = rows;
     cuts_.assign(sources_.size(), std::vector<std::size_t>(slabs_ + 1));
@@ -175,10 +182,8 @@ class SlabMerge {
   bool points_ = false;
 };
 
-}  // namespace
-
-VoxelList merge_voxel_lists(std::vector<VoxelList>& lists, int threads) {
-  const SlabMerge merge(lists);
+/// The sums of the lists `merge` reads, as one sorted list.
+VoxelList merged(const SlabMerge& merge, int threads) {
   const int nc = merge.channels();
   VoxelList out(nc);
   merge.run(
@@ -198,6 +203,13 @@ VoxelList merge_voxel_lists(std::vector<VoxelList>& lists, int threads) {
         std::copy(sums, sums + nc, out.sums.begin() + v * nc);
         if (extremes) std::copy(extremes, extremes + VoxelList::kExtremes, out.points.begin() + v * VoxelList::kExtremes);
       });
+  return out;
+}
+
+}  // namespace
+
+VoxelList merge_voxel_lists(std::vector<VoxelList>& lists, int threads) {
+  VoxelList out = merged(SlabMerge(lists), threads);
   lists.clear();
   return out;
 }
@@ -210,7 +222,7 @@ void sort_and_reduce(VoxelList& list) {
   std::vector<VoxelList> sorted(1, VoxelList(list.channels));
   sorted[0].reserve(order.size());
   for (const Ref& r : order) sorted[0].push_from(list, r.where);
-  list = merge_voxel_lists(sorted, 1);
+  list = merged(SlabMerge(sorted, 1), 1);
 }
 
 Volume finish_volume(std::vector<VoxelList>& lists, const VoxelGrid& grid, const Ifs& ifs,

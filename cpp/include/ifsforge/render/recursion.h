@@ -81,17 +81,29 @@ namespace detail {
 
 template <typename Stop, typename Leaf>
 struct Walker {
+  Walker(const Ifs& system, const RecursionPlan& p, Stop& s, Leaf& l) : ifs(system), plan(p), stop(s), leaf(l) {
+    // Composed maps down to the deepest level reached so far: a job that ends near the root
+    // builds few (a map is 0.5 KB; a long prefix of jobs is walked by every job).
+    maps.reserve(static_cast<std::size_t>(plan.max_depth) + 2);
+    maps.emplace_back(ifs.dim());
+  }
   const Ifs& ifs;
   const RecursionPlan& plan;
   Stop& stop;
   Leaf& leaf;
   std::uint32_t address[64];
-  AffineMap maps[65];
+  std::vector<AffineMap> maps;  // maps[k]: the composition of the first k maps of `address`
+
+  /// Sets maps[length + 1] = maps[length] o w_i (reserved: references to it stay valid).
+  void descend(int length, std::uint32_t i) {
+    if (maps.size() < static_cast<std::size_t>(length) + 2) maps.emplace_back();
+    maps[length + 1] = maps[length].compose(ifs.map(i));
+  }
 
   void recurse(int length, double mass) {
     for (std::uint32_t i = 0; i < ifs.size(); ++i) {
       address[length] = i;
-      maps[length + 1] = maps[length].compose(ifs.map(i));
+      descend(length, i);
       const RecursionNode node{maps[length + 1], mass * ifs.probabilities()[i], address, length + 1};
       if (node.length >= plan.max_depth || stop(node))
         leaf(node);
@@ -109,18 +121,17 @@ struct Walker {
 /// are all 0, so every leaf is visited exactly once over all jobs.
 template <typename Stop, typename Leaf>
 void walk_job(const Ifs& ifs, const RecursionPlan& plan, std::uint64_t job, Stop&& stop, Leaf&& leaf) {
-  detail::Walker<Stop, Leaf> w{ifs, plan, stop, leaf, {}, {}};
+  detail::Walker<Stop, Leaf> w(ifs, plan, stop, leaf);
   const std::uint64_t n = ifs.size();
   std::uint64_t rest = job;
   for (int level = plan.prefix - 1; level >= 0; --level) {
     w.address[level] = static_cast<std::uint32_t>(rest % n);
     rest /= n;
   }
-  w.maps[0] = AffineMap(ifs.dim());
   double mass = 1.0;
   for (int level = 0; level < plan.prefix; ++level) {
     const std::uint32_t i = w.address[level];
-    w.maps[level + 1] = w.maps[level].compose(ifs.map(i));
+    w.descend(level, i);
     mass *= ifs.probabilities()[i];
     const RecursionNode node{w.maps[level + 1], mass, w.address, level + 1};
     if (level + 1 >= plan.max_depth || stop(node)) {
