@@ -390,8 +390,11 @@ Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options
           voxel_box(node.map, plan.center.data(), plan.half.data(), l, h);
           if (misses(l, h)) return true;
           if (fixed) return false;
+          // The sub-tree finishes pieces up to `handover`, and any piece below kFinest (some
+          // systems have no handover: a map that stretches leaves no size the sub-tree is
+          // sure to resolve, yet most pieces shrink).
           const double extent = std::max({h[0] - l[0], h[1] - l[1], h[2] - l[2]});
-          return extent <= handover || (extent < kCheckBelow && acc.occupied(l, h));
+          return extent <= std::max(handover, kFinest) || (extent < kCheckBelow && acc.occupied(l, h));
         };
         walk_job(ifs, plan, job, stop, [&](const RecursionNode& node) {
           if (!fixed) {
