@@ -16,7 +16,7 @@ namespace {
 /// A piece whose box spans at least this many voxels is split (unless all it meets is occupied).
 constexpr double kSplitAbove = 1.0;
 /// Pieces below this many voxels stop as soon as every voxel their box meets is occupied
-/// (3 stops 7% more pieces early than 2, with the same voxels).
+/// (3: 7% faster than 2 on the 512^3 pyramid, the same voxels).
 constexpr double kCheckBelow = 3.0;
 /// A straddling piece below this many voxels is not split further. 1/4 finds 98% of the voxels
 /// the attractor meets at 2/3 of the cost of 1/16 (6D pyramid at 256^3: 668,216 of 682,836).
