@@ -22,6 +22,7 @@
 #include "ifsforge/render/self_congruent.h"
 #include "ifsforge/render/string_rewriting.h"
 #include "ifsforge/render/tone_map.h"
+#include "ifsforge/vector/addresses.h"
 
 using namespace ifsforge;
 
@@ -496,6 +497,24 @@ TEST(Algorithms, StringRewritingWritesEveryAddress) {
   o.depth = 8;
   EXPECT_EQ(iou(renderer("string-rewriting").render(ifs, o), renderer("prr").render(ifs, o)), 1.0);
   EXPECT_EQ(renderer("string-rewriting").render(ifs, o).points, 3u + 9 + 27 + 81 + 243 + 729 + 2187 + 6561);
+}
+
+TEST(Algorithms, StringRewritingIsOneProcedureSpelledTwoWays) {
+  // 5.6: the new map goes in front, so the first symbol varies fastest.
+  EXPECT_EQ(rewrite_map_strings({"a", "b"}, "-", 2), (std::vector<std::string>{"a-a", "b-a", "a-b", "b-b"}));
+  EXPECT_EQ(rewrite_map_strings({"a", "b"}, "", 1), (std::vector<std::string>{"a", "b"}));
+  EXPECT_THROW(rewrite_map_strings({"a"}, "", 0), InputError);
+  // The renderer's "w2w1" and the vector layer's "1.0" are the same addresses in the same order.
+  const Ifs ifs = sample("sierpinski_tetrahedron");
+  const auto seed = rewrite_strings(ifs, 3);
+  const auto addresses = string_rewriting(ifs, 3);
+  ASSERT_EQ(seed.size(), addresses.size());
+  for (std::size_t i = 0; i < seed.size(); ++i) {
+    std::string spelled;  // "1.0.3" -> "w2w1w4" (4 maps: one digit each)
+    for (char digit : addresses[i])
+      if (digit != '.') spelled += "w" + std::to_string(digit - '0' + 1);
+    EXPECT_EQ(spelled, seed[i]);
+  }
 }
 
 TEST(Algorithms, TesseralSynecdochePrunesByProbability) {

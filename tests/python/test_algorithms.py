@@ -114,6 +114,9 @@ def test_strings_bounds_and_colour_bounds():
     fern = load("barnsley_fern")
     strings = ifsforge.rewrite_strings(fern, 2)
     assert len(strings) == 16 and strings[:2] == ["w1w1", "w2w1"]
+    # The vector layer's spelling of the same rewriting: "1.0" for "w2w1", in the same order.
+    assert ifsforge.string_rewriting(fern, 2) == [
+        ".".join(str(int(d) - 1) for d in s.split("w")[1:]) for s in strings]
     bound = ifsforge.proximity_bound(fern, 256, window=window(fern))
     assert bound == pytest.approx(0.5 * np.sqrt(2) * (10.2983 + 0.3) / 256 / (1 - np.hypot(0.85, 0.04)), rel=1e-6)
     lo, hi = ifsforge.colour_bounds(load("colour5d_sierpinski_rgb"), levels=4)

@@ -11,19 +11,26 @@
 
 namespace ifsforge {
 
-std::vector<std::string> rewrite_strings(const Ifs& ifs, int length) {
+std::vector<std::string> rewrite_map_strings(const std::vector<std::string>& symbols,
+                                             const std::string& separator, int length) {
   if (length < 1) throw InputError("string rewriting needs a length of at least 1");
+  std::vector<std::string> string_a = symbols, string_b;
+  for (int level = 1; level < length; ++level) {
+    string_b.clear();
+    string_b.reserve(string_a.size() * symbols.size());
+    for (const std::string& str_j : string_a)
+      for (const std::string& w : symbols) string_b.push_back(w + separator + str_j);
+    string_a.swap(string_b);  // String_A = String_B
+  }
+  return string_a;
+}
+
+std::vector<std::string> rewrite_strings(const Ifs& ifs, int length) {
   if (std::pow(static_cast<double>(ifs.size()), length) > static_cast<double>(1u << 22))
     throw InputError(std::to_string(ifs.size()) + "^" + std::to_string(length) + " strings are too many (at most 2^22)");
-  std::vector<std::string> a;
-  for (std::size_t k = 1; k <= ifs.size(); ++k) a.push_back("w" + std::to_string(k));
-  for (int level = 1; level < length; ++level) {
-    std::vector<std::string> b;
-    for (const std::string& str : a)
-      for (std::size_t k = 1; k <= ifs.size(); ++k) b.push_back("w" + std::to_string(k) + str);
-    a.swap(b);
-  }
-  return a;
+  std::vector<std::string> maps;  // the seed's w1 ... wN
+  for (std::size_t k = 1; k <= ifs.size(); ++k) maps.push_back("w" + std::to_string(k));
+  return rewrite_map_strings(maps, "", length);
 }
 
 namespace {

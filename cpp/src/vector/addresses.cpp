@@ -8,6 +8,7 @@
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/io/atomic_file.h"
+#include "ifsforge/render/string_rewriting.h"
 
 namespace ifsforge {
 namespace detail {
@@ -88,17 +89,9 @@ std::uint64_t count_leaves(const Ifs& ifs, int depth, double min_probability) {
 std::vector<std::string> string_rewriting(const Ifs& ifs, int depth) {
   const std::uint64_t leaves = count_leaves(ifs, depth, 0.0);
   check_memory(leaves * (2.0 * sizeof(std::string) + 4.0 * depth + 16.0), std::to_string(leaves) + " address strings");
-  const std::size_t n = ifs.size();
-  std::vector<std::string> string_a, string_b;
-  for (std::size_t k = 0; k < n; ++k) string_a.push_back(std::to_string(k));
-  for (int iteration = 1; iteration < depth; ++iteration) {
-    string_b.clear();
-    string_b.reserve(string_a.size() * n);
-    for (const std::string& str_j : string_a)
-      for (std::size_t k = 0; k < n; ++k) string_b.push_back(std::to_string(k) + '.' + str_j);
-    string_a.swap(string_b);  // String_A = String_B
-  }
-  return string_a;
+  std::vector<std::string> maps;  // 0-based digits, joined by '.' (this file's convention)
+  for (std::size_t k = 0; k < ifs.size(); ++k) maps.push_back(std::to_string(k));
+  return rewrite_map_strings(maps, ".", depth);
 }
 
 AddressLeaves tesseral_synecdoche(const Ifs& ifs, int depth, double min_probability,

@@ -31,6 +31,14 @@ class StringRewriting : public Renderer {
   Raster render(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
+/// @brief The seed's string rewriting (5.6) over any spelling of the maps: String_A starts as
+/// the one-map strings `symbols` (one per map); each of the length - 1 rewrites replaces every
+/// string s by symbols[k] + separator + s, k = 0..N-1, in String_B (the seed's
+/// new_string = w@string(k)@STR_J: the new map in front), which then overwrites String_A. The
+/// N^length strings come by the old string, then the new map. Callers bound the count.
+std::vector<std::string> rewrite_map_strings(const std::vector<std::string>& symbols,
+                                             const std::string& separator, int length);
+
 /// @brief The seed's String_A after length - 1 rewrites: every address string of `length` maps,
 /// written "w2w1w3" (maps numbered from 1, the newest map first), in the order the procedure
 /// writes them. InputError beyond 2^22 strings.

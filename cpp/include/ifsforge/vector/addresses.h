@@ -45,12 +45,12 @@ struct AddressLeaves {
   std::vector<double> points;
 };
 
-/// @brief The seed's string-rewriting algorithm (5.6) with two string buffers: String_A starts
-/// as the N one-map strings; each of the depth - 1 rewrites replaces every string s by
-/// "0.s", "1.s", ..., "(N-1).s" (a new outermost map, the seed's w@string(k)@STR_J) in String_B,
-/// which then overwrites String_A. The N^depth strings come in the seed's order (by the old
-/// string, then the new map): the same addresses as tesseral_synecdoche(ifs, depth) without
-/// pruning, in another order.
+/// @brief The seed's string-rewriting algorithm (5.6), rewrite_map_strings() with the maps
+/// spelled "0" ... "N-1" and joined by '.': each of the depth - 1 rewrites replaces every string
+/// s by "0.s", "1.s", ..., "(N-1).s" (a new outermost map). The N^depth strings come in the
+/// seed's order (by the old string, then the new map): the same addresses as
+/// tesseral_synecdoche(ifs, depth) without pruning, in another order. Refuses what the address
+/// tree refuses (count_leaves()).
 std::vector<std::string> string_rewriting(const Ifs& ifs, int depth);
 
 /// @brief The tesseral synecdoche algorithm (5.7, read as SEED-NOTES does): descend the address
