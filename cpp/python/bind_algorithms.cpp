@@ -87,6 +87,11 @@ void bind_algorithms(py::module_& m) {
           },
           [](Ifs& s, const py::object& c) { s.set_condensation(c.is_none() ? Condensation() : c.cast<Condensation>()); },
           "the condensation set (a Condensation) or None")
+      .def_property_readonly("condensation_box", [](const Ifs& s) -> py::object {
+        if (s.condensation().empty()) return py::none();
+        return py::cast(condensation_attractor_box(s));
+      }, "(xmin, ymin, xmax, ymax) holding the attractor with its condensation set (C and every w_s(C)), "
+         "or None: what renderers frame when given no window")
       .def_property_readonly("super_ifs", [](const Ifs& s) -> py::object {
         const SuperIfs& p = s.super_ifs();
         if (p.empty()) return py::none();

@@ -95,9 +95,12 @@ def test_condensation_sets_and_growth_frames():
     trunk = tree.condensation
     assert trunk.polygons and trunk.probability == pytest.approx(0.2)
     bare = ifsforge.Ifs(tree.maps, list(tree.probabilities), name="bare")
-    assert bare.condensation is None
+    assert bare.condensation is None and bare.condensation_box is None
     bare.condensation = ifsforge.Condensation(polylines=[[[0, 0], [0, 1.12]]], probability=0.1)
     assert bare.condensation.bounds() == pytest.approx([0, 0, 0, 1.12])
+    # The attractor with C holds C and its images: a box around the trunk's, reaching above it.
+    box = bare.condensation_box
+    assert box[0] < 0 < box[2] and box[1] <= 0 and box[3] > 1.12
     with pytest.raises(ifsforge.InputError, match="at least 2 points"):
         bare.condensation = ifsforge.Condensation(polylines=[[[0, 0]]])
     frames = ifsforge.growth_frames(tree, 96, window=window(tree))
