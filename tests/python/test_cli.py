@@ -73,3 +73,82 @@ def test_absurd_size_and_unwritable_path(cli, tmp_path):
     assert result.returncode == 2 and "--size" in result.stderr
     result = cli("render", tmp_path / "missing.json", "-o", tmp_path / "x.png")
     assert result.returncode == 2 and "cannot read" in result.stderr
+
+
+def info_of(cli, system):
+    """`ifsforge info` twice: the printed text and the --json dict."""
+    text = cli("info", system, check=True).stdout
+    return text, json.loads(cli("info", system, "--json", check=True).stdout)
+
+
+def test_info_shows_the_transition_matrix(cli, samples):
+    path = samples / "recurrent_squares.json"
+    rows = np.array(json.loads(path.read_text())["transitions"], dtype=float)
+    rows /= rows.sum(axis=1, keepdims=True)  # the file gives weights; rows are normalised on load
+    text, info = info_of(cli, path)
+    np.testing.assert_allclose(info["transitions"], rows, atol=1e-12)
+    lines = text.splitlines()
+    header = lines.index("transitions (row i: probability that map j follows map i):")
+    assert lines[header + 1].split() == ["map", "1", "map", "2", "map", "3", "map", "4"]
+    for i, row in enumerate(rows, 1):
+        label, number, *values = lines[header + 1 + i].split()
+        assert (label, number) == ("map", str(i))
+        np.testing.assert_allclose([float(v) for v in values], row, atol=5e-5)  # printed to 4 places
+    # Every map has three successors, so the stationary distribution, which the maps' probabilities
+    # become, is uniform.
+    assert [m["probability"] for m in info["maps"]] == pytest.approx([0.25] * 4)
+
+
+def test_info_shows_the_super_ifs_members(cli, samples):
+    path = samples / "superfractal_pair.json"
+    data = json.loads(path.read_text())
+    text, info = info_of(cli, path)
+    parts = info["super_ifs"]
+    assert parts["variability"] == data["variability"]
+    members = parts["members"]
+    assert [m["name"] for m in members] == [s["name"] for s in data["systems"]]
+    assert sum(m["probability"] for m in members) == pytest.approx(1.0)
+    assert [m["map_count"] for m in members] == [len(s["maps"]) for s in data["systems"]]
+    assert sum(m["map_count"] for m in members) == len(info["maps"])
+    for member, system in zip(members, data["systems"]):
+        assert member["map_probabilities"] == pytest.approx([m["probability"] for m in system["maps"]])
+        # Eq. 38: map m of member n is chosen with probability P_n p_nm.
+        union = [info["maps"][i]["probability"] for i in member["map_indices"]]
+        assert union == pytest.approx([member["probability"] * p for p in member["map_probabilities"]])
+    assert "super IFS: 2 member systems, variability V=2" in text
+    assert "member 1 'spreading tree': P=0.5000  3 maps (maps 1-3, p=0.1000 0.4500 0.4500)" in text
+    assert "member 2 'upright tree': P=0.5000  3 maps (maps 4-6, p=0.1000 0.4500 0.4500)" in text
+
+
+def test_info_shows_the_condensation_set(cli, samples, tmp_path):
+    path = samples / "condensation_tree.json"
+    data = json.loads(path.read_text())
+    text, info = info_of(cli, path)
+    c = info["condensation"]
+    trunk = np.array(data["condensation"]["polygons"][0])
+    assert c["polygons"] == [len(trunk)] and c["polylines"] == []
+    assert c["probability"] == data["condensation"]["probability"]
+    assert c["bounds"] == pytest.approx([*trunk.min(axis=0), *trunk.max(axis=0)])
+    assert c["channels"] == {}
+    # The attractor holds C and the maps' attractor, whose sampled bounds are also printed.
+    box, sampled = c["attractor_box"], info["bounds"]
+    assert box[0] <= min(c["bounds"][0], sampled["x"][0]) and box[2] >= max(c["bounds"][2], sampled["x"][1])
+    assert box[1] <= min(c["bounds"][1], sampled["y"][0]) and box[3] >= max(c["bounds"][3], sampled["y"][1])
+    assert "condensation set: 1 polygon (4 points), 0 polylines, p0=0.2000" in text
+    assert "  box: x [-0.06, 0.06]  y [0, 1.12]" in text
+    # A coloured layout: the set carries a value of each extra channel.
+    coloured = {**TRIANGLE, "layout": "xy+rgb",
+                "maps": [{"matrix": (0.5 * np.eye(5)).tolist(), "offset": [*o, 0.2, 0.4, 0.6]}
+                         for o in ([0, 0], [0.5, 0], [0.25, 0.5])],
+                "condensation": {"polylines": [[[0, 0], [1, 0]]], "channels": [1.0, 0.5, 0.25], "probability": 0.1}}
+    text, info = info_of(cli, write(tmp_path / "c.json", coloured))
+    assert info["condensation"]["channels"] == {"r": 1.0, "g": 0.5, "b": 0.25}
+    assert info["condensation"]["polylines"] == [2] and info["condensation"]["polygons"] == []
+    assert "condensation set: 0 polygons, 1 polyline (2 points), p0=0.1000" in text
+    assert "  channels: r=1  g=0.5  b=0.25" in text
+
+
+def test_info_of_an_ordinary_system_has_no_extensions(cli, tmp_path):
+    text, info = info_of(cli, write(tmp_path / "t.json", TRIANGLE))
+    assert not {"transitions", "super_ifs", "condensation"} & info.keys()
+    assert "transitions" not in text and "super IFS" not in text and "condensation" not in text

@@ -8,7 +8,8 @@ from ifsforge import cli_common as common
 
 
 def register(subparsers):
-    p = subparsers.add_parser("info", help="maps, contraction factors, classification, bounds, dimension")
+    p = subparsers.add_parser("info", help="maps, contraction factors, classification, bounds, dimension, "
+                                           "transitions, super IFS members, condensation set")
     common.add_system_argument(p)
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--dimension-size", type=int, default=1024,
@@ -38,14 +39,88 @@ def describe(system, dimension_size=1024):
             "determinant": float(m.determinant(system.spatial_dims)),
             "fixed_point": None if np.isnan(fixed[i]).any() else fixed[i].tolist(),
         })
+    out.update(describe_extensions(system))
     if classification != "divergent":
         lo, hi = system.attractor_bounds()
         out["bounds"] = {name: [float(a), float(b)] for name, a, b in zip(system.channel_names, lo, hi)}
-        if system.spatial_dims == 2:
+        # chaos refuses condensation sets rather than ignore them (they are no map to iterate).
+        if system.spatial_dims == 2 and system.condensation is None:
             # Random iteration with Eq. 45's count: fast for every system, overlapping or not.
             raster = ifsforge.render(system, "chaos", dimension_size, binary=True)
             out["box_counting_dimension"] = ifsforge.box_counting(raster).dimension
     return out
+
+
+def describe_extensions(system):
+    """The model's extensions that are set on `system` (at most one of them is)."""
+    out = {}
+    if system.recurrent:
+        # 3.3.1: row i is the probability of each map following map i (rows normalised on load).
+        out["transitions"] = system.transitions.tolist()
+    if system.super_ifs is not None:
+        out["super_ifs"] = describe_super_ifs(system)
+    if system.condensation is not None:
+        out["condensation"] = describe_condensation(system)
+    return out
+
+
+def describe_super_ifs(system):
+    """3.3.5, Eq. 38: member n owns consecutive maps and is chosen with probability P_n."""
+    parts = system.super_ifs
+    members, first = [], 0
+    for n, (name, size, p) in enumerate(zip(parts["names"], parts["sizes"], parts["probabilities"])):
+        members.append({
+            "name": name, "probability": float(p), "map_count": size,
+            "map_indices": list(range(first, first + size)),
+            "map_probabilities": system.member(n).probabilities.tolist(),
+        })
+        first += size
+    return {"variability": parts["variability"], "members": members}
+
+
+def describe_condensation(system):
+    """Definitions 8-9: the set C of w_0, its shapes, p_0 and its values of the extra channels."""
+    c = system.condensation
+    extra = system.channel_names[system.spatial_dims:]
+    return {
+        "probability": c.probability,
+        "polygons": [len(path) for path in c.polygons],
+        "polylines": [len(path) for path in c.polylines],
+        "bounds": list(c.bounds()),
+        # The sampled bounds below are those of the maps' attractor; C and its images add to it.
+        "attractor_box": list(system.condensation_box),
+        "channels": dict(zip(extra, c.channels)),
+    }
+
+
+def print_transitions(rows):
+    print("transitions (row i: probability that map j follows map i):")
+    print("          " + "".join(f"{f'map {j}':>8}" for j in range(1, len(rows) + 1)))
+    for i, row in enumerate(rows, 1):
+        print(f"  {f'map {i}':<8}" + "".join(f"{v:8.4f}" for v in row))
+
+
+def print_super_ifs(parts):
+    members = parts["members"]
+    print(f"super IFS: {len(members)} member systems, variability V={parts['variability']}")
+    for n, m in enumerate(members, 1):
+        first, last = m["map_indices"][0] + 1, m["map_indices"][-1] + 1
+        print(f"  member {n} '{m['name']}': P={m['probability']:.4f}  {m['map_count']} maps "
+              f"(maps {first}-{last}, p=" + " ".join(f"{p:.4f}" for p in m["map_probabilities"]) + ")")
+
+
+def print_condensation(c):
+    def counted(sizes, what):
+        return f"{len(sizes)} {what}{'' if len(sizes) == 1 else 's'}" + \
+            (" (" + ", ".join(f"{k} points" for k in sizes) + ")" if sizes else "")
+    xmin, ymin, xmax, ymax = c["bounds"]
+    print(f"condensation set: {counted(c['polygons'], 'polygon')}, {counted(c['polylines'], 'polyline')}, "
+          f"p0={c['probability']:.4f}")
+    print(f"  box: x [{xmin:.6g}, {xmax:.6g}]  y [{ymin:.6g}, {ymax:.6g}]")
+    xmin, ymin, xmax, ymax = c["attractor_box"]
+    print(f"  attractor with C and its images within x [{xmin:.6g}, {xmax:.6g}]  y [{ymin:.6g}, {ymax:.6g}]")
+    if c["channels"]:
+        print("  channels: " + "  ".join(f"{name}={v:.6g}" for name, v in c["channels"].items()))
 
 
 def run(args):
@@ -61,6 +136,12 @@ def run(args):
               f"det={m['determinant']:.4g}  fixed point {fp}")
         for row, b in zip(m["matrix"], m["offset"]):
             print("      [" + " ".join(f"{v:9.4f}" for v in row) + f" ] + {b:.4f}")
+    if "transitions" in info:
+        print_transitions(info["transitions"])
+    if "super_ifs" in info:
+        print_super_ifs(info["super_ifs"])
+    if "condensation" in info:
+        print_condensation(info["condensation"])
     print(f"classification: {info['classification']}  (max s = {info['contraction_ratio']:.4f}, "
           f"sum p log s = {info['average_log_contraction']:.4f}, Lyapunov {info['lyapunov_exponent']:.4f})")
     for name, (lo, hi) in info.get("bounds", {}).items():
