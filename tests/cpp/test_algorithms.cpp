@@ -170,7 +170,9 @@ TEST(Algorithms, MinimalPlottingTakesEveryPixelOnce) {
       float most = 0;
       for (float d : r.density) most = std::max(most, d);
       EXPECT_EQ(most, 1.0f) << system;  // no pixel (cell) taken from the queue twice
-      if (std::string(supersample) == "1") EXPECT_EQ(r.points, ifs.size() * r.covered()) << system;
+      if (std::string(supersample) == "1") {
+        EXPECT_EQ(r.points, ifs.size() * r.covered()) << system;
+      }
     }
 }
 
@@ -468,11 +470,15 @@ TEST(Algorithms, CondensationSetsGrowIntoTheTree) {
   EXPECT_GT(trunk, 20u);
   for (std::size_t k = 1; k < frames.size(); ++k)
     for (std::size_t p = 0; p < frames[k].density.size(); ++p)
-      if (frames[k - 1].density[p] > 0.0f) ASSERT_GT(frames[k].density[p], 0.0f) << "frame " << k;
+      if (frames[k - 1].density[p] > 0.0f) {
+        ASSERT_GT(frames[k].density[p], 0.0f) << "frame " << k;
+      }
   const Raster dia = renderer("dia").render(tree, o);
   EXPECT_GE(iou(frames.back(), dia), 0.9);
   for (std::size_t p = 0; p < frames[0].density.size(); ++p)
-    if (frames[0].density[p] > 0.0f) EXPECT_GT(dia.density[p], 0.0f);  // C is in every iterate
+    if (frames[0].density[p] > 0.0f) {
+      EXPECT_GT(dia.density[p], 0.0f);  // C is in every iterate
+    }
   EXPECT_THROW(renderer("eta").render(tree, o), InputError);
 }
 
