@@ -9,15 +9,12 @@
 #include "ifsforge/core/error.h"
 
 namespace ifsforge {
-namespace {
 
 std::string folder_of(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
   if (slash == std::string::npos) return ".";
   return slash == 0 ? "/" : path.substr(0, slash);
 }
-
-}  // namespace
 
 void check_writable(const std::string& path) {
   if (path.empty()) throw FileError("no output path given");

@@ -10,12 +10,6 @@
 namespace ifsforge {
 namespace {
 
-std::string folder_of(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  if (slash == std::string::npos) return ".";
-  return slash == 0 ? "/" : path.substr(0, slash);
-}
-
 /// One instance as one line of the union; returns the end of the text (at most 400 bytes).
 char* format_instance(char* out, const InstanceList& list, std::size_t i, const std::string& identifier) {
   const auto& p = list.positions[i];

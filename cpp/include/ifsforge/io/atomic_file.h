@@ -25,6 +25,9 @@ class AtomicFile {
   bool committed_ = false;
 };
 
+/// @brief The folder of `path`: "." for a bare file name, "/" for a file at the root.
+std::string folder_of(const std::string& path);
+
 /// @brief FileError unless `path` can be created (its folder exists and is writable).
 void check_writable(const std::string& path);
 
