@@ -58,7 +58,8 @@ Raster MinimalPlotting::render(const Ifs& ifs, const RenderOptions& options) con
     const std::uint32_t q = queue.front();
     queue.pop_front();
     raster.density[q] += 1.0f;  // how often this pixel was taken from the queue
-    for (std::size_t i = 0; i < space.maps.size(); ++i) plot(space.map_pixel(i, q, &values[std::size_t(q) * channels], mapped), mapped);
+    // data(), not &values[...]: values is empty without channels.
+    for (std::size_t i = 0; i < space.maps.size(); ++i) plot(space.map_pixel(i, q, values.data() + std::size_t(q) * channels, mapped), mapped);
     operations += space.maps.size();
     if ((++taken & 0xFFFFF) == 0) report_progress(options, 1.0 - 1.0 / (1.0 + taken / 1e6));
   }

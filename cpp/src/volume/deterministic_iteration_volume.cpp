@@ -91,7 +91,7 @@ Volume DeterministicIterationVolume::render(const Ifs& ifs, const VolumeOptions&
         } else {
           key = current.keys[s];
           mass = current.mass[s];
-          sums = &current.sums[s * channels];
+          sums = current.sums.data() + s * channels;  // empty without channels
           hits = current.hits[s];
           points = &current.points[s * VoxelList::kExtremes];
         }

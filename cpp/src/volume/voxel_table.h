@@ -49,7 +49,7 @@ class VoxelTable {
     list.keys.reserve(used_);
     for (std::size_t s = 0; s < keys_.size(); ++s)
       if (keys_[s] != kEmpty) {
-        list.push(keys_[s], hits_[s], mass_[s], &sums_[s * channels_]);
+        list.push(keys_[s], hits_[s], mass_[s], sums_.data() + s * channels_);  // sums_ is empty without channels
         list.points.insert(list.points.end(), points_.begin() + s * extremes_, points_.begin() + (s + 1) * extremes_);
       }
     sort_and_reduce(list);

@@ -68,7 +68,8 @@ struct VoxelList {
   }
   /// @brief Adds entry `i` of `other` as a new entry.
   void push_from(const VoxelList& other, std::size_t i) {
-    push(other.keys[i], other.hits[i], other.mass[i], &other.sums[i * channels]);
+    // data(), not &sums[...]: sums is empty without channels.
+    push(other.keys[i], other.hits[i], other.mass[i], other.sums.data() + i * channels);
     if (!other.points.empty())
       points.insert(points.end(), other.points.begin() + i * kExtremes, other.points.begin() + (i + 1) * kExtremes);
   }
