@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <numeric>
 #include <set>
@@ -312,6 +314,56 @@ TEST(VolumeVdb, UnwritablePathIsAFileErrorAndLeavesNothing) {
   const Volume v = render_volume(tetrahedron(), "prr", options(16));
   EXPECT_THROW(write_vdb("/nonexistent-folder/x.vdb", v), FileError);
   EXPECT_THROW(read_vdb_info("/nonexistent-folder/x.vdb"), FileError);
+}
+
+// OpenVDB does not check its reads: a truncated file used to be read on with uninitialised
+// sizes (or accepted as a file without grids). Every prefix is now a FileError, as is a text
+// file; the whole file still reads, again and again.
+TEST(VolumeVdb, TruncatedOrForeignFilesAreFileErrors) {
+  const Volume v = render_volume(tetrahedron(true), "prr", options(8));
+  const std::string path = temporary("whole.vdb"), cut = temporary("cut.vdb");
+  write_vdb(path, v);
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 100u);
+  auto write = [&](const std::string& content) { std::ofstream(cut, std::ios::binary) << content; };
+  for (std::size_t size = 0; size < bytes.size(); size += size < 300 ? 1 : 37) {
+    write(bytes.substr(0, size));
+    EXPECT_THROW(read_vdb_info(cut), FileError) << size << " of " << bytes.size() << " bytes";
+  }
+  write("not a volume\n");
+  EXPECT_THROW(read_vdb_info(cut), FileError);
+  for (int repeat = 0; repeat < 3; ++repeat) {
+    const VdbFileInfo info = read_vdb_info(path);
+    ASSERT_EQ(info.grids.size(), 2u);
+    for (const auto& g : info.grids) EXPECT_EQ(g.active_voxels, v.size()) << g.name;
+  }
+  std::remove(path.c_str());
+  std::remove(cut.c_str());
+}
+
+// Volumes of no voxel and of one voxel write, read back and mesh (the edge cases of the leaf
+// rows in make_grid).
+TEST(VolumeVdb, EmptyAndSingleVoxelVolumes) {
+  for (const bool colour : {false, true}) {
+    VolumeOptions far = options(4);
+    far.bounds = Box3{10, 10, 10, 11, 11, 11};  // misses the attractor
+    const Volume empty = render_volume(tetrahedron(colour), "prr", far);
+    const Volume one = render_volume(tetrahedron(colour), "prr", options(1));
+    ASSERT_EQ(empty.size(), 0u);
+    ASSERT_EQ(one.size(), 1u);
+    for (const Volume* v : {&empty, &one}) {
+      const std::string path = temporary("small.vdb");
+      write_vdb(path, *v);
+      const VdbFileInfo info = read_vdb_info(path);
+      ASSERT_EQ(info.grids.size(), colour ? 2u : 1u);
+      for (const auto& g : info.grids) EXPECT_EQ(g.active_voxels, v->size()) << g.name;
+      std::remove(path.c_str());
+      const TriangleMesh mesh = volume_to_mesh(*v);
+      EXPECT_EQ(mesh.triangles.empty(), v->size() == 0);
+      EXPECT_EQ(mesh.colors.size(), colour ? mesh.positions.size() : 0u);
+    }
+  }
 }
 
 // A filled cube (8 half-size copies) of 16^3 voxels: its occupancy surface at 0.5 encloses

@@ -95,6 +95,23 @@ def test_extra_channels_get_grids(tmp_path, samples, name, grids):
         assert attribute.min() >= 0.0 and attribute.max() <= 1.0
 
 
+def test_read_vdb_info_refuses_truncated_and_foreign_files(tmp_path):
+    """A truncated .vdb used to be read on with uninitialised sizes inside OpenVDB."""
+    volume = ifsforge.render_volume(constant_colour_tetrahedron((0.2, 0.6, 0.9)), "prr", 8)
+    path, cut = tmp_path / "whole.vdb", tmp_path / "cut.vdb"
+    ifsforge.write_vdb(str(path), volume)
+    data = path.read_bytes()
+    for size in (0, 4, 8, 16, 64, len(data) // 2, len(data) - 1):
+        cut.write_bytes(data[:size])
+        with pytest.raises(ifsforge.FileError):
+            ifsforge.read_vdb_info(str(cut))
+    cut.write_text("not a volume\n")
+    with pytest.raises(ifsforge.FileError):
+        ifsforge.read_vdb_info(str(cut))
+    for _ in range(3):
+        assert [g["active_voxels"] for g in ifsforge.read_vdb_info(str(path))["grids"]] == [len(volume)] * 2
+
+
 def test_mesh_dict_feeds_write_mesh(tmp_path):
     volume = ifsforge.render_volume(constant_colour_tetrahedron((0.2, 0.6, 0.9)), "prr", 32)
     mesh = ifsforge.volume_to_mesh(volume)

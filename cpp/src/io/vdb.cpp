@@ -1,11 +1,15 @@
 #include "ifsforge/io/vdb.h"
 
 #include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -161,10 +165,15 @@ void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOpti
 VdbFileInfo read_vdb_info(const std::string& path) {
   initialize();
   VdbFileInfo info;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError("cannot read '" + path + "': " + std::strerror(errno));
   try {
-    openvdb::io::File file(path);
-    file.open();
-    // Both calls return copies: keep them alive while iterating.
+    // OpenVDB does not check its reads: past the end of a truncated file it goes on with
+    // uninitialised sizes and counts (or returns no grids). A stream that throws on the first
+    // short read stops it there; it also means reading the grids whole, not delay-loaded.
+    in.exceptions(std::ios::failbit | std::ios::badbit);
+    openvdb::io::Stream file(in, /*delayLoad=*/false);
+    // Keep both alive while iterating (getMetadata returns a copy).
     const openvdb::MetaMap::Ptr meta = file.getMetadata();
     for (auto it = meta->beginMeta(); it != meta->endMeta(); ++it) info.metadata[it->first] = it->second->str();
     const openvdb::GridPtrVecPtr grids = file.getGrids();
@@ -178,9 +187,10 @@ VdbFileInfo read_vdb_info(const std::string& path) {
       g.index_bounds = {box.min().x(), box.min().y(), box.min().z(), box.max().x(), box.max().y(), box.max().z()};
       info.grids.push_back(g);
     }
-    file.close();
   } catch (const openvdb::Exception& e) {
     throw FileError("cannot read '" + path + "' as OpenVDB: " + e.what());
+  } catch (const std::ios_base::failure&) {
+    throw FileError("cannot read '" + path + "' as OpenVDB: the file is truncated or damaged");
   }
   return info;
 }
