@@ -417,6 +417,20 @@ TEST(VolumeProgress, ReportsAndCancels) {
   }
 }
 
+// Bounds away from the attractor: every renderer returns an empty volume, and random iteration
+// stops doubling its points after two empty rounds instead of running to its cap (2^34).
+TEST(VolumeGrid, BoundsMissingTheAttractorGiveAnEmptyVolume) {
+  for (const char* name : {"prr", "ria", "dia", "eta"}) {
+    VolumeOptions o = options(32);
+    o.bounds = Box3{5, 5, 5, 6, 6, 6};
+    const Volume v = render_volume(tetrahedron(), name, o);
+    EXPECT_EQ(v.size(), 0u) << name;
+    if (std::string(name) == "ria") {
+      EXPECT_LE(v.points, std::uint64_t(1) << 24);
+    }
+  }
+}
+
 TEST(VolumeInput, BadInputIsRefusedWithAClearMessage) {
   auto message = [](auto&& call) {
     try {

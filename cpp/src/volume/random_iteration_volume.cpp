@@ -96,13 +96,16 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
     // changing), the volumetric form of Eq. 45's coupon collector. Voxels the attractor only
     // grazes hold a tiny share of the measure and would need ever more points.
     std::size_t before = 0;
+    bool first = true;
     double reported = 0.0;
     for (std::uint64_t last = 2; last * kPointsPerJob <= kMaxAutoPoints; last *= 2) {
       const double next = reported + 0.5 * (0.95 - reported);
       round(jobs_done, last, last * kPointsPerJob, progress_range(options.progress, reported, next));
       reported = next;
-      if (before > 0 && static_cast<double>(total.size() - before) < 0.01 * static_cast<double>(before)) break;
+      if (!first && static_cast<double>(total.size() - before) < 0.01 * static_cast<double>(before)) break;
+      if (!first && total.size() == 0) break;  // two rounds without a voxel: the bounds miss the attractor
       before = total.size();
+      first = false;
     }
   }
   Volume volume = finish_volume(std::move(total), setup.grid, ifs, setup.quantizer, options.density,
