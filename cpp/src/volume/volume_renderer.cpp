@@ -141,8 +141,10 @@ VoxelGrid grid_around(const std::array<double, 3>& lo, const std::array<double, 
 Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes) {
   const int n = ifs.dim();
   // For hyperbolic systems these include W^d of the fixed points (model/attractor_points.h),
-  // which reach the tips of rarely chosen maps that sampling misses.
-  Bounds b = ifs.attractor_bounds(1u << 18);
+  // which reach the tips of rarely chosen maps that sampling misses: fewer samples do (as for
+  // images). Other systems rely on the samples alone.
+  const bool hyperbolic = ifs.classify() == Classification::Hyperbolic;
+  Bounds b = ifs.attractor_bounds(hyperbolic ? 1u << 16 : 1u << 18);
   std::vector<Point> candidates;
   // Fixed points of contractive maps lie on the attractor (and, for most systems, at its
   // corners); a sample stands in when there are none.
