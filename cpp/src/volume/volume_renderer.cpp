@@ -168,7 +168,7 @@ Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes) {
         }
       candidates.swap(images);
     }
-    *extremes = candidates.size() > 16 ? farthest_points(candidates) : candidates;
+    *extremes = candidates.size() > 8 ? farthest_points(candidates) : candidates;
   }
   return b;
 }

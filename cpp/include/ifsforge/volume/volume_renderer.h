@@ -62,8 +62,9 @@ struct VolumeSetup {
   /// image_box wants it: centre and half-extent. Its centre is the point PRR plots.
   std::vector<double> center, half;
   /// A few points of the attractor (all n dimensions) at its corners: the fixed points of the
-  /// maps and their images while they are at most 16, else those farthest along the 26
-  /// directions of a cube's faces, edges and corners. Their images reach the corners of a piece.
+  /// maps and their images while they are at most 16; of more than 8, those farthest along the
+  /// 26 directions of a cube's faces, edges and corners (each costs PRR a product per piece).
+  /// Their images reach the corners of a piece.
   std::vector<Point> extremes;
   int threads = 1;
 };
