@@ -35,12 +35,12 @@ const std::map<std::string, double>& seed_estimates() {
   return estimates;
 }
 
-void render_algorithm(benchmark::State& state, const std::string& name) {
+void render_algorithm(benchmark::State& state, const std::string& name, bool binary) {
   const Ifs system = vicsek();
   RenderOptions o;
   o.width = o.height = 1000;
   o.window = Window{-0.01, -0.01, 1.01, 1.01};
-  o.binary = true;
+  o.binary = binary;
   o.threads = static_cast<int>(state.range(0));
   const Renderer& r = renderer(name);
   std::uint64_t ops = 0, covered = 0;
@@ -59,12 +59,19 @@ void render_algorithm(benchmark::State& state, const std::string& name) {
 const bool registered = [] {
   for (const Renderer* r : renderers()) {
     if (r->name() == "colour-stealing") continue;  // needs a picture; same work as chaos
-    benchmark::RegisterBenchmark(("Algorithm1000/" + r->name()).c_str(), render_algorithm, r->name())
+    benchmark::RegisterBenchmark(("Algorithm1000/" + r->name()).c_str(), render_algorithm, r->name(), true)
         ->Arg(1)
         ->Arg(2)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
   }
+  // The mass algorithms' default (not binary: spread=box, a measure).
+  for (const char* name : {"cma", "photocopy"})
+    benchmark::RegisterBenchmark((std::string("Spread1000/") + name).c_str(), render_algorithm, name, false)
+        ->Arg(1)
+        ->Arg(2)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
   return true;
 }();
 
