@@ -28,7 +28,7 @@ struct Overlap {
 };
 constexpr int kMaxCells = 8;
 
-int overlaps(double centre, double half, int cells, Overlap* out) {
+inline int overlaps(double centre, double half, int cells, Overlap* out) {
   if (!(half > 1e-9)) {
     if (!(centre >= 0.0 && centre < cells)) return 0;
     const int cell = static_cast<int>(centre);
@@ -321,6 +321,67 @@ void transport_spread(const Step& s, std::size_t begin, std::size_t end, Landing
   }
 }
 
+/// The general step without channels, spreading: as transport_spread (the same arithmetic, so
+/// the same result), with each share added straight into its cell's record (mass, weight,
+/// centroid offsets), the centroids decoded on the way and the overlaps along x kept as codes.
+void transport_box(const Step& s, std::size_t begin, std::size_t end, Landing& landing) {
+  const TransportPlan& plan = s.plan;
+  const Cells& at = s.at;
+  const std::size_t maps = s.space.maps.size();
+  const int C = at.C, values = at.values();
+  const auto width = static_cast<std::uint32_t>(s.space.width);
+  const int cols = s.space.width, rows = s.space.height;
+  std::uint64_t* const sums = landing.sums.get();
+  std::uint64_t* const touched = landing.touched.get();
+  std::uint64_t landed = 0;
+  const std::uint32_t* const cells = s.image.cells.data();
+  std::uint32_t row = cells[begin] / width, row_start = row * width;
+  for (std::size_t k = begin; k < end; ++k) {
+    const std::uint32_t p = cells[k];
+    while (p >= row_start + width) {
+      ++row;
+      row_start += width;
+    }
+    const std::uint64_t* r = s.image.record(k);
+    Point from{};
+    from[0] = p - row_start + static_cast<double>(s.centroid[k * 2]);
+    from[1] = row + static_cast<double>(s.centroid[k * 2 + 1]);
+    for (std::size_t j = 0; j < maps; ++j) {
+      double w = 0.0;
+      for (int i = 0; i < C; ++i) w += plan.weight[i * maps + j] * static_cast<double>(r[i]);
+      if (!(w >= 0.5)) continue;  // less than one unit of mass
+      const PixelMap& m = s.space.maps[j];
+      const double tx = m.a * from[0] + m.b * from[1] + m.e;
+      const double ty = m.c * from[0] + m.d * from[1] + m.f;
+      Overlap xs[kMaxCells], ys[kMaxCells];
+      const int nx = overlaps(tx, s.half[j][0], cols, xs), ny = overlaps(ty, s.half[j][1], rows, ys);
+      if (!nx || !ny) continue;
+      std::uint64_t xcode[kMaxCells];
+      for (int xi = 0; xi < nx; ++xi) xcode[xi] = std::min<std::uint64_t>(65535, static_cast<std::uint64_t>(xs[xi].offset * kOffsetSteps));
+      const int target = plan.target[j];
+      for (int yi = 0; yi < ny; ++yi) {
+        const std::uint64_t ycode = std::min<std::uint64_t>(65535, static_cast<std::uint64_t>(ys[yi].offset * kOffsetSteps));
+        const std::size_t line = static_cast<std::size_t>(ys[yi].cell) * width;
+        for (int xi = 0; xi < nx; ++xi) {
+          const double share = w * xs[xi].fraction * ys[yi].fraction;
+          if (!(share >= 0.5)) continue;
+          const std::size_t cell = line + static_cast<std::uint32_t>(xs[xi].cell);
+          const auto mass = static_cast<std::uint64_t>(share + 0.5);
+          const std::uint64_t weight = mass >> kWeightShift;
+          touched[cell >> 6] |= std::uint64_t(1) << (cell & 63);
+          std::uint64_t* const out = sums + cell * values;
+          out[target] += mass;
+          out[C] += weight;
+          out[C + 1] += weight * xcode[xi];
+          out[C + 2] += weight * ycode;
+          landed += mass;
+        }
+      }
+    }
+  }
+  landing.landed += landed;
+}
+
 /// What a job of the settling pass sums: the L1 change against the old image on the new
 /// cells, the old mass found there, the new (rescaled) mass.
 struct Settled {
@@ -447,6 +508,8 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
       const std::size_t begin = job * kChunk, end = std::min(old_cells.size(), (job + 1) * kChunk);
       if (at.by_component)
         transport_rounded(step, begin, end, landings[worker]);
+      else if (at.position && ch == 0)
+        transport_box(step, begin, end, landings[worker]);
       else
         transport_spread(step, begin, end, landings[worker]);
     });
