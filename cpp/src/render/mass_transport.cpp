@@ -343,9 +343,14 @@ void transport_box(const Step& s, std::size_t begin, std::size_t end, Landing& l
       row_start += width;
     }
     const std::uint64_t* r = s.image.record(k);
+    // The centroid as decode_records gives it, decoded here (in parallel, no pass of its own).
+    const double mean = static_cast<double>(r[at.weight()]);
+    float centroid[2] = {0.5f, 0.5f};
+    for (int axis = 0; axis < 2; ++axis)
+      if (mean > 0) centroid[axis] = static_cast<float>((static_cast<double>(r[at.offset(axis)]) / mean + 0.5) / kOffsetSteps);
     Point from{};
-    from[0] = p - row_start + static_cast<double>(s.centroid[k * 2]);
-    from[1] = row + static_cast<double>(s.centroid[k * 2 + 1]);
+    from[0] = p - row_start + static_cast<double>(centroid[0]);
+    from[1] = row + static_cast<double>(centroid[1]);
     for (std::size_t j = 0; j < maps; ++j) {
       double w = 0.0;
       for (int i = 0; i < C; ++i) w += plan.weight[i * maps + j] * static_cast<double>(r[i]);
@@ -424,14 +429,12 @@ Settled settle(std::vector<Landing>& landings, const Cells& at, const MassImage&
         const std::size_t cell = word * 64 + __builtin_ctzll(bits);
         next.cells[k] = static_cast<std::uint32_t>(cell);
         std::uint64_t* r = &next.records[k * values];
-        for (int v = 0; v < values; ++v) {
-          std::uint64_t gathered = 0;
-          for (const Landing& l : landings) {
-            if (!(l.touched[word] >> (cell & 63) & 1)) continue;
-            gathered += l.sums[cell * values + v];
-            l.sums[cell * values + v] = 0;
-          }
-          r[v] = gathered;
+        std::fill(r, r + values, 0);
+        for (const Landing& l : landings) {
+          if (!(l.touched[word] >> (cell & 63) & 1)) continue;
+          std::uint64_t* const from = &l.sums[cell * values];
+          for (int v = 0; v < values; ++v) r[v] += from[v];
+          std::fill(from, from + values, 0);
         }
         // |new - old| here; the old mass where nothing arrived is what old_inside misses.
         while (old < old_cells.size() && old_cells[old] < cell) ++old;
@@ -502,13 +505,14 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
   TransportResult result;
   for (result.iterations = 0; result.iterations < plan.max_iterations;) {
     const std::vector<std::uint32_t>& old_cells = image.cells;
-    if (!at.by_component) decode_records(at, image, codec, centroid, colour);
+    const bool box = at.position && ch == 0;  // transport_box decodes the centroids itself
+    if (!at.by_component && !box) decode_records(at, image, codec, centroid, colour);
     const Step step{space, plan, at, weight, codec, image, centroid, colour, half};
     parallel_jobs((old_cells.size() + kChunk - 1) / kChunk, threads, [&](std::size_t job, int worker) {
       const std::size_t begin = job * kChunk, end = std::min(old_cells.size(), (job + 1) * kChunk);
       if (at.by_component)
         transport_rounded(step, begin, end, landings[worker]);
-      else if (at.position && ch == 0)
+      else if (box)
         transport_box(step, begin, end, landings[worker]);
       else
         transport_spread(step, begin, end, landings[worker]);
