@@ -17,8 +17,8 @@ class InstancesGenerator(Generator):
     label = "Instances"
     suffix = ""  # nothing on disk: the instance list lives in the .blend
 
-    def missing(self):
-        return "" if hasattr(ifsforge, "instances") else "this ifsforge build has no vector IFS (ifsforge.instances)"
+    needs = ("instances",)
+    feature = "vector IFS"
 
     def draw(self, layout, settings, system):
         layout.prop(settings, "instance_depth")

@@ -7,7 +7,7 @@ import ifsforge
 
 from . import mesh_data
 from .generate_volume import render_volume
-from .generators import Generator, link_object, register_generator
+from .generators import Generator, link_object, node_material, register_generator
 
 
 class MeshGenerator(Generator):
@@ -15,10 +15,8 @@ class MeshGenerator(Generator):
     label = "Iso-surface"
     suffix = ""  # the mesh lives in the .blend
 
-    def missing(self):
-        needs = ("render_volume", "volume_to_mesh")
-        absent = [name for name in needs if not hasattr(ifsforge, name)]
-        return f"this ifsforge build has no iso-surfaces ({', '.join(absent)})" if absent else ""
+    needs = ("render_volume", "volume_to_mesh")
+    feature = "iso-surfaces"
 
     def draw(self, layout, settings, system):
         layout.prop(settings, "volume_resolution")
@@ -48,10 +46,7 @@ class MeshGenerator(Generator):
 
 
 def material(name, coloured):
-    mat = bpy.data.materials.get(name) or bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    nodes.clear()
+    mat, nodes, links = node_material(name)
     shader = nodes.new('ShaderNodeBsdfPrincipled')
     output = nodes.new('ShaderNodeOutputMaterial')
     links.new(shader.outputs["BSDF"], output.inputs["Surface"])

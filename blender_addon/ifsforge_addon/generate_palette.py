@@ -13,8 +13,8 @@ class PaletteGenerator(ImageGenerator):
     suffix = ".png"
     datablock = "image"
 
-    def missing(self):
-        return "" if hasattr(ifsforge, "read_palette_recipe") else "this ifsforge build has no fractal palettes"
+    needs = ("read_palette_recipe",)
+    feature = "fractal palettes"
 
     def draw(self, layout, settings, system):
         layout.prop(settings, "palette_recipe")

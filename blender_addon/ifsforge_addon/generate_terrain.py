@@ -7,7 +7,7 @@ import numpy as np
 import ifsforge
 
 from . import mesh_data, outputs, palettes
-from .generators import Generator, link_object, register_generator
+from .generators import Generator, link_object, node_material, register_generator
 
 ATTRACTOR_IMAGE = 256  # pixels of the density image the control heights are sampled from
 
@@ -17,10 +17,8 @@ class TerrainGenerator(Generator):
     label = "Terrain"
     suffix = "_palette.png"
 
-    def missing(self):
-        if hasattr(ifsforge, "make_terrain"):
-            return ""
-        return "this ifsforge build has no terrains (ifsforge.make_terrain)"
+    needs = ("make_terrain",)
+    feature = "terrains"
 
     def draw(self, layout, settings, system):
         layout.prop(settings, "terrain_source")
@@ -111,10 +109,7 @@ def palette_image(name, path):
 
 def material(name, image):
     """The palette strip looked up by the mesh's uv (u = normalised height)."""
-    mat = bpy.data.materials.get(name) or bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    nodes.clear()
+    mat, nodes, links = node_material(name)
     uv = nodes.new('ShaderNodeUVMap')
     uv.uv_map = "UVMap"
     texture = nodes.new('ShaderNodeTexImage')

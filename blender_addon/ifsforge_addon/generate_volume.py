@@ -6,7 +6,7 @@ import bpy
 import ifsforge
 
 from . import outputs
-from .generators import Generator, link_object, register_generator
+from .generators import Generator, link_object, node_material, register_generator
 
 
 def render_volume(system, settings, progress):
@@ -19,10 +19,8 @@ class VolumeGenerator(Generator):
     label = "Volume"
     suffix = ".vdb"
 
-    def missing(self):
-        needs = ("render_volume", "write_vdb")
-        absent = [name for name in needs if not hasattr(ifsforge, name)]
-        return f"this ifsforge build has no volumes ({', '.join(absent)})" if absent else ""
+    needs = ("render_volume", "write_vdb")
+    feature = "volumes"
 
     def draw(self, layout, settings, system):
         layout.prop(settings, "volume_resolution")
@@ -59,10 +57,7 @@ class VolumeGenerator(Generator):
 
 def material(name, coloured, strength):
     """Principled Volume reading the "density" grid (and "color" when there is one)."""
-    mat = bpy.data.materials.get(name) or bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    nodes.clear()
+    mat, nodes, links = node_material(name)
     shader = nodes.new('ShaderNodeVolumePrincipled')
     shader.inputs["Density"].default_value = strength
     shader.inputs["Density Attribute"].default_value = "density"

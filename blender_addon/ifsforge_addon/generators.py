@@ -19,10 +19,13 @@ class Generator:
     label = ""
     suffix = ""
     datablock = "object"  # or "image": where the parameters are stored
+    needs = ()  # the ifsforge functions work() calls
+    feature = ""  # what the user misses without them, e.g. "volumes"
 
     def missing(self):
         """'' when the ifsforge module provides what this generator needs, else why not."""
-        return ""
+        absent = [name for name in self.needs if not hasattr(ifsforge, name)]
+        return f"this ifsforge build has no {self.feature} ({', '.join(absent)})" if absent else ""
 
     def draw(self, layout, settings, system):
         """The generator's settings in its panel (`system`: the edited ifsforge.Ifs or None)."""
@@ -39,6 +42,14 @@ class Generator:
     def apply(self, context, owner, result, name):
         """Runs on the main thread: creates (owner None) or updates the datablock."""
         raise NotImplementedError
+
+
+def node_material(name):
+    """The material `name` (made if new) with an empty node tree: (material, nodes, links)."""
+    mat = bpy.data.materials.get(name) or bpy.data.materials.new(name)
+    mat.use_nodes = True
+    mat.node_tree.nodes.clear()
+    return mat, mat.node_tree.nodes, mat.node_tree.links
 
 
 def register_generator(generator):
