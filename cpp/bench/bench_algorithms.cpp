@@ -26,7 +26,7 @@ Ifs vicsek() {
   return Ifs("vicsek", ChannelLayout("xy"), maps, std::vector<double>(5, 1.0));
 }
 
-/// The seed's operation counts for H = V = 1000, N = 5 (5.13.1, Eq. 75-88; SEED-NOTES).
+/// The seed's operation counts for H = V = 1000, N = 5 (5.13.1, Eq. 75-88).
 const std::map<std::string, double>& seed_estimates() {
   static const std::map<std::string, double> estimates = {
       {"chaos", 8e6},           {"dia", 100e6},         {"dia-s", 320e6}, {"mpa", 0.5e6},

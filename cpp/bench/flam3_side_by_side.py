@@ -20,7 +20,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-FLAMES = Path(os.environ.get("IFSFORGE_FLAM3_DIR", ROOT.parent / "shared" / "bench" / "flam3"))
+FLAMES = Path(__file__).resolve().parent / "data" / "flam3"
 SYSTEMS = {"fern": ROOT / "samples/systems/barnsley_fern.json",
            "sierpinski": ROOT / "samples/systems/sierpinski_triangle.json"}
 

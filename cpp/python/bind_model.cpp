@@ -126,7 +126,7 @@ void bind_model(py::module_& m) {
       .def("__len__", &Ifs::size)
       .def("contraction_factors", [](const Ifs& s) { auto v = s.contraction_factors(); return py::array_t<double>(v.size(), v.data()); })
       .def("spatial_contraction_factors", [](const Ifs& s) { auto v = s.spatial_contraction_factors(); return py::array_t<double>(v.size(), v.data()); })
-      .def("contraction_ratio", &Ifs::contraction_ratio, "max_i s_i (Eq. 10 as SEED-NOTES reads it)")
+      .def("contraction_ratio", &Ifs::contraction_ratio, "max_i s_i (Eq. 10)")
       .def("average_log_contraction", &Ifs::average_log_contraction, "sum_i p_i log s_i (Eq. 14: < 0)")
       .def("lyapunov_exponent", &Ifs::lyapunov_exponent, py::arg("steps") = 20000, py::arg("seed") = 1)
       .def("classify", [](const Ifs& s) { return std::string(to_string(s.classify())); },

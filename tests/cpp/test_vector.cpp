@@ -215,7 +215,7 @@ TEST(VectorInstances, TriangleThirdVertexIsEq95) {
     const Point q0 = m(Point{0.1, 0.0}), q1 = m(Point{1.1, 0.0});
     const double a = std::atan2(q1[1] - q0[1], q1[0] - q0[0]);  // Eq. 61 (with the quadrant)
     const double d = std::hypot(q1[0] - q0[0], q1[1] - q0[1]);  // Eq. 60 with sf = 1
-    // Eq. 95 as SEED-NOTES reads it: the third vertex turns by 120 degrees at q1.
+    // Eq. 95 (its garbled print restored): the third vertex turns by 120 degrees at q1.
     const double x2 = q1[0] + d * std::cos(a + 2 * M_PI / 3), y2 = q1[1] + d * std::sin(a + 2 * M_PI / 3);
     const auto& f = list.frames[i];
     const auto& l = tri.positions[2];

@@ -65,7 +65,7 @@ FractalInterpolation::FractalInterpolation(std::vector<double> x, std::vector<do
 
 AffineMap FractalInterpolation::map(std::size_t i) const {
   if (i >= maps()) throw InputError("fractal interpolation: no map " + std::to_string(i));
-  // Eq. 94 (as corrected in SEED-NOTES: b2 takes x_N F_{i-1} - x_0 F_i).
+  // Eq. 94, with the seed's misprint corrected: b2 takes x_N F_{i-1} - x_0 F_i.
   const double x0 = x_.front(), xn = x_.back(), f0 = values_.front(), fn = values_.back();
   const double w = xn - x0, d = a22_[i];
   const double a11 = (x_[i + 1] - x_[i]) / w;

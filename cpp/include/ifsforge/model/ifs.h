@@ -59,7 +59,7 @@ class Ifs {
   std::vector<double> contraction_factors() const;
   /// @brief Spectral norm of each map's spatial block.
   std::vector<double> spatial_contraction_factors() const;
-  /// @brief Eq. 10 read as the seed intends (see SEED-NOTES): max_i s_i.
+  /// @brief Eq. 10 as the seed intends it (its printed form is garbled): max_i s_i.
   double contraction_ratio() const;
   /// @brief Eq. 14 in log form: sum_i p_i log s_i (negative means contractive on average).
   double average_log_contraction() const;

@@ -9,7 +9,7 @@ namespace ifsforge {
 /// buffer v a member system Omega_n is drawn with probability P_n (Eq. 40), and each map m of
 /// Omega_n is applied to a buffer drawn uniformly from the V old ones; the new buffer is the
 /// union of these images (the seed's qb0 = qb0 OR w(q)). Then the new buffers replace the old
-/// (qr0 = qb0; qr1 = qb1, reading the seed's typo as SEED-NOTES does). Every random choice comes
+/// (qr0 = qb0; qr1 = qb1, correcting the seed's typo). Every random choice comes
 /// from `seed`, so a seed names one member of the superfractal; the heavy pixel work is
 /// parallel and does not depend on the thread count. An ordinary IFS is a super IFS with one
 /// member: every buffer then converges to its attractor, exactly as deterministic iteration.

@@ -4,7 +4,7 @@
 
 namespace ifsforge {
 
-/// TSA(q, lv, l, pv, p, t), with the comparison signs SEED-NOTES restores: a branch stops when
+/// TSA(q, lv, l, pv, p, t), with the comparison signs the seed intends (its print garbles them): a branch stops when
 /// its probability p (the product of the map probabilities along its tesseral address t) falls
 /// below `threshold` (pv), or at level l (options.depth if > 0); otherwise every map i appends
 /// i to t, multiplies p by p_i and recurses; the leaves are plotted. pv = 0 visits every

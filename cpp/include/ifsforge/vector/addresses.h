@@ -53,7 +53,7 @@ struct AddressLeaves {
 /// tree refuses (count_leaves()).
 std::vector<std::string> string_rewriting(const Ifs& ifs, int depth);
 
-/// @brief The tesseral synecdoche algorithm (5.7, read as SEED-NOTES does): descend the address
+/// @brief The tesseral synecdoche algorithm (5.7, with its comparison signs corrected): descend the address
 /// tree from the outermost map in, multiplying the probability by p_i; a branch stops, and
 /// plots w_address(start), at `depth` or as soon as its probability is below `min_probability`
 /// (pv: pieces of the attractor whose measure is below pv are not subdivided further). `start`

@@ -17,7 +17,7 @@ from ifsforge import cli_common as common
 from ifsforge.progress import ProgressBar
 
 # The seed's section of each algorithm and its operation estimate for H = V = 1000, N = 5
-# (5.13.1, Eq. 75-88; SEED-NOTES restores the garbled figures).
+# (5.13.1, Eq. 75-88).
 SEED = {
     "chaos": ("5.1.1", 8e6), "colour-stealing": ("5.1.2", 8e6), "dia": ("5.2.1", 100e6),
     "dia-s": ("5.2.2", 320e6), "mpa": ("5.3", 0.5e6), "cma": ("5.4", 100e6), "eta": ("5.5", 1.28e9),
