@@ -9,7 +9,14 @@ import ifsforge
 import ifsforge.commands
 
 
-def build_parser():
+def command_names():
+    """The sub-command modules, listed without importing them."""
+    return sorted(m.name for m in pkgutil.iter_modules(ifsforge.commands.__path__))
+
+
+def build_parser(only=None):
+    """The parser with every sub-command, or with `only` that one (a run imports just the
+    command it runs: some import numpy or large helpers that the others never need)."""
     parser = argparse.ArgumentParser(
         prog="ifsforge",
         description="Fractal content from iterated function systems: images, volumes, "
@@ -17,14 +24,22 @@ def build_parser():
     parser.add_argument("--version", action="version", version=ifsforge.__version__)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
-    for info in sorted(pkgutil.iter_modules(ifsforge.commands.__path__), key=lambda m: m.name):
-        module = importlib.import_module(f"ifsforge.commands.{info.name}")
-        module.register(sub)
+    for name in command_names():
+        if only is None or name == only:
+            importlib.import_module(f"ifsforge.commands.{name}").register(sub)
     return parser
 
 
+def requested_command(argv):
+    """The sub-command named by argv (its first word), or None (help, version, a typo)."""
+    words = sys.argv[1:] if argv is None else list(argv)
+    if words and words[0] in command_names():
+        return words[0]
+    return None
+
+
 def main(argv=None):
-    parser = build_parser()
+    parser = build_parser(only=requested_command(argv))
     args = parser.parse_args(argv)
     try:
         return args.run(args) or 0
