@@ -11,29 +11,10 @@ from pathlib import Path
 import numpy as np
 
 import ifsforge
+from ifsforge.contact_sheet import contact_sheet
 
 HERE = Path(__file__).resolve().parent
 SIZE = 1024
-
-
-def pooled(image, k):
-    """k x k pooling, half mean and half max, so one-pixel curves stay visible in thumbnails."""
-    h, w = image.shape[0] // k * k, image.shape[1] // k * k
-    blocks = image[:h, :w].reshape(h // k, k, w // k, k, -1)
-    return 0.5 * blocks.mean(axis=(1, 3)) + 0.5 * blocks.max(axis=(1, 3))
-
-
-def contact_sheet(images, columns=5, cell=256):
-    """A grid of thumbnails (grayscale promoted to RGB) on a dark background."""
-    rows = (len(images) + columns - 1) // columns
-    sheet = np.full((rows * cell, columns * cell, 3), 0.08, np.float32)
-    for k, image in enumerate(images):
-        if image.ndim == 2:
-            image = np.repeat(image[:, :, None], 3, axis=2)
-        thumb = pooled(image[:, :, :3], max(1, image.shape[0] // cell))[:cell, :cell]
-        r, c = divmod(k, columns)
-        sheet[r * cell:r * cell + thumb.shape[0], c * cell:c * cell + thumb.shape[1]] = thumb
-    return sheet
 
 
 def reference_picture(size=256):

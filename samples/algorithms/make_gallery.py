@@ -22,6 +22,7 @@ import numpy as np
 
 import ifsforge
 from ifsforge.commands import compare
+from ifsforge.contact_sheet import contact_sheet
 
 HERE = pathlib.Path(__file__).resolve().parent
 SYSTEMS = HERE.parent / "systems"
@@ -68,7 +69,7 @@ def make(out):
     for name, image in images.items():
         ifsforge.write_png(str(folder / f"{name}.png"), image)
     done = [r for r in rows if r["algorithm"] in images]
-    ifsforge.write_png(str(folder / "contact_sheet.png"), compare.contact_sheet(
+    ifsforge.write_png(str(folder / "contact_sheet.png"), contact_sheet(
         [images[r["algorithm"]] for r in done], [f"{r['algorithm']}\n{r['ms']:.0f} ms  iou {r['iou']:.3f}" for r in done]))
     (folder / "comparison.md").write_text(compare.markdown(sierpinski, rows, reference, (512, 512)))
     print(f"  {folder}: {len(images)} algorithms, contact_sheet.png, comparison.md  ({time.monotonic() - start:.1f} s)")
@@ -78,7 +79,7 @@ def make(out):
     rows, images, _ = compare.compare(fern, (512, 512), progress=False)
     done = [r for r in rows if r["algorithm"] in images]
     path = out / "compare_fern.png"
-    ifsforge.write_png(str(path), compare.contact_sheet(
+    ifsforge.write_png(str(path), contact_sheet(
         [images[r["algorithm"]] for r in done], [f"{r['algorithm']}\n{r['ms']:.0f} ms  iou {r['iou']:.3f}" for r in done]))
     print(f"  {path}: {len(done)} algorithms on the fern  ({time.monotonic() - start:.1f} s)")
 
@@ -101,7 +102,7 @@ def make(out):
                   "self-congruent", "probabilistic-domain"]
     images = [render(colour, a, 256).to_image("color") for a in algorithms]
     path = out / "colour_algorithms.png"
-    ifsforge.write_png(str(path), compare.contact_sheet(images, algorithms, columns=6))
+    ifsforge.write_png(str(path), contact_sheet(images, algorithms, columns=6))
     print(f"  {path}: the 2D + RGB Sierpinski by {len(algorithms)} algorithms")
 
     # 3. Model extensions.

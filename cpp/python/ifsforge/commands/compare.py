@@ -14,6 +14,7 @@ import numpy as np
 
 import ifsforge
 from ifsforge import cli_common as common
+from ifsforge.contact_sheet import contact_sheet
 from ifsforge.progress import ProgressBar
 
 # The seed's section of each algorithm and its operation estimate for H = V = 1000, N = 5
@@ -140,74 +141,6 @@ def markdown(system, rows, reference, size):
         lines.append(f"| {r['algorithm']} | {r['section']} | {ms} | {number(r['operations'])} | "
                      f"{number(r['seed_operations'])} | {covered} | {agreement} | {fine} | {r['note']} |")
     return "\n".join(lines) + "\n"
-
-
-# A 5 x 7 pixel font for the labels of the contact sheet.
-_FONT = {
-    "a": " ### |    #| ####|#   #| ####", "b": "#    |#    |#### |#   #|#   #|#### ", "c": " ### |#    |#    |#    | ### ",
-    "d": "    #|    #| ####|#   #|#   #| ####", "e": " ### |#   #|#####|#    | ### ", "f": "  ## | #   |#### | #   | #   | #   ",
-    "g": " ####|#   #| ####|    #| ### ", "h": "#    |#    |#### |#   #|#   #|#   #", "i": "  #  |     | ##  |  #  |  #  | ### ",
-    "j": "   # |     |  ## |   # |   # |#  # | ##  ", "k": "#    |#  # |# #  |##   |# #  |#  # ", "l": " ##  |  #  |  #  |  #  |  #  | ### ",
-    "m": "## # |# # #|# # #|# # #", "n": "#### |#   #|#   #|#   #", "o": " ### |#   #|#   #|#   #| ### ",
-    "p": "#### |#   #|#### |#    |#    ", "q": " ####|#   #| ####|    #|    #", "r": "# ## |##  #|#    |#    |#    ",
-    "s": " ####|#    | ### |    #|#### ", "t": " #   |#### | #   | #   | #  #|  ## ", "u": "#   #|#   #|#   #|#  ##| ## #",
-    "v": "#   #|#   #| # # | # # |  #  ", "w": "#   #|# # #|# # #|# # #| # # ", "x": "#   #| # # |  #  | # # |#   #",
-    "y": "#   #|#   #| ####|    #| ### ", "z": "#####|   # |  #  | #   |#####", "-": "     |     |#####|     |     ",
-    "0": " ### |#  ##|# # #|##  #| ### ", "1": "  #  | ##  |  #  |  #  | ### ", "2": " ### |#   #|  ## | #   |#####",
-    "3": "#### |    #| ### |    #|#### ", "4": "#  # |#  # |#####|   # |   # ", "5": "#####|#    |#### |    #|#### ",
-    "6": " ### |#    |#### |#   #| ### ", "7": "#####|   # |  #  | #   | #   ", "8": " ### |#   #| ### |#   #| ### ",
-    "9": " ### |#   #| ####|    #| ### ", ".": "     |     |     |     |  #  ", " ": "     ", "=": "     |#####|     |#####|     ",
-}
-
-
-def _glyph(char):
-    """A 9-row cell: ascenders and digits on rows 1-7, lowercase on 3-7, descenders to row 8."""
-    rows = _FONT.get(char.lower(), _FONT[" "]).split("|")
-    top = {7: 1, 6: 2}.get(len(rows), 4 if char in "gpqy" else 3)
-    if char == "j":
-        top = 2
-    cell = ["     "] * 9
-    for k, row in enumerate(rows):
-        if top + k < 9:
-            cell[top + k] = row
-    return np.array([[c == "#" for c in r.ljust(5)[:5]] for r in cell], dtype=bool)
-
-
-def label(text, width, scale=2):
-    """A dark strip with the lines of `text` in light pixels, `width` wide."""
-    lines = text.split("\n")
-    strip = np.full((10 * scale * len(lines), width, 3), 0.15, np.float32)
-    for n, line in enumerate(lines):
-        x = 2 * scale
-        for char in line:
-            if x + 5 * scale > width:
-                break
-            glyph = np.kron(_glyph(char), np.ones((scale, scale), dtype=bool))
-            top = n * 10 * scale
-            strip[top:top + glyph.shape[0], x:x + glyph.shape[1]][glyph] = 0.95
-            x += 6 * scale
-    return strip
-
-
-def contact_sheet(images, labels, columns=5, cell=256):
-    """Thumbnails (max-pooled, so thin curves stay visible) under their labels."""
-    rows = (len(images) + columns - 1) // columns
-    label_height = max(label(text, cell).shape[0] for text in labels) if labels else 0
-    sheet = np.full((rows * (cell + label_height), columns * cell, 3), 0.05, np.float32)
-    for k, (image, text) in enumerate(zip(images, labels)):
-        if image.ndim == 2:
-            image = np.repeat(image[:, :, None], 3, axis=2)
-        if image.shape[2] == 4:  # alpha over the dark background
-            image = image[:, :, :3] * image[:, :, 3:4]
-        step = max(1, -(-max(image.shape[:2]) // cell))
-        h, w = image.shape[0] // step * step, image.shape[1] // step * step
-        thumb = image[:h, :w, :3].reshape(h // step, step, w // step, step, 3).max(axis=(1, 3))
-        r, c = divmod(k, columns)
-        top = r * (cell + label_height)
-        strip = label(text, cell)
-        sheet[top:top + strip.shape[0], c * cell:(c + 1) * cell] = strip
-        sheet[top + label_height:top + label_height + thumb.shape[0], c * cell:c * cell + thumb.shape[1]] = thumb
-    return sheet
 
 
 def run(args):
