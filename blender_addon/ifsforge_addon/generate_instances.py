@@ -88,7 +88,8 @@ def prototype_collection(name, names, meshes, mat):
             bpy.data.meshes.remove(mesh)
     for k, (primitive, data) in enumerate(zip(names, meshes)):
         mesh = bpy.data.meshes.new(f"{name} {primitive}")
-        mesh_data.fill_mesh(mesh, data["positions"], data["triangles"], normals=data["normals"])
+        mesh_data.fill_mesh(mesh, data["positions"], data["triangles"], normals=data["normals"],
+                            custom_normals=True)  # a few hundred vertices: the exact normals are free
         mesh.materials.append(mat)
         collection.objects.link(bpy.data.objects.new(f"{k:03d} {primitive}", mesh))
     return collection

@@ -133,6 +133,10 @@ class IFSFORGE_PG_settings(PropertyGroup):
                                    description="Principled Volume density multiplier of the new material")
     mesh_iso: FloatProperty(name="Iso value", min=0.0, max=1.0, default=0.5,
                             description="Iso-surface of the occupancy (0..1)")
+    custom_normals: BoolProperty(
+        name="Core normals", default=False,
+        description="Store the core's per-vertex normals as custom split normals (terrains, iso-surfaces). Off: "
+                    "smooth shading from the faces, much faster to build and to evaluate")
     mesh_adaptivity: FloatProperty(name="Adaptivity", min=0.0, max=1.0, default=0.0,
                                    description="0: every voxel face; higher merges flat regions")
     # CSG instances (vector recursive rendering, 5.8.2)

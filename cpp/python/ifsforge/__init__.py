@@ -27,6 +27,7 @@ from ifsforge._core import (  # noqa: F401
     renderers,
     to_json,
     write_json,
+    mesh_edges,
     write_mesh,
     write_png,
 )
