@@ -53,14 +53,14 @@ void bind_mesh(py::module_& m) {
             py::gil_scoped_release release;
             e = mesh_edges(corners, k, vertex_count);
           }
-          py::array_t<std::int32_t> edges({static_cast<py::ssize_t>(e.edges.size()), py::ssize_t(2)});
-          py::array_t<std::int32_t> corner_edges(static_cast<py::ssize_t>(e.corner_edges.size()));
+          py::array_t<std::uint32_t> edges({static_cast<py::ssize_t>(e.edges.size()), py::ssize_t(2)});
+          py::array_t<std::uint32_t> corner_edges(static_cast<py::ssize_t>(e.corner_edges.size()));
           std::memcpy(edges.mutable_data(), e.edges.data(), e.edges.size() * sizeof(e.edges[0]));
-          std::memcpy(corner_edges.mutable_data(), e.corner_edges.data(), e.corner_edges.size() * sizeof(std::int32_t));
+          std::memcpy(corner_edges.mutable_data(), e.corner_edges.data(), e.corner_edges.size() * sizeof(std::uint32_t));
           return py::make_tuple(edges, corner_edges);
         },
         py::arg("faces"), py::arg("vertex_count"),
-        "(edges (E, 2) int32, corner_edges (n*k,) int32) of faces (n, k): each undirected edge once, sorted, and "
+        "(edges (E, 2) uint32, corner_edges (n*k,) uint32) of faces (n, k): each undirected edge once, sorted, and "
         "the edge of every corner j of a face (from its vertex j to j+1) -- what a mesh editor stores (Blender's "
         "edges and loops).");
 }

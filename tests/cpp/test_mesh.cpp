@@ -105,10 +105,10 @@ TEST(Mesh, BadMeshesAreRefusedAndNothingIsWritten) {
 // Two triangles sharing the diagonal of a square: 5 edges, the shared one once, sorted.
 TEST(MeshEdges, SharedEdgeOnceSortedPerCorner) {
   const MeshEdges e = mesh_edges({0, 1, 2, 0, 2, 3}, 3, 4);
-  const std::vector<std::array<std::int32_t, 2>> edges{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {2, 3}};
+  const std::vector<std::array<std::uint32_t, 2>> edges{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {2, 3}};
   EXPECT_EQ(e.edges, edges);
   // Corners: (0,1) (1,2) (2,0) | (0,2) (2,3) (3,0).
-  EXPECT_EQ(e.corner_edges, (std::vector<std::int32_t>{0, 3, 1, 1, 4, 2}));
+  EXPECT_EQ(e.corner_edges, (std::vector<std::uint32_t>{0, 3, 1, 1, 4, 2}));
 }
 
 TEST(MeshEdges, ClosedSurfaceObeysEuler) {

@@ -44,8 +44,8 @@ MeshEdges mesh_edges(const std::vector<std::uint32_t>& corners, int face_size, s
       for (Entry* f = e; f > first && f->high < (f - 1)->high; --f) std::swap(*f, *(f - 1));
     for (Entry* e = first; e != last; ++e) {
       if (e == first || e->high != (e - 1)->high)
-        out.edges.push_back({static_cast<std::int32_t>(v), static_cast<std::int32_t>(e->high)});
-      out.corner_edges[e->corner] = static_cast<std::int32_t>(out.edges.size() - 1);
+        out.edges.push_back({static_cast<std::uint32_t>(v), static_cast<std::uint32_t>(e->high)});
+      out.corner_edges[e->corner] = static_cast<std::uint32_t>(out.edges.size() - 1);
     }
   }
   return out;

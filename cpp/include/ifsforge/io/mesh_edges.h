@@ -11,8 +11,8 @@
 namespace ifsforge {
 
 struct MeshEdges {
-  std::vector<std::array<std::int32_t, 2>> edges;  ///< (low, high) vertex, sorted by low then high
-  std::vector<std::int32_t> corner_edges;          ///< k per face: edge of (v[j], v[(j+1)%k])
+  std::vector<std::array<std::uint32_t, 2>> edges;  ///< (low, high) vertex, sorted by low then high
+  std::vector<std::uint32_t> corner_edges;          ///< k per face: edge of (v[j], v[(j+1)%k])
 };
 
 /// @brief The edges of the faces `corners` (k = face_size vertex indices per face, face after
