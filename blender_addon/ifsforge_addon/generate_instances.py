@@ -62,7 +62,7 @@ class InstancesGenerator(Generator):
 
 def material(name):
     """Principled BSDF whose colour and alpha are each instance's "ifs_color"."""
-    mat = bpy.data.materials.get(f"{name} instances") or bpy.data.materials.new(f"{name} instances")
+    mat = bpy.data.materials.get(name) or bpy.data.materials.new(name)
     mat.use_nodes = True
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     nodes.clear()
@@ -79,15 +79,24 @@ def material(name):
 
 def prototype_collection(name, names, meshes, mat):
     """The primitives, each once, in a collection outside the scene (the node tree instances them;
-    children are taken in name order, so the names start with the primitive index)."""
+    children are taken in name order, so the names start with the primitive index). Objects whose
+    mesh the add-on made (tagged "ifsforge_primitive") are rebuilt; any other one is the user's
+    replacement for the primitive of its index (Suzanne for the sphere) and is kept."""
     collection = bpy.data.collections.get(f"{name} primitives") or bpy.data.collections.new(f"{name} primitives")
+    replaced = set()
     for obj in list(collection.objects):
-        mesh = obj.data
-        bpy.data.objects.remove(obj)
-        if mesh.users == 0:
-            bpy.data.meshes.remove(mesh)
+        if obj.type == 'MESH' and "ifsforge_primitive" in obj.data:
+            mesh = obj.data
+            bpy.data.objects.remove(obj)
+            if mesh.users == 0:
+                bpy.data.meshes.remove(mesh)
+        else:
+            replaced.add(obj.name[:3])
     for k, (primitive, data) in enumerate(zip(names, meshes)):
+        if f"{k:03d}" in replaced:
+            continue
         mesh = bpy.data.meshes.new(f"{name} {primitive}")
+        mesh["ifsforge_primitive"] = primitive
         mesh_data.fill_mesh(mesh, data["positions"], data["triangles"], normals=data["normals"],
                             custom_normals=True)  # a few hundred vertices: the exact normals are free
         mesh.materials.append(mat)
@@ -98,9 +107,9 @@ def prototype_collection(name, names, meshes, mat):
 def node_tree(name, prototypes):
     """Instance on Points: primitive "ifs_primitive" of the collection, rotated so the primitive's
     x and y axes follow "ifs_axis_x" and "ifs_axis_y" (the leaf's frame), scaled by "ifs_scale"."""
-    tree = bpy.data.node_groups.get(f"{name} instances")
+    tree = bpy.data.node_groups.get(name)
     if tree is None:
-        tree = bpy.data.node_groups.new(f"{name} instances", 'GeometryNodeTree')
+        tree = bpy.data.node_groups.new(name, 'GeometryNodeTree')
         tree.inputs.new('NodeSocketGeometry', "Geometry")
         tree.outputs.new('NodeSocketGeometry', "Geometry")
     nodes, links = tree.nodes, tree.links

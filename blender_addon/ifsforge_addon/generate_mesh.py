@@ -43,7 +43,7 @@ class MeshGenerator(Generator):
         mesh_data.fill_mesh(owner.data, data["positions"], data["faces"], normals=data["normals"],
                             colors=data["colors"], edges=data["edges"], custom_normals=result["custom_normals"])
         owner.data.materials.clear()
-        owner.data.materials.append(material(f"{name} surface", data["colors"] is not None))
+        owner.data.materials.append(material(name, data["colors"] is not None))
         return owner
 
 

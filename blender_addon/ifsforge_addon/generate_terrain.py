@@ -93,7 +93,7 @@ class TerrainGenerator(Generator):
         mesh_data.fill_mesh(mesh, data["positions"], data["faces"], normals=data["normals"], uvs=data["uvs"],
                             colors=data.get("colors"), color_name="ifs_palette", edges=data["edges"],
                             custom_normals=result["custom_normals"])
-        mat = material(f"{name} terrain", palette_image(f"{name} palette", result["path"]))
+        mat = material(name, palette_image(f"{name} palette", result["path"]))
         mesh.materials.clear()
         mesh.materials.append(mat)
         return owner

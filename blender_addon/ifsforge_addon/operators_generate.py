@@ -47,9 +47,18 @@ class Plan:
         owner = None if self.new else generators.owner_by_name(self.generator, self.name)
         if owner is None and not self.new:
             raise ifsforge.InputError(f"'{self.name}' was deleted while it was being generated")
+        own_data(owner)
         owner = self.generator.apply(context, owner, self.job.result, self.name)
         generators.store(owner, self.generator, self.values if self.new else None, self.job.result)
         return owner
+
+
+def own_data(owner):
+    """A duplicate (Shift+D of a volume, Alt+D of anything) shares its datablock with the
+    original: regenerating it first gives it a copy of its own, so the original is untouched."""
+    data = getattr(owner, "data", None)
+    if data is not None and data.users > 1:
+        owner.data = data.copy()
 
 
 class JobOperator:

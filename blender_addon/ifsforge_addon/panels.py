@@ -5,7 +5,7 @@ from bpy.types import Menu, Panel, UIList
 
 import ifsforge
 
-from . import generators, preview, state
+from . import files, generators, preview, state
 from .properties import COMMON_LAYOUTS, MAX_EXTRA
 
 AXES = "xyz"
@@ -273,6 +273,8 @@ class IFSFORGE_PT_generate(SidebarPanel, Panel):
         layout.use_property_split = True
         layout.prop(settings, "seed")
         layout.prop(context.scene.ifsforge, "cache_folder")
+        if files.missing():
+            layout.operator("ifsforge.regenerate_missing", icon='ERROR')
         if state.generated(owner):
             box = layout.box()
             box.label(text=owner.ifsforge.summary, icon='INFO')

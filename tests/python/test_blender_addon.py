@@ -139,6 +139,11 @@ def test_generators_in_blender(tmp_path):
 
 
 @needs_blender
+def test_datablocks_and_files_in_blender(tmp_path):
+    run_blender("addon_files.py", tmp_path)
+
+
+@needs_blender
 @pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is not installed (apt-get install xvfb)")
 def test_viewport_and_panels_with_a_window(tmp_path):
     # Drawing needs a GPU context: Blender gets a window on a virtual X display (Mesa's
