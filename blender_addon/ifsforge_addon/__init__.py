@@ -32,12 +32,12 @@ if not hasattr(ifsforge, "preview_cloud"):
 
 import bpy  # noqa: E402
 
-from . import (animation, files, operators_design, operators_export, operators_generate, panels,  # noqa: E402
-               preferences, preview, properties)
+from . import (animation, files, menus, operators_design, operators_export, operators_generate,  # noqa: E402
+               panels, preferences, preview, properties)
 
 # Every class the add-on registers, in order (a new module adds its `classes` here).
 classes = (*preferences.classes, *properties.classes, *operators_generate.classes, *operators_design.classes,
-           *operators_export.classes, *files.classes, *panels.classes)
+           *operators_export.classes, *files.classes, *menus.classes, *panels.classes)
 
 
 def register():
@@ -48,9 +48,11 @@ def register():
     preview.register()
     animation.register()
     files.register()
+    menus.register()
 
 
 def unregister():
+    menus.unregister()
     files.unregister()
     animation.unregister()
     preview.unregister()

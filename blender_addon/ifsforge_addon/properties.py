@@ -314,11 +314,12 @@ def snapshot(system_pg, settings_pg):
 
 
 def restore(values, system_pg, settings_pg):
-    """Sets a system and its settings from a snapshot()."""
-    write_record(system_pg, values["record"])
-    for key, value in values["morph"].items():
-        setattr(system_pg.morph, key, value)
-    system_pg.active_map = values["active_map"]
+    """Sets a system and its settings from a snapshot() (the settings only when system_pg is None)."""
+    if system_pg is not None:
+        write_record(system_pg, values["record"])
+        for key, value in values["morph"].items():
+            setattr(system_pg.morph, key, value)
+        system_pg.active_map = values["active_map"]
     for key, value in values["settings"].items():
         setattr(settings_pg, key, value)
 

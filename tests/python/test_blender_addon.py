@@ -39,7 +39,7 @@ def run_blender(script, tmp_path, timeout=120, window=False):
         command + ["--python", str(ROOT / "tests" / "blender" / script), "--",
                    "--python-path", str(BUILD_PYTHON), "--out", str(tmp_path)],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-        env=dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache")))
+        env=dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache"), BLENDER_USER_SCRIPTS=str(tmp_path / "scripts")))
     try:
         stdout, stderr = process.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
@@ -141,6 +141,11 @@ def test_generators_in_blender(tmp_path):
 @needs_blender
 def test_datablocks_and_files_in_blender(tmp_path):
     run_blender("addon_files.py", tmp_path)
+
+
+@needs_blender
+def test_blender_conventions(tmp_path):
+    run_blender("addon_conventions.py", tmp_path)
 
 
 @needs_blender
