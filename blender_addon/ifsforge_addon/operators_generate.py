@@ -53,6 +53,7 @@ class Plan:
         if self.new and isinstance(owner, bpy.types.Object):
             owner.location = context.scene.cursor.location  # where Blender adds objects
         generators.store(owner, self.generator, self.values if self.new else None, self.job.result)
+        owner.ifsforge.built_from = generators.digest(self.values)
         return owner
 
 
@@ -192,11 +193,12 @@ class IFSFORGE_OT_regenerate(JobOperator, bpy.types.Operator):
         return Plan(context, generator, owner, owner.ifsforge.system, owner.ifsforge.settings, new=False)
 
 
-def regenerate_now(context, owner):
-    """Synchronous regeneration (frame changes, renders). Returns an error message or ''."""
+def regenerate_now(context, owner, source=None):
+    """Synchronous regeneration (frame changes, renders, missing files), from the owner's stored
+    values or from `source` (its evaluated copy's ifsforge group). Returns an error message or ''."""
+    source = source or owner.ifsforge
     try:
-        plan = Plan(context, generators.get(owner.ifsforge.kind), owner, owner.ifsforge.system,
-                    owner.ifsforge.settings, new=False)
+        plan = Plan(context, generators.get(owner.ifsforge.kind), owner, source.system, source.settings, new=False)
         plan.job.run()
         plan.finish(context)
     except Exception as error:

@@ -281,6 +281,10 @@ class IFSFORGE_PT_generate(SidebarPanel, Panel):
             row = box.row()
             row.operator("ifsforge.regenerate", icon='FILE_REFRESH')
             row.prop(owner.ifsforge, "regenerate_on_frame", text="Every frame")
+            row = box.row()
+            row.operator("ifsforge.bake_animation", icon='RENDER_ANIMATION')
+            if owner.ifsforge.baked:
+                row.operator("ifsforge.free_bake", icon='TRASH')
             box.operator("ifsforge.copy_to_design", icon='COPYDOWN')
 
 

@@ -188,7 +188,11 @@ class IFSFORGE_PG_generated(PropertyGroup):
     summary: StringProperty(name="Result")
     regenerate_on_frame: BoolProperty(
         name="Regenerate on frame change", default=True,
-        description="When the system is keyframed, rebuild this datablock on every frame (and when rendering)")
+        description="On every frame (renders included), rebuild this datablock when a stored value changed "
+                    "(keyframes, drivers, NLA, scripts)")
+    # generators.digest() of the values the datablock was last built from.
+    built_from: StringProperty(options={'HIDDEN'})
+    baked: BoolProperty(name="Baked", description="Its frames are files Blender reads natively (Bake Animation)")
 
 
 class IFSFORGE_PG_preview(PropertyGroup):

@@ -144,6 +144,11 @@ def test_datablocks_and_files_in_blender(tmp_path):
 
 
 @needs_blender
+def test_animation_and_bake_in_blender(tmp_path):
+    run_blender("addon_animation.py", tmp_path, timeout=300)
+
+
+@needs_blender
 def test_blender_conventions(tmp_path):
     run_blender("addon_conventions.py", tmp_path)
 
@@ -153,5 +158,5 @@ def test_blender_conventions(tmp_path):
 def test_viewport_and_panels_with_a_window(tmp_path):
     # Drawing needs a GPU context: Blender gets a window on a virtual X display (Mesa's
     # software OpenGL). Any exception in a panel's or the draw handler's code prints a traceback.
-    report = run_blender("addon_gui.py", tmp_path, window=True)
+    report = run_blender("addon_gui.py", tmp_path, timeout=300, window=True)  # software OpenGL: slow redraws
     assert report["values"]["highlighted_pixels"] > 500
