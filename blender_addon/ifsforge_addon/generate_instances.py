@@ -104,14 +104,31 @@ def prototype_collection(name, names, meshes, mat):
     return collection
 
 
+# The node group's inputs beyond the geometry, shown on the modifier: (socket type, name, default).
+INPUTS = (('NodeSocketFloat', "Scale", 1.0), ('NodeSocketObject', "Object", None),
+          ('NodeSocketCollection', "Collection", None))
+
+
+def enabled(sockets):
+    """The sockets a node shows for its current type (the others are hidden alternatives)."""
+    return [socket for socket in sockets if socket.enabled]
+
+
 def node_tree(name, prototypes):
     """Instance on Points: primitive "ifs_primitive" of the collection, rotated so the primitive's
-    x and y axes follow "ifs_axis_x" and "ifs_axis_y" (the leaf's frame), scaled by "ifs_scale"."""
+    x and y axes follow "ifs_axis_x" and "ifs_axis_y" (the leaf's frame), scaled by "ifs_scale"
+    times the input Scale. The inputs Object or Collection, when set, are instanced instead of
+    the prototypes (the Object on every point; the Collection's children picked by primitive)."""
     tree = bpy.data.node_groups.get(name)
     if tree is None:
         tree = bpy.data.node_groups.new(name, 'GeometryNodeTree')
         tree.inputs.new('NodeSocketGeometry', "Geometry")
         tree.outputs.new('NodeSocketGeometry', "Geometry")
+    for kind, label, default in INPUTS:
+        if label not in tree.inputs:
+            socket = tree.inputs.new(kind, label)
+            if default is not None:
+                socket.default_value = default
     nodes, links = tree.nodes, tree.links
     nodes.clear()
     group_in, group_out = nodes.new('NodeGroupInput'), nodes.new('NodeGroupOutput')
@@ -122,24 +139,56 @@ def node_tree(name, prototypes):
         node.inputs["Name"].default_value = attribute_name
         return next(o for o in node.outputs if o.enabled)
 
-    collection = nodes.new('GeometryNodeCollectionInfo')
-    collection.inputs["Collection"].default_value = prototypes
-    collection.inputs["Separate Children"].default_value = True
-    collection.inputs["Reset Children"].default_value = True
+    def instances_of(collection_socket=None, collection=None):
+        node = nodes.new('GeometryNodeCollectionInfo')
+        if collection_socket is not None:
+            links.new(collection_socket, node.inputs["Collection"])
+        else:
+            node.inputs["Collection"].default_value = collection
+        node.inputs["Separate Children"].default_value = True
+        node.inputs["Reset Children"].default_value = True
+        return node.outputs["Geometry"]
+
+    def unless_empty(preferred, fallback):
+        """`preferred` when it holds any instance, else `fallback`."""
+        size = nodes.new('GeometryNodeAttributeDomainSize')
+        size.component = 'INSTANCES'
+        links.new(preferred, size.inputs["Geometry"])
+        some = nodes.new('FunctionNodeCompare')
+        some.data_type, some.operation = 'INT', 'GREATER_THAN'
+        links.new(size.outputs["Instance Count"], enabled(some.inputs)[0])  # > B = 0
+        switch = nodes.new('GeometryNodeSwitch')
+        switch.input_type = 'GEOMETRY'
+        condition, when_false, when_true = enabled(switch.inputs)
+        links.new(some.outputs["Result"], condition)
+        links.new(fallback, when_false)
+        links.new(preferred, when_true)
+        return enabled(switch.outputs)[0]
+
+    user_object = nodes.new('GeometryNodeObjectInfo')
+    user_object.inputs["As Instance"].default_value = True
+    user_object.transform_space = 'ORIGINAL'
+    links.new(group_in.outputs["Object"], user_object.inputs["Object"])
+    chosen = unless_empty(instances_of(group_in.outputs["Collection"]), instances_of(collection=prototypes))
+    chosen = unless_empty(user_object.outputs["Geometry"], chosen)
     align_x = nodes.new('FunctionNodeAlignEulerToVector')
     align_x.axis = 'X'
     align_y = nodes.new('FunctionNodeAlignEulerToVector')
     align_y.axis, align_y.pivot_axis = 'Y', 'X'
+    scale = nodes.new('ShaderNodeMath')
+    scale.operation = 'MULTIPLY'
     place = nodes.new('GeometryNodeInstanceOnPoints')
     place.inputs["Pick Instance"].default_value = True
     links.new(group_in.outputs["Geometry"], place.inputs["Points"])
-    links.new(collection.outputs["Geometry"], place.inputs["Instance"])
+    links.new(chosen, place.inputs["Instance"])
     links.new(attribute("ifs_primitive", 'INT'), place.inputs["Instance Index"])
     links.new(attribute("ifs_axis_x", 'FLOAT_VECTOR'), align_x.inputs["Vector"])
     links.new(align_x.outputs["Rotation"], align_y.inputs["Rotation"])
     links.new(attribute("ifs_axis_y", 'FLOAT_VECTOR'), align_y.inputs["Vector"])
     links.new(align_y.outputs["Rotation"], place.inputs["Rotation"])
-    links.new(attribute("ifs_scale", 'FLOAT'), place.inputs["Scale"])
+    links.new(attribute("ifs_scale", 'FLOAT'), scale.inputs[0])
+    links.new(group_in.outputs["Scale"], scale.inputs[1])
+    links.new(scale.outputs[0], place.inputs["Scale"])
     links.new(place.outputs["Instances"], group_out.inputs["Geometry"])
     return tree
 

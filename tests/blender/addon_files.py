@@ -90,6 +90,38 @@ def replaced_prototype_survives_regenerate():
     assert meshes == [suzanne.name] * 64, meshes[:3]
 
 
+def instance_inputs():
+    """The instances' node group inputs: Scale multiplies every instance's scale; an Object, or a
+    Collection's children, replace the prototypes."""
+    obj = generate("instances", "sierpinski_tetrahedron.json", instance_depth=2, instance_primitives="sphere")
+    modifier = obj.modifiers["ifsforge instances"]
+    sockets = modifier.node_group.inputs
+
+    def seen():
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        return sorted((i.object.data.original.name, round(i.matrix_world.to_scale()[0], 5))
+                      for i in depsgraph.object_instances if i.is_instance and i.parent and i.parent.original == obj)
+
+    before = seen()
+    assert len(before) == 16 and before[0][0] == f"{obj.name} sphere"
+    modifier[sockets["Scale"].identifier] = 2.0
+    obj.update_tag()
+    doubled = seen()
+    assert [round(2 * s, 4) for _, s in before] == [round(s, 4) for _, s in doubled], (before[:2], doubled[:2])
+    bpy.ops.mesh.primitive_cone_add()
+    cone = bpy.context.active_object
+    modifier[sockets["Object"].identifier] = cone
+    obj.update_tag()
+    assert {name for name, _ in seen()} == {cone.data.name} and len(seen()) == 16
+    modifier[sockets["Object"].identifier] = None
+    mine = bpy.data.collections.new("mine")
+    bpy.ops.mesh.primitive_cube_add()
+    mine.objects.link(bpy.context.active_object)
+    modifier[sockets["Collection"].identifier] = mine
+    obj.update_tag()
+    assert {name for name, _ in seen()} == {bpy.context.active_object.data.name}
+
+
 def files_move_beside_the_blend_and_travel():
     bpy.ops.wm.read_homefile(use_empty=False)
     assert not bpy.data.filepath and not scene().ifsforge.cache_folder
@@ -140,6 +172,7 @@ def missing_files_regenerate_on_load():
 
 checks.run("duplicate_regenerates_into_its_own_datablock", duplicate_regenerates_into_its_own_datablock)
 checks.run("replaced_prototype_survives_regenerate", replaced_prototype_survives_regenerate)
+checks.run("instance_inputs", instance_inputs)
 checks.run("files_move_beside_the_blend_and_travel", files_move_beside_the_blend_and_travel)
 checks.run("missing_files_regenerate_on_load", missing_files_regenerate_on_load)
 checks.finish()
