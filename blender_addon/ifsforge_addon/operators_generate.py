@@ -136,7 +136,8 @@ def _generate_operator(kind, description):
         owner, system_pg, settings_pg = state.target(context)
         if self.sample:  # into the scene's design (never over a selected object's stored system)
             from .operators_design import load_into  # (operators_design imports this module)
-            owner, system_pg, settings_pg = context.scene, context.scene.ifsforge.system, context.scene.ifsforge.settings
+            design = context.scene.ifsforge
+            owner, system_pg, settings_pg = context.scene, design.system, design.settings
             load_into(context, self, system_pg, ifsforge.load(str(presets.sample("systems", self.sample))),
                       settings_pg)
         if not self.adjusted:  # first run: start from the edited settings

@@ -18,7 +18,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-TARGETS = {"terrain 1025": 1.5, "terrain 4097": 15.0, "iso-surface 256 tetrahedron": 3.0, "iso-surface 256 menger": 3.0, "instances 160k": 0.5,
+TARGETS = {"terrain 1025": 1.5, "terrain 4097": 15.0, "iso-surface 256 tetrahedron": 3.0,
+           "iso-surface 256 menger": 3.0, "instances 160k": 0.5,
            "preview 200k": 0.030}
 
 

@@ -56,7 +56,8 @@ void bind_mesh(py::module_& m) {
           py::array_t<std::uint32_t> edges({static_cast<py::ssize_t>(e.edges.size()), py::ssize_t(2)});
           py::array_t<std::uint32_t> corner_edges(static_cast<py::ssize_t>(e.corner_edges.size()));
           std::memcpy(edges.mutable_data(), e.edges.data(), e.edges.size() * sizeof(e.edges[0]));
-          std::memcpy(corner_edges.mutable_data(), e.corner_edges.data(), e.corner_edges.size() * sizeof(std::uint32_t));
+          std::memcpy(corner_edges.mutable_data(), e.corner_edges.data(),
+                      e.corner_edges.size() * sizeof(std::uint32_t));
           return py::make_tuple(edges, corner_edges);
         },
         py::arg("faces"), py::arg("vertex_count"),
