@@ -53,9 +53,9 @@ def relocate(scene):
 
 
 def missing():
-    """Generated owners whose file is gone."""
-    return [o for o in owners()
-            if o.ifsforge.output and not os.path.isfile(bpy.path.abspath(o.ifsforge.output))]
+    """Generated owners whose file is gone (baked ones play their baked files instead)."""
+    return [o for o in owners() if o.ifsforge.output and not o.ifsforge.baked
+            and not os.path.isfile(bpy.path.abspath(o.ifsforge.output))]
 
 
 def regenerate_missing(scene):
