@@ -32,24 +32,31 @@ if not hasattr(ifsforge, "preview_cloud"):
 
 import bpy  # noqa: E402
 
-from . import (animation, operators_design, operators_export, operators_generate, panels, preview,  # noqa: E402
-               properties)
+from . import (animation, bake, files, menus, operators_design, operators_export, operators_generate,  # noqa: E402
+               panels, preferences, preview, properties)
 
-classes = (*properties.classes, *operators_generate.classes, *operators_design.classes, *operators_export.classes,
-           *panels.classes)
+# Every class the add-on registers, in order (a new module adds its `classes` here).
+classes = (*preferences.classes, *properties.classes, *operators_generate.classes, *operators_design.classes,
+           *operators_export.classes, *bake.classes, *files.classes, *menus.classes, *panels.classes)
 
 
 def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.register_pointers()
+    preferences.register()
     preview.register()
     animation.register()
+    files.register()
+    menus.register()
 
 
 def unregister():
+    menus.unregister()
+    files.unregister()
     animation.unregister()
     preview.unregister()
+    preferences.unregister()
     properties.unregister_pointers()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

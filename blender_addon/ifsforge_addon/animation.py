@@ -1,10 +1,10 @@
-"""Animation: keyframed system values (or a morph factor) regenerate the datablocks made from
-them on every frame, renders included. The continuity theorem (seed chapter 4) is what makes
-the frames change smoothly: the attractor moves continuously with the coefficients.
-
-The work happens in frame_change_pre, before the frame is evaluated, so that the render of a
-frame sees the datablock made for it; the keyframed values of the new frame are therefore
-evaluated here (the animation system writes the same values again right after)."""
+"""Animation: a generated object follows its stored values frame by frame, whatever changes them
+(keyframes, drivers, NLA strips, scripts). After each frame's evaluation the values of the
+evaluated object (animation applied) are compared by digest with those it was built from, and
+it is rebuilt when they differ. The rebuild happens in frame_change_post: Blender evaluates the
+depsgraph again when a post handler changed data, so renders see the rebuilt frame. The
+continuity theorem (seed chapter 4) is what makes the frames change smoothly: the attractor
+moves continuously with the coefficients. Baked objects (bake.py) play their files instead."""
 import types
 
 import bpy
@@ -12,35 +12,34 @@ from bpy.app.handlers import persistent
 
 from . import generators, preview, state
 from .operators_generate import regenerate_now
+from .properties import snapshot
 
 
-def animated_owners(scene):
-    """Generated objects of the scene whose stored values are keyframed and set to follow."""
+def following(scene):
+    """Generated objects of the scene that rebuild on frame changes."""
     return [obj for obj in scene.objects
-            if state.generated(obj) and obj.ifsforge.regenerate_on_frame and generators.animated(obj)]
+            if state.generated(obj) and obj.ifsforge.regenerate_on_frame and not obj.ifsforge.baked]
 
 
-def apply_keyframes(owner, frame):
-    """Writes the value of every "ifsforge." F-curve of the owner's action at `frame`."""
-    for fcurve in owner.animation_data.action.fcurves:
-        if not fcurve.data_path.startswith("ifsforge."):
-            continue
-        parent_path, _, name = fcurve.data_path.rpartition(".")
-        parent = owner.path_resolve(parent_path)
-        value = fcurve.evaluate(frame)
-        current = getattr(parent, name)
-        if hasattr(current, "__len__") and not isinstance(current, str):
-            current[fcurve.array_index] = type(current[fcurve.array_index])(value)
-        else:
-            setattr(parent, name, type(current)(value))
+def stale(owner, depsgraph):
+    """The ifsforge group `owner` is to be built from when its values differ from those it was
+    built from, else None: the evaluated copy's when animation (keyframes, NLA, drivers) writes
+    them, else the object's own (a script's change reaches the evaluated copy only later)."""
+    animated = depsgraph is not None and generators.animated(owner)
+    source = (owner.evaluated_get(depsgraph) if animated else owner).ifsforge
+    if generators.digest(snapshot(source.system, source.settings)) == owner.ifsforge.built_from:
+        return None
+    return source
 
 
 @persistent
 def on_frame_change(scene, depsgraph=None):
     context = types.SimpleNamespace(scene=scene)
-    for owner in animated_owners(scene):
-        apply_keyframes(owner, scene.frame_current)
-        error = regenerate_now(context, owner)
+    for owner in following(scene):
+        source = stale(owner, depsgraph)
+        if source is None:
+            continue
+        error = regenerate_now(context, owner, source)
         if error:
             print(f"ifsforge: frame {scene.frame_current}: {error}")
 
@@ -52,10 +51,10 @@ def on_load(*args):
 
 
 def register():
-    bpy.app.handlers.frame_change_pre.append(on_frame_change)
+    bpy.app.handlers.frame_change_post.append(on_frame_change)
     bpy.app.handlers.load_post.append(on_load)
 
 
 def unregister():
     bpy.app.handlers.load_post.remove(on_load)
-    bpy.app.handlers.frame_change_pre.remove(on_frame_change)
+    bpy.app.handlers.frame_change_post.remove(on_frame_change)

@@ -23,13 +23,15 @@ class MeshGenerator(Generator):
         layout.prop(settings, "volume_algorithm")
         layout.prop(settings, "mesh_iso")
         layout.prop(settings, "mesh_adaptivity")
+        layout.prop(settings, "custom_normals")
 
     def work(self, system, settings, path, progress):
         if system.spatial_dims != 3:
             raise ifsforge.InputError(f"'{system.name}' is planar ({system.layout}): iso-surfaces need an xyz layout")
         volume = render_volume(system, dict(settings, volume_density="binary"), progress)
-        mesh = ifsforge.volume_to_mesh(volume, iso=settings["mesh_iso"], adaptivity=settings["mesh_adaptivity"])
-        return {"path": None, "mesh": mesh,
+        mesh = mesh_data.prepare(ifsforge.volume_to_mesh(volume, iso=settings["mesh_iso"],
+                                                            adaptivity=settings["mesh_adaptivity"]))
+        return {"path": None, "mesh": mesh, "custom_normals": settings["custom_normals"],
                 "summary": f"{len(mesh['positions']):,} vertices, {len(mesh['triangles']):,} triangles from "
                            f"{len(volume):,} voxels"}
 
@@ -38,10 +40,10 @@ class MeshGenerator(Generator):
             owner = bpy.data.objects.new(name, bpy.data.meshes.new(name))
             link_object(context, owner)
         data = result["mesh"]
-        mesh_data.fill_mesh(owner.data, data["positions"], data["triangles"], normals=data["normals"],
-                            colors=data["colors"])
+        mesh_data.fill_mesh(owner.data, data["positions"], data["faces"], normals=data["normals"],
+                            colors=data["colors"], edges=data["edges"], custom_normals=result["custom_normals"])
         owner.data.materials.clear()
-        owner.data.materials.append(material(f"{name} surface", data["colors"] is not None))
+        owner.data.materials.append(material(name, data["colors"] is not None))
         return owner
 
 

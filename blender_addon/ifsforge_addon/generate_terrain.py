@@ -33,6 +33,7 @@ class TerrainGenerator(Generator):
         layout.prop(settings, "terrain_height")
         layout.prop(settings, "palette_recipe")
         layout.prop(settings, "palette_entries")
+        layout.prop(settings, "custom_normals")
         if system is not None and system.spatial_dims == 3 and settings.terrain_source == 'ATTRACTOR':
             layout.prop(settings, "view")
 
@@ -54,9 +55,9 @@ class TerrainGenerator(Generator):
             columns = rows = settings["terrain_resolution"]
             palette = palettes.make(settings["palette_recipe"], settings["palette_entries"])[1]
         terrain = ifsforge.make_terrain(controls, columns, rows, progress=progress)
-        mesh = terrain.mesh(palette=palette, up="z")
+        mesh = mesh_data.prepare(terrain.mesh(palette=palette, up="z"))
         ifsforge.write_png(path, palette.to_image(1), 16)
-        return {"path": path, "mesh": mesh,
+        return {"path": path, "mesh": mesh, "custom_normals": settings["custom_normals"],
                 "summary": f"{terrain.grid} terrain, {terrain.columns}x{terrain.rows} samples, heights "
                            f"{terrain.min_height:.3g} to {terrain.max_height:.3g}"}
 
@@ -89,9 +90,10 @@ class TerrainGenerator(Generator):
             owner = bpy.data.objects.new(name, bpy.data.meshes.new(name))
             link_object(context, owner)
         mesh, data = owner.data, result["mesh"]
-        mesh_data.fill_mesh(mesh, data["positions"], data["triangles"], normals=data["normals"], uvs=data["uvs"],
-                            colors=data.get("colors"), color_name="ifs_palette")
-        mat = material(f"{name} terrain", palette_image(f"{name} palette", result["path"]))
+        mesh_data.fill_mesh(mesh, data["positions"], data["faces"], normals=data["normals"], uvs=data["uvs"],
+                            colors=data.get("colors"), color_name="ifs_palette", edges=data["edges"],
+                            custom_normals=result["custom_normals"])
+        mat = material(name, palette_image(f"{name} palette", result["path"]))
         mesh.materials.clear()
         mesh.materials.append(mat)
         return owner

@@ -42,7 +42,7 @@ class VolumeGenerator(Generator):
         if owner is None:
             owner = bpy.data.objects.new(name, bpy.data.volumes.new(name))
             link_object(context, owner)
-            owner.data.materials.append(material(f"{name} volume", result["coloured"], result["strength"]))
+            owner.data.materials.append(material(name, result["coloured"], result["strength"]))
         volume = owner.data
         volume.grids.unload()  # the file may have the same name: forget what was read from it
         volume.filepath = outputs.stored(result["path"])

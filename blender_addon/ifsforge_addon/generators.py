@@ -77,9 +77,21 @@ def unique_name(generator, base):
 
 
 def animated(owner):
-    """True when the owner's stored system or settings carry keyframes."""
+    """True when an F-curve of the owner's action, of one of its NLA strips' actions, or a driver
+    writes one of its stored values."""
     data = getattr(owner, "animation_data", None)
-    return bool(data and data.action and any(fc.data_path.startswith("ifsforge.") for fc in data.action.fcurves))
+    if not data:
+        return False
+    actions = [data.action] + [strip.action for track in data.nla_tracks for strip in track.strips]
+    curves = [fc for action in actions if action for fc in action.fcurves] + list(data.drivers)
+    return any(fc.data_path.startswith("ifsforge.") for fc in curves)
+
+
+def digest(values):
+    """A digest of a properties.snapshot() minus what does not shape the output (the active
+    map of the list): equal digests, equal outputs."""
+    text = json.dumps({k: v for k, v in values.items() if k != "active_map"}, sort_keys=True, default=list)
+    return hashlib.sha1(text.encode()).hexdigest()
 
 
 def output_path(context, generator, name, values):

@@ -1,36 +1,69 @@
 """Arrays from the ifsforge module into Blender meshes (bulk foreach_set, no per-element Python)."""
 import numpy as np
 
+import ifsforge
 
-def fill_mesh(mesh, positions, triangles, normals=None, uvs=None, colors=None, color_name="ifs_color",
-              smooth=True):
-    """Replaces `mesh`'s geometry by triangles over positions; optional per-vertex normals (custom
-    split normals), uvs (per vertex, as the layer "UVMap") and sRGB(A) colours (a colour attribute)."""
+
+def prepare(data):
+    """Adds "faces" and "edges" to a mesh dict of the core, on the worker thread. Faces: quads
+    where the triangles come in pairs (a, b, c), (a, c, d) (terrain cells, the iso-surface's
+    voxel faces), which Blender splits back along the same a-c diagonal, so the surface is the
+    same with a third fewer corners; else the triangles. Edges: ifsforge.mesh_edges, which
+    Blender would otherwise derive on the main thread, slower."""
+    faces = np.asarray(data["triangles"]).reshape(-1, 3)
+    first, second = faces[0::2], faces[1::2]
+    if len(faces) and len(faces) % 2 == 0 and np.array_equal(first[:, 0], second[:, 0]) \
+            and np.array_equal(first[:, 2], second[:, 1]):
+        faces = np.column_stack([first, second[:, 2]])
+    data["faces"] = np.ascontiguousarray(faces, np.uint32)
+    data["edges"] = ifsforge.mesh_edges(data["faces"], len(data["positions"]))
+    return data
+
+
+def fill_mesh(mesh, positions, faces, normals=None, uvs=None, colors=None, color_name="ifs_color",
+              smooth=True, custom_normals=False, edges=None):
+    """Replaces `mesh`'s geometry by faces (n, 3 or 4) over positions; optional uvs (per vertex,
+    as the layer "UVMap") and sRGB(A) colours (a colour attribute, set by set_colors). The core's
+    meshes index only their own vertices and have no degenerate faces, so no validate(): that
+    alone took seconds on a 1025^2 terrain. Smooth shading uses the normals Blender derives from
+    the faces; the core's per-vertex normals become custom split normals only when asked (they
+    cost a loop-normal pass and auto smooth on every later evaluation). `edges`: the pair
+    ifsforge.mesh_edges returns for these faces (else Blender computes them)."""
     positions = np.ascontiguousarray(positions, np.float32).reshape(-1, 3)
-    triangles = np.ascontiguousarray(triangles, np.int32).reshape(-1, 3)
+    faces = np.asarray(faces)
+    # Index arrays are uint32: Blender 3.4's foreach_set copies them in bulk only in that format
+    # (int32 goes element by element, 20x slower).
+    faces = np.ascontiguousarray(faces, np.uint32).reshape(len(faces), -1)
+    count, size = faces.shape
     mesh.clear_geometry()
     mesh.vertices.add(len(positions))
     mesh.vertices.foreach_set("co", positions.ravel())
-    mesh.loops.add(3 * len(triangles))
-    mesh.loops.foreach_set("vertex_index", triangles.ravel())
-    mesh.polygons.add(len(triangles))
-    mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * len(triangles), 3, dtype=np.int32))
-    mesh.polygons.foreach_set("loop_total", np.full(len(triangles), 3, np.int32))
-    mesh.polygons.foreach_set("use_smooth", np.full(len(triangles), smooth, bool))
+    if edges is not None:
+        mesh.edges.add(len(edges[0]))
+        mesh.edges.foreach_set("vertices", edges[0].ravel())
+    mesh.loops.add(faces.size)
+    mesh.loops.foreach_set("vertex_index", faces.ravel())
+    if edges is not None:
+        mesh.loops.foreach_set("edge_index", edges[1])
+    mesh.polygons.add(count)
+    mesh.polygons.foreach_set("loop_start", np.arange(0, faces.size, size, dtype=np.uint32))
+    mesh.polygons.foreach_set("loop_total", np.full(count, size, np.uint32))
+    if smooth:
+        mesh.polygons.foreach_set("use_smooth", np.ones(count, bool))
     if uvs is not None:
         layer = mesh.uv_layers.new(name="UVMap")
-        layer.data.foreach_set("uv", np.ascontiguousarray(uvs, np.float32)[triangles.ravel()].ravel())
+        layer.data.foreach_set("uv", np.ascontiguousarray(uvs, np.float32)[faces.ravel()].ravel())
     if colors is not None:
         set_colors(mesh, color_name, colors)
-    mesh.update()
-    mesh.validate()
-    if normals is not None and len(normals) == len(positions):
+    mesh.update(calc_edges=edges is None)
+    if custom_normals and normals is not None and len(normals) == len(positions):
         mesh.use_auto_smooth = True
         mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(normals, np.float32).reshape(-1, 3))
 
 
 def set_colors(mesh, name, colors):
-    """A per-vertex FLOAT_COLOR attribute from sRGB(A) values in [0, 1]."""
+    """A per-vertex FLOAT_COLOR attribute from sRGB(A) values in [0, 1]: the one place where
+    the add-on's mesh colour arrays reach Blender (a colour-space conversion belongs here)."""
     colors = np.asarray(colors, np.float32)
     if colors.shape[1] == 3:
         colors = np.hstack([colors, np.ones((len(colors), 1), np.float32)])

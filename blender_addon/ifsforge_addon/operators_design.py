@@ -38,15 +38,16 @@ def preset_items(self=None, context=None):
     return _preset_items
 
 
-def load_into(context, operator, pg, system):
-    """Puts an ifsforge.Ifs into a system PropertyGroup; warns about what the map list cannot hold."""
+def load_into(context, operator, pg, system, settings=None):
+    """Puts an ifsforge.Ifs into a system PropertyGroup (and its view into `settings`, by default
+    the edited ones); warns about what the map list cannot hold."""
     left_out = codec.extensions(ifsforge.to_json(system))
     pg.morph.enabled = False
     write_record(pg, codec.system_record(system))
     pg.active_map = 0
     view = system.render_defaults.get("view")
     if view:
-        state.target(context)[2].view = view
+        (settings or state.target(context)[2]).view = view
     if left_out:
         operator.report({'WARNING'}, f"'{system.name}': {', '.join(left_out)} left out (the map list edits "
                                      "ordinary systems)")

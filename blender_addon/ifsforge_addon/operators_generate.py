@@ -4,14 +4,15 @@ run in place. Either way the result is one undo step, and errors become reports.
 import traceback
 
 import bpy
+from bpy.props import BoolProperty, PointerProperty, StringProperty
 
 import ifsforge
 
 from . import (generate_image, generate_instances, generate_mesh, generate_palette,  # noqa: F401  (they register)
                generate_terrain, generate_volume)
-from . import generators, state
+from . import generators, presets, state
 from .jobs import Job
-from .properties import snapshot
+from .properties import IFSFORGE_PG_settings, restore, snapshot
 
 
 def report_error(operator, error):
@@ -47,9 +48,21 @@ class Plan:
         owner = None if self.new else generators.owner_by_name(self.generator, self.name)
         if owner is None and not self.new:
             raise ifsforge.InputError(f"'{self.name}' was deleted while it was being generated")
+        own_data(owner)
         owner = self.generator.apply(context, owner, self.job.result, self.name)
+        if self.new and isinstance(owner, bpy.types.Object):
+            owner.location = context.scene.cursor.location  # where Blender adds objects
         generators.store(owner, self.generator, self.values if self.new else None, self.job.result)
+        owner.ifsforge.built_from = generators.digest(self.values)
         return owner
+
+
+def own_data(owner):
+    """A duplicate (Shift+D of a volume, Alt+D of anything) shares its datablock with the
+    original: regenerating it first gives it a copy of its own, so the original is untouched."""
+    data = getattr(owner, "data", None)
+    if data is not None and data.users > 1:
+        owner.data = data.copy()
 
 
 class JobOperator:
@@ -110,7 +123,10 @@ class JobOperator:
 
 
 def _generate_operator(kind, description):
-    """An IFSFORGE_OT_generate_<kind> class: a new datablock from the edited system."""
+    """An IFSFORGE_OT_generate_<kind> class: a new datablock from the edited system (or from the
+    sample `sample`), at the 3D cursor. The settings are the operator's own (copied from the
+    edited ones on the first run), so F9 "Adjust Last Operation" re-runs it with changed values
+    and operator presets (shipped for the samples, user-savable) can set them."""
 
     def plan(self, context):
         generator = generators.get(kind)
@@ -118,7 +134,16 @@ def _generate_operator(kind, description):
         if reason:
             raise ifsforge.Error(reason)
         owner, system_pg, settings_pg = state.target(context)
-        return Plan(context, generator, owner, system_pg, settings_pg, new=True)
+        if self.sample:  # into the scene's design (never over a selected object's stored system)
+            from .operators_design import load_into  # (operators_design imports this module)
+            design = context.scene.ifsforge
+            owner, system_pg, settings_pg = context.scene, design.system, design.settings
+            load_into(context, self, system_pg, ifsforge.load(str(presets.sample("systems", self.sample))),
+                      settings_pg)
+        if not self.adjusted:  # first run: start from the edited settings
+            restore({**snapshot(system_pg, settings_pg), "record": None}, None, self.settings)
+            self.adjusted = True
+        return Plan(context, generator, owner, system_pg, self.settings, new=True)
 
     @classmethod
     def poll(cls, context):
@@ -127,10 +152,24 @@ def _generate_operator(kind, description):
             cls.poll_message_set(reason)
         return not reason
 
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.prop(self, "sample")
+        layout.prop(self.settings, "seed")
+        generators.get(kind).draw(layout, self.settings, state.analyse(state.target(context)[1]).system)
+
     name = kind.lower()
     return type(f"IFSFORGE_OT_generate_{name}", (JobOperator, bpy.types.Operator), {
         "bl_idname": f"ifsforge.generate_{name}", "bl_label": f"Generate {generators.get(kind).label}",
-        "bl_description": description, "plan": plan, "poll": poll})
+        "bl_description": description, "bl_options": {'REGISTER', 'UNDO', 'PRESET'},
+        "plan": plan, "poll": poll, "draw": draw,
+        "__annotations__": {
+            "settings": PointerProperty(type=IFSFORGE_PG_settings, options={'SKIP_SAVE'}),
+            "sample": StringProperty(name="Sample", options={'SKIP_SAVE'},
+                                     description="A sample system file to generate from (empty: the edited system)"),
+            "adjusted": BoolProperty(options={'HIDDEN', 'SKIP_SAVE'}),
+        }})
 
 
 class IFSFORGE_OT_regenerate(JobOperator, bpy.types.Operator):
@@ -155,11 +194,12 @@ class IFSFORGE_OT_regenerate(JobOperator, bpy.types.Operator):
         return Plan(context, generator, owner, owner.ifsforge.system, owner.ifsforge.settings, new=False)
 
 
-def regenerate_now(context, owner):
-    """Synchronous regeneration (frame changes, renders). Returns an error message or ''."""
+def regenerate_now(context, owner, source=None):
+    """Synchronous regeneration (frame changes, renders, missing files), from the owner's stored
+    values or from `source` (its evaluated copy's ifsforge group). Returns an error message or ''."""
+    source = source or owner.ifsforge
     try:
-        plan = Plan(context, generators.get(owner.ifsforge.kind), owner, owner.ifsforge.system,
-                    owner.ifsforge.settings, new=False)
+        plan = Plan(context, generators.get(owner.ifsforge.kind), owner, source.system, source.settings, new=False)
         plan.job.run()
         plan.finish(context)
     except Exception as error:

@@ -1,6 +1,7 @@
 """Where generated files go: the scene's cache folder if set, else a folder next to the saved
 .blend (stored as a //relative path so the project can move), else a folder of this session
-in the user cache (so unsaved sessions never overwrite each other's files)."""
+in the cache folder of the add-on preferences or the user cache (so unsaved sessions never
+overwrite each other's files; files.py moves them beside the .blend when it is saved)."""
 import os
 import re
 import time
@@ -12,6 +13,16 @@ import bpy
 SESSION = time.strftime("session-%Y%m%d-%H%M%S-") + str(os.getpid())
 
 
+def session_folder():
+    """Where files go before the .blend is saved: the add-on preferences' cache folder, else
+    the user cache; one folder per session so unsaved sessions never share files."""
+    addon = bpy.context.preferences.addons.get(__package__)
+    base = addon.preferences.cache_folder if addon is not None else ""
+    if not base:
+        base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "ifsforge" / "blender"
+    return Path(bpy.path.abspath(str(base))) / SESSION
+
+
 def folder(scene):
     if scene.ifsforge.cache_folder:
         path = Path(bpy.path.abspath(scene.ifsforge.cache_folder))
@@ -19,7 +30,7 @@ def folder(scene):
         blend = Path(bpy.data.filepath)
         path = blend.parent / f"{blend.stem}_ifsforge"
     else:
-        path = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "ifsforge" / "blender" / SESSION
+        path = session_folder()
     path.mkdir(parents=True, exist_ok=True)
     return path
 

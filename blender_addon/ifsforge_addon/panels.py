@@ -5,7 +5,7 @@ from bpy.types import Menu, Panel, UIList
 
 import ifsforge
 
-from . import generators, preview, state
+from . import files, generators, preview, state
 from .properties import COMMON_LAYOUTS, MAX_EXTRA
 
 AXES = "xyz"
@@ -273,12 +273,18 @@ class IFSFORGE_PT_generate(SidebarPanel, Panel):
         layout.use_property_split = True
         layout.prop(settings, "seed")
         layout.prop(context.scene.ifsforge, "cache_folder")
+        if files.missing():
+            layout.operator("ifsforge.regenerate_missing", icon='ERROR')
         if state.generated(owner):
             box = layout.box()
             box.label(text=owner.ifsforge.summary, icon='INFO')
             row = box.row()
             row.operator("ifsforge.regenerate", icon='FILE_REFRESH')
             row.prop(owner.ifsforge, "regenerate_on_frame", text="Every frame")
+            row = box.row()
+            row.operator("ifsforge.bake_animation", icon='RENDER_ANIMATION')
+            if owner.ifsforge.baked:
+                row.operator("ifsforge.free_bake", icon='TRASH')
             box.operator("ifsforge.copy_to_design", icon='COPYDOWN')
 
 

@@ -133,6 +133,10 @@ class IFSFORGE_PG_settings(PropertyGroup):
                                    description="Principled Volume density multiplier of the new material")
     mesh_iso: FloatProperty(name="Iso value", min=0.0, max=1.0, default=0.5,
                             description="Iso-surface of the occupancy (0..1)")
+    custom_normals: BoolProperty(
+        name="Core normals", default=False,
+        description="Store the core's per-vertex normals as custom split normals (terrains, iso-surfaces). Off: "
+                    "smooth shading from the faces, much faster to build and to evaluate")
     mesh_adaptivity: FloatProperty(name="Adaptivity", min=0.0, max=1.0, default=0.0,
                                    description="0: every voxel face; higher merges flat regions")
     # CSG instances (vector recursive rendering, 5.8.2)
@@ -184,7 +188,11 @@ class IFSFORGE_PG_generated(PropertyGroup):
     summary: StringProperty(name="Result")
     regenerate_on_frame: BoolProperty(
         name="Regenerate on frame change", default=True,
-        description="When the system is keyframed, rebuild this datablock on every frame (and when rendering)")
+        description="On every frame (renders included), rebuild this datablock when a stored value changed "
+                    "(keyframes, drivers, NLA, scripts)")
+    # generators.digest() of the values the datablock was last built from.
+    built_from: StringProperty(options={'HIDDEN'})
+    baked: BoolProperty(name="Baked", description="Its frames are files Blender reads natively (Bake Animation)")
 
 
 class IFSFORGE_PG_preview(PropertyGroup):
@@ -310,11 +318,12 @@ def snapshot(system_pg, settings_pg):
 
 
 def restore(values, system_pg, settings_pg):
-    """Sets a system and its settings from a snapshot()."""
-    write_record(system_pg, values["record"])
-    for key, value in values["morph"].items():
-        setattr(system_pg.morph, key, value)
-    system_pg.active_map = values["active_map"]
+    """Sets a system and its settings from a snapshot() (the settings only when system_pg is None)."""
+    if system_pg is not None:
+        write_record(system_pg, values["record"])
+        for key, value in values["morph"].items():
+            setattr(system_pg.morph, key, value)
+        system_pg.active_map = values["active_map"]
     for key, value in values["settings"].items():
         setattr(settings_pg, key, value)
 

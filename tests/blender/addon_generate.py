@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from addon_harness import Checks, arguments, close, enable_addon, expect_report  # noqa: E402
+from addon_harness import Checks, arguments, close, enable_addon, expect_report, render_alpha  # noqa: E402
 
 args = arguments()
 OUT = Path(args.out) / "generate"
@@ -50,43 +50,6 @@ def generate(kind):
         obj.select_set(False)
     getattr(bpy.ops.ifsforge, f"generate_{kind}")()
     return context.active_object
-
-
-def render_alpha(obj, path, size=32, samples=8, box=None):
-    """A tiny Cycles render of `obj` alone, seen from a camera on the diagonal of its bounding
-    box (or of `box`, (lo, hi)); returns RGBA (the film is transparent: alpha 0 where nothing
-    was hit)."""
-    from mathutils import Vector
-    for other in scene.objects:
-        other.hide_render = other is not obj and other.type != 'CAMERA' and other.type != 'LIGHT'
-    obj.hide_render = False
-    if box is None:
-        corners = [obj.matrix_world @ Vector(c) for c in obj.bound_box]
-    else:
-        corners = [Vector(box[0]), Vector(box[1])]
-    centre = sum(corners, Vector()) / len(corners)
-    radius = max((c - centre).length for c in corners)
-    camera = scene.camera
-    direction = Vector((1.0, -1.0, 0.8)).normalized()
-    camera.location = centre + direction * radius * 3.5
-    camera.rotation_euler = (-direction).to_track_quat('-Z', 'Y').to_euler()
-    camera.data.type, camera.data.lens = 'PERSP', 50
-    camera.data.clip_end = radius * 10
-    scene.render.engine = 'CYCLES'
-    scene.cycles.device = 'CPU'
-    scene.cycles.samples = samples
-    scene.cycles.use_denoising = False
-    scene.render.resolution_x = scene.render.resolution_y = size
-    scene.render.resolution_percentage = 100
-    scene.render.film_transparent = True
-    scene.render.image_settings.file_format = 'PNG'
-    scene.render.image_settings.color_mode = 'RGBA'
-    scene.render.filepath = str(path)
-    bpy.ops.render.render(write_still=True)
-    image = bpy.data.images.load(str(path), check_existing=False)
-    pixels = np.array(image.pixels[:]).reshape(size, size, 4)
-    bpy.data.images.remove(image)
-    return pixels
 
 
 def volume():
@@ -157,7 +120,7 @@ def instances():
     colours = np.zeros(64 * 4, np.float32)
     obj.data.attributes["ifs_color"].data.foreach_get("color_srgb", colours)
     close(colours.reshape(-1, 4), expected.colors, 5e-4)  # stored linear: the sRGB round trip rounds
-    material = bpy.data.materials["Sierpinski tetrahedron instances instances"]
+    material = bpy.data.materials["Sierpinski tetrahedron instances"]  # not "... instances instances"
     attribute = material.node_tree.nodes["Attribute"]
     assert (attribute.attribute_type, attribute.attribute_name) == ('INSTANCER', "ifs_color")
     # (An instancer's own bounding box is empty: frame the leaves' balls.)

@@ -178,20 +178,57 @@ def modal_results():
     assert not list(cache.glob("Menger_sponge_volume*")), "a cancelled job left a file"
 
 
+def adjust_last_operation():
+    """F9: the finished Generate Terrain is the last operation; changing its settings (as the
+    Adjust Last Operation panel does, or a preset) and redoing makes the terrain anew from them."""
+    window, area, region, _ = view3d()
+    for obj in bpy.context.selected_objects:
+        obj.select_set(False)
+    bpy.ops.ifsforge.load_preset(preset="barnsley_fern.json")
+    bpy.context.scene.ifsforge.settings.terrain_resolution = 65
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.ed.undo_push(message="design")  # what the UI does after each edit: redo starts here
+        bpy.ops.wm.call_menu(name="IFSFORGE_MT_add")  # Shift+A > IFS draws (a traceback would fail the test)
+        assert bpy.ops.ifsforge.generate_terrain('INVOKE_DEFAULT') == {'RUNNING_MODAL'}
+    for _ in range(100):
+        if "Barnsley fern terrain" in bpy.data.objects:
+            break
+        yield
+    yield
+    operator = bpy.context.window_manager.operators[-1]
+    assert operator.bl_idname == "IFSFORGE_OT_generate_terrain", operator.bl_idname
+    assert operator.properties.settings.terrain_resolution == 65
+    operator.properties.settings.terrain_resolution = 33
+    operator.properties.settings.terrain_source = 'RANDOM'
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        assert bpy.ops.ed.undo_redo() == {'FINISHED'}
+    yield
+    terrains = [o for o in bpy.data.objects if o.name.startswith("Barnsley fern terrain")]
+    checks.values["adjusted_terrains"] = [(o.name, len(o.data.vertices), o.ifsforge.settings.terrain_source)
+                                          for o in terrains]
+
+
+def adjusted_results():
+    assert checks.values["adjusted_terrains"] == [("Barnsley fern terrain", 33 * 33, 'RANDOM')], \
+        checks.values["adjusted_terrains"]
+    assert bpy.context.scene.ifsforge.settings.terrain_resolution == 65  # the edited settings stay
+
+
 steps = [setup, draws_the_preview, pixels_show_the_pieces, tab_clicks, panels_draw, modal_generate, escape_cancels,
-         modal_results]
+         modal_results, adjust_last_operation, adjusted_results]
+GENERATORS = (tab_clicks, modal_generate, escape_cancels, adjust_last_operation)
 running = None
 
 
 def tick():
     global running
-    if steps[0] in (tab_clicks, modal_generate, escape_cancels):
+    if steps[0] in GENERATORS:
         running = running or steps[0]()
         if next(running, "done") != "done":
             return 0.2
         running = None
         steps.pop(0)
-        if not steps[0:1] or steps[0] in (modal_generate, escape_cancels):
+        if not steps[0:1] or steps[0] in GENERATORS:
             return 0.2
     step = steps.pop(0)
     if step is setup:

@@ -82,3 +82,43 @@ def close(a, b, tolerance):
         k = np.unravel_index(np.argmax(np.abs(a - b)), a.shape)
         raise AssertionError(f"differ by {np.abs(a - b).max():.3g} > {tolerance} at {k}: {a[k]} != {b[k]}"
                              + (f" ({a.tolist()} != {b.tolist()})" if a.size <= 16 else ""))
+
+
+def render_alpha(obj, path, size=32, samples=8, box=None):
+    """A tiny Cycles render of `obj` alone, seen from a camera on the diagonal of its bounding
+    box (or of `box`, (lo, hi)); returns RGBA (the film is transparent: alpha 0 where nothing
+    was hit)."""
+    import bpy
+    import numpy as np
+    from mathutils import Vector
+    scene = bpy.context.scene
+    for other in scene.objects:
+        other.hide_render = other is not obj and other.type != 'CAMERA' and other.type != 'LIGHT'
+    obj.hide_render = False
+    if box is None:
+        corners = [obj.matrix_world @ Vector(c) for c in obj.bound_box]
+    else:
+        corners = [Vector(box[0]), Vector(box[1])]
+    centre = sum(corners, Vector()) / len(corners)
+    radius = max((c - centre).length for c in corners)
+    camera = scene.camera
+    direction = Vector((1.0, -1.0, 0.8)).normalized()
+    camera.location = centre + direction * radius * 3.5
+    camera.rotation_euler = (-direction).to_track_quat('-Z', 'Y').to_euler()
+    camera.data.type, camera.data.lens = 'PERSP', 50
+    camera.data.clip_end = radius * 10
+    scene.render.engine = 'CYCLES'
+    scene.cycles.device = 'CPU'
+    scene.cycles.samples = samples
+    scene.cycles.use_denoising = False
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = True
+    scene.render.image_settings.file_format = 'PNG'
+    scene.render.image_settings.color_mode = 'RGBA'
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(str(path), check_existing=False)
+    pixels = np.array(image.pixels[:]).reshape(size, size, 4)
+    bpy.data.images.remove(image)
+    return pixels

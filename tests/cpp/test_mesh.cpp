@@ -10,6 +10,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/mesh.h"
+#include "ifsforge/io/mesh_edges.h"
 #include "ifsforge/io/png.h"
 
 using namespace ifsforge;
@@ -99,4 +100,35 @@ TEST(Mesh, BadMeshesAreRefusedAndNothingIsWritten) {
   EXPECT_THROW(write_mesh(temp("c.ply"), short_colors), InputError);
   EXPECT_THROW(write_mesh(temp("cube.stl"), cube()), InputError);
   EXPECT_THROW(write_mesh("/nonexistent/cube.ply", cube()), FileError);
+}
+
+// Two triangles sharing the diagonal of a square: 5 edges, the shared one once, sorted.
+TEST(MeshEdges, SharedEdgeOnceSortedPerCorner) {
+  const MeshEdges e = mesh_edges({0, 1, 2, 0, 2, 3}, 3, 4);
+  const std::vector<std::array<std::uint32_t, 2>> edges{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {2, 3}};
+  EXPECT_EQ(e.edges, edges);
+  // Corners: (0,1) (1,2) (2,0) | (0,2) (2,3) (3,0).
+  EXPECT_EQ(e.corner_edges, (std::vector<std::uint32_t>{0, 3, 1, 1, 4, 2}));
+}
+
+TEST(MeshEdges, ClosedSurfaceObeysEuler) {
+  // An octahedron: V - E + F = 2 with 6 vertices and 8 faces gives 12 edges.
+  const MeshEdges e = mesh_edges({0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5}, 3, 6);
+  EXPECT_EQ(e.edges.size(), 12u);
+  std::vector<int> uses(12, 0);
+  for (auto k : e.corner_edges) ++uses[k];
+  for (int u : uses) EXPECT_EQ(u, 2);  // closed: every edge between two faces
+}
+
+TEST(MeshEdges, BadIndicesAreInputErrors) {
+  EXPECT_THROW(mesh_edges({0, 1, 7}, 3, 3), InputError);
+  EXPECT_THROW(mesh_edges({0, 1, 1}, 3, 3), InputError);
+  EXPECT_THROW(mesh_edges({0, 1, 2, 3}, 3, 4), InputError);  // not whole faces
+}
+
+// A 2x1 strip of quads: 7 edges, the middle one shared.
+TEST(MeshEdges, Quads) {
+  const MeshEdges e = mesh_edges({0, 1, 4, 3, 1, 2, 5, 4}, 4, 6);
+  EXPECT_EQ(e.edges.size(), 7u);
+  EXPECT_EQ(e.corner_edges[1], e.corner_edges[7]);  // (1,4) from both quads
 }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <random>
 
+#include "ifsforge/core/default_threads.h"
+#include "ifsforge/core/parallel.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/model/linear_algebra.h"
@@ -158,4 +160,15 @@ TEST(Ifs, BoundsOfTheSierpinskiTriangle) {
   EXPECT_DOUBLE_EQ(b.hi[0], 1.0);
   EXPECT_DOUBLE_EQ(b.lo[1], 0.0);
   EXPECT_DOUBLE_EQ(b.hi[1], 1.0);
+}
+
+// threads = 0 means the process default once one is set, and the hardware again after 0.
+TEST(DefaultThreads, ZeroMeansTheProcessDefault) {
+  const int hardware = resolve_threads(0);
+  set_default_threads(3);
+  EXPECT_EQ(resolve_threads(0), 3);
+  EXPECT_EQ(resolve_threads(5), 5);
+  set_default_threads(0);
+  EXPECT_EQ(resolve_threads(0), hardware);
+  EXPECT_THROW(set_default_threads(-1), InputError);
 }

@@ -39,7 +39,7 @@ def run_blender(script, tmp_path, timeout=120, window=False):
         command + ["--python", str(ROOT / "tests" / "blender" / script), "--",
                    "--python-path", str(BUILD_PYTHON), "--out", str(tmp_path)],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-        env=dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache")))
+        env=dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache"), BLENDER_USER_SCRIPTS=str(tmp_path / "scripts")))
     try:
         stdout, stderr = process.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
@@ -139,9 +139,24 @@ def test_generators_in_blender(tmp_path):
 
 
 @needs_blender
+def test_datablocks_and_files_in_blender(tmp_path):
+    run_blender("addon_files.py", tmp_path)
+
+
+@needs_blender
+def test_animation_and_bake_in_blender(tmp_path):
+    run_blender("addon_animation.py", tmp_path, timeout=300)
+
+
+@needs_blender
+def test_blender_conventions(tmp_path):
+    run_blender("addon_conventions.py", tmp_path)
+
+
+@needs_blender
 @pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is not installed (apt-get install xvfb)")
 def test_viewport_and_panels_with_a_window(tmp_path):
     # Drawing needs a GPU context: Blender gets a window on a virtual X display (Mesa's
     # software OpenGL). Any exception in a panel's or the draw handler's code prints a traceback.
-    report = run_blender("addon_gui.py", tmp_path, window=True)
+    report = run_blender("addon_gui.py", tmp_path, timeout=300, window=True)  # software OpenGL: slow redraws
     assert report["values"]["highlighted_pixels"] > 500

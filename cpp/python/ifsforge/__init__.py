@@ -27,6 +27,9 @@ from ifsforge._core import (  # noqa: F401
     renderers,
     to_json,
     write_json,
+    default_threads,
+    mesh_edges,
+    set_default_threads,
     write_mesh,
     write_png,
 )

@@ -1,8 +1,11 @@
 #include "ifsforge/core/parallel.h"
 
+#include "ifsforge/core/default_threads.h"
+
 #include <atomic>
 #include <exception>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -10,8 +13,18 @@
 
 namespace ifsforge {
 
+namespace {
+std::atomic<int> default_threads{0};
+}
+
+void set_default_threads(int threads) {
+  if (threads < 0) throw InputError("threads must be >= 0 (0: all cores), got " + std::to_string(threads));
+  default_threads = threads;
+}
+
 int resolve_threads(int requested) {
   if (requested > 0) return requested;
+  if (const int preset = default_threads.load(); preset > 0) return preset;
   const unsigned hw = std::thread::hardware_concurrency();
   return hw == 0 ? 1 : static_cast<int>(hw);
 }
