@@ -199,49 +199,6 @@ std::string tail(const std::string& text, int lines) {
 
 }  // namespace
 
-std::string pov_comment(const std::string& text) {
-  std::string out;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c < 0x20 || c == 0x7F) {
-      out += ' ';
-    } else if ((c == '/' && i + 1 < text.size() && text[i + 1] == '*') ||
-               (c == '*' && i + 1 < text.size() && text[i + 1] == '/')) {
-      out += static_cast<char>(c);
-      out += ' ';
-    } else {
-      out += static_cast<char>(c);
-    }
-  }
-  return out;
-}
-
-std::string pov_string(const std::string& text) {
-  std::string out = "\"";
-  for (const char ch : text) {
-    const unsigned char c = static_cast<unsigned char>(ch);
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (c < 0x20 || c >= 0x7F) {
-      out += '?';
-    } else {
-      out += ch;
-    }
-  }
-  return out + "\"";
-}
-
-std::string pov_identifier(const std::string& text) {
-  std::string out = "IFS_";
-  for (const char ch : text) {
-    if (out.size() >= 40) break;
-    const unsigned char c = static_cast<unsigned char>(ch);
-    out += (std::isalnum(c) && c < 0x80) || c == '_' ? ch : '_';
-  }
-  return out;
-}
-
 char* pov_number(char* out, float value) {
   if (!std::isfinite(value) || value == 0.0f) {
     *out++ = '0';
@@ -325,6 +282,7 @@ PovFraming frame_balls(const std::vector<PovBall>& balls, const PovView& view, i
   const PovVector u{std::cos(yaw), std::sin(yaw), 0.0};
   const PovVector v{-std::sin(pitch) * std::sin(yaw), std::sin(pitch) * std::cos(yaw), std::cos(pitch)};
   const PovVector d = cross(v, u);
+  f.camera.sky = v;
   const double aspect = static_cast<double>(width) / height;
   double distance;
   PovCamera& cam = f.camera;
@@ -345,6 +303,7 @@ PovFraming frame_balls(const std::vector<PovBall>& balls, const PovView& view, i
     distance = 2.0 * size;
     const PovVector aim = f.centre + (0.5 * (u0 + u1)) * u + (0.5 * (v0 + v1)) * v;
     cam.location = aim - distance * d;
+    cam.look_at = aim;
     cam.direction = d;
     cam.right = w * u;
     cam.up = h * v;
@@ -361,6 +320,7 @@ PovFraming frame_balls(const std::vector<PovBall>& balls, const PovView& view, i
       distance = std::max(distance, std::abs(dot(r, v)) / tan_v + b.radius * sec_v - dot(r, d));
     }
     cam.location = f.centre - distance * d;
+    cam.look_at = f.centre;
     cam.direction = (aspect / (2.0 * std::tan(0.5 * view.fov * M_PI / 180.0))) * d;
     cam.right = aspect * u;
     cam.up = v;
@@ -378,13 +338,7 @@ std::string pov_preamble(const std::string& title, const std::string& extra_comm
   const int quality = environment.quality == PovQuality::Draft ? 0 : environment.quality == PovQuality::High ? 2 : 1;
   std::string s;
   s += "// " + pov_comment(title) + "\n";
-  std::size_t start = 0;
-  while (start < extra_comment.size()) {
-    std::size_t end = extra_comment.find('\n', start);
-    if (end == std::string::npos) end = extra_comment.size();
-    s += "// " + pov_comment(extra_comment.substr(start, end - start)) + "\n";
-    start = end + 1;
-  }
+  s += pov_comment_lines(extra_comment);
   s += "// Written by ifsforge for POV-Ray 3.7; framed for a " + std::to_string(width) + "x" +
        std::to_string(height) + " image:\n//   povray +I<this file> +W" + std::to_string(width) + " +H" +
        std::to_string(height) + " +A0.3\n";
@@ -401,7 +355,8 @@ std::string pov_preamble(const std::string& title, const std::string& extra_comm
   const PovCamera& c = framing.camera;
   s += std::string("camera { ") + (c.orthographic ? "orthographic" : "perspective") + "\n  location " +
        vector_text(c.location) + "\n  direction " + vector_text(c.direction) + "\n  right " + vector_text(c.right) +
-       "\n  up " + vector_text(c.up) + "\n}\n";
+       "\n  up " + vector_text(c.up) + "\n  sky " + vector_text(c.sky) + "\n  look_at " + vector_text(c.look_at) +
+       "\n}\n";
   s += "IFS_Key_Light(" + vector_text(framing.key_light) + ", " + number_text(0.15 * framing.radius) + ", IFS_Quality)\n";
   s += "IFS_Fill_Light(" + vector_text(framing.fill_light) + ")\n";
   if (environment.sky) {

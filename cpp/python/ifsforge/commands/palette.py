@@ -31,7 +31,8 @@ def register(subparsers):
     p.add_argument("--bits", type=int, choices=[8, 16], default=8)
     p.add_argument("--apply", nargs=2, metavar=("GRAY.png", "OUT.png"),
                    help="colour a gray image (a height field) through the palette")
-    p.add_argument("--name", help="POV-Ray identifier stem (default: the recipe's name)")
+    p.add_argument("--name", help="name of the POV-Ray color_map, declared as IFS_Palette_<name> "
+                   "(default: the recipe's name)")
     p.set_defaults(run=run)
 
 
@@ -80,11 +81,10 @@ def run(args):
             ifsforge.write_png(path, palette.to_image(args.rows), args.bits)
             print(f"{path}: {spec.space} fractal palette, {entries}x{args.rows}, {args.bits}-bit")
         else:
-            identifier = "".join(ch if ch.isalnum() else "_" for ch in (args.name or name))
-            text = (f"// ifsforge fractal palette '{name}' ({spec.space}, {len(spec.stops)} stops)\n"
-                    f"#declare Palette_{identifier} = {palette.color_map()}\n")
+            text = palette.pov_include(args.name or name, f"{spec.space}, {len(spec.stops)} stops", entries)
             write_text(path, text)
-            print(f"{path}: POV-Ray color_map Palette_{identifier} ({min(entries, 256)} entries)")
+            identifier = ifsforge.pov_identifier("Palette", args.name or name)
+            print(f"{path}: POV-Ray color_map {identifier} ({min(entries, 256)} entries)")
     if args.apply:
         source, target = args.apply
         coloured = ifsforge.apply_palette(ifsforge.read_png(source), palette)
