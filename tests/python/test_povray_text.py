@@ -183,6 +183,18 @@ def test_terrain_scene_with_hostile_names_renders(cli, tmp_path, name):
     povray(tmp_path, "t.pov")
 
 
+@needs_povray
+@pytest.mark.parametrize("shape,camera", [("mesh2", "top"), ("height_field", "top"), ("mesh2", "perspective")])
+def test_terrain_cameras_and_shapes_parse_cleanly(cli, tmp_path, shape, camera):
+    recipe = json.loads((TERRAIN / "ridge_range.json").read_text())
+    recipe["palette"] = palette_recipe(tmp_path / "palette.json", "Crème brûlée")
+    (tmp_path / "terrain.json").write_text(json.dumps(recipe))
+    cli("terrain", "terrain.json", "--res", "17x13", "-o", "t.pov", "--pov-shape", shape, "--pov-camera", camera,
+        check=True)
+    assert "#declare IFS_Palette_Creme_brulee = color_map {" in (tmp_path / "t.pov").read_text()
+    povray(tmp_path, "t.pov")
+
+
 @pytest.mark.parametrize("name", HOSTILE + ["a ]]> <b>&amp; \x01 </title>"])
 def test_svg_title_is_well_formed_xml(samples, tmp_path, name):
     system = ifsforge.read_json(str(samples / "sierpinski_triangle.json"))
