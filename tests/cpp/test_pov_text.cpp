@@ -7,6 +7,7 @@
 #include <string>
 
 #include "ifsforge/io/pov_text.h"
+#include "ifsforge/texture/palette.h"
 
 namespace ifsforge {
 namespace {
@@ -117,6 +118,31 @@ TEST(PovText, XmlTextIsWellFormed) {
   EXPECT_EQ(xml_text("Cr\xc3\xa8me\x01\n"), "Cr\xc3\xa8me \n");
   EXPECT_EQ(xml_text("x\xff" "y\xef\xbf\xbe"), "x\xef\xbf\xbdy\xef\xbf\xbd");
   EXPECT_EQ(xml_text("]]></title><script>"), "]]&gt;&lt;/title&gt;&lt;script&gt;");
+}
+
+TEST(PovText, PaletteIncludeDeclaresOnlyItsColourMap) {
+  Palette palette;
+  palette.colors = {{0.5f, 0.5f, 0.5f}, {1.0f, 0.0f, 0.04045f}};
+  const std::string text = pov_palette_include(palette, "ok\n#declare Evil=1;\n// */", "desc\n#include \"x\"");
+  std::size_t start = 0;
+  int directives = 0;
+  while (start < text.size()) {
+    const std::size_t end = text.find('\n', start);
+    const std::string line = text.substr(start, end - start);
+    start = end + 1;
+    if (line.rfind("//", 0) == 0) {
+      EXPECT_EQ(line.find('#'), std::string::npos) << line;
+      EXPECT_EQ(line.find("*/"), std::string::npos) << line;
+    } else if (line.rfind("#", 0) == 0) {
+      ++directives;
+      EXPECT_EQ(line, "#declare IFS_Palette_ok_declare_Evil_1 = color_map {");
+    }
+  }
+  EXPECT_EQ(directives, 1);
+  // Linear rgb: sRGB 0.5 decodes to 0.2140411, 0.04045 to 0.04045 / 12.92.
+  EXPECT_NE(text.find("  [0.000000 rgb <0.2140411, 0.2140411, 0.2140411>]\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("  [1.000000 rgb <1.0000000, 0.0000000, 0.0031308>]\n"), std::string::npos) << text;
+  EXPECT_NE(pov_color_map(palette).find("  [0.000000 srgb <0.500000, 0.500000, 0.500000>]"), std::string::npos);
 }
 
 }  // namespace
