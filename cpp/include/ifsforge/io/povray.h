@@ -1,8 +1,8 @@
 #pragma once
 /// @file POV-Ray 3.7 pieces shared by every exporter that writes scenes (instances, terrains):
-/// escaping of text written into scene files, fast number formatting, a camera and lights
-/// framed from a bounding box, the scene preamble, the ifsforge.inc include, and running the
-/// real `povray` headless.
+/// fast number formatting, a camera and lights framed from a bounding box (pov_camera.cpp),
+/// the scene preamble, the ifsforge.inc include, and running the real `povray` headless. Text
+/// from input reaches scenes only through io/pov_text.h (included here).
 ///
 /// Scenes keep the coordinates of the IFS unchanged with z up. The camera's image-plane axes
 /// are those of `ifsforge render --view YAW PITCH` (render/frame.h): an orthographic scene
@@ -81,9 +81,10 @@ struct PovEnvironment {
   PovQuality quality = PovQuality::Normal;    ///< draft: no shadows; high: soft shadows, radiosity
 };
 
-/// @brief The preamble of a scene: comments naming `title` and how to render, #version,
-/// #include "ifsforge.inc", IFS_Title as a string, global_settings, camera, lights, sky or
-/// background, floor. `extra_comment` lines go into the header comment.
+/// @brief The preamble of a scene: comments naming `title` (pov_comment) and how to render,
+/// #version, #include "ifsforge.inc", IFS_Title (pov_string of `title`), global_settings, the
+/// camera (with sky and look_at, see PovCamera), lights, sky or background, floor.
+/// `extra_comment` lines go into the header comment (pov_comment_lines).
 std::string pov_preamble(const std::string& title, const std::string& extra_comment,
                          const PovFraming& framing, const PovEnvironment& environment, int width, int height);
 
