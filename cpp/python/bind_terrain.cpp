@@ -193,8 +193,10 @@ void bind_terrain(py::module_& m) {
      ".glb (palette strip embedded as base-colour texture), .obj or .ply; uv = (normalised height, 0.5)");
   m.def("write_terrain_pov", [](const std::string& path, const Terrain& t, std::optional<Palette> palette,
                                 const std::string& shape, const std::string& camera, bool flat, double aspect,
-                                int threads) {
+                                int threads, const std::string& title, const std::string& palette_name) {
     TerrainPovOptions o;
+    o.title = title;
+    o.palette_name = palette_name;
     o.shape = shape;
     o.camera = camera;
     o.flat = flat;
@@ -204,7 +206,8 @@ void bind_terrain(py::module_& m) {
     return write_terrain_pov(path, t, p, o, threads);
   }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("shape") = "height_field",
      py::arg("camera") = "perspective", py::arg("flat") = false, py::arg("aspect") = 4.0 / 3.0,
-     py::arg("threads") = 0,
+     py::arg("threads") = 0, py::arg("title") = TerrainPovOptions().title,
+     py::arg("palette_name") = TerrainPovOptions().palette_name,
      "POV-Ray scene (height_field + its 16-bit PNG, or mesh2) coloured by the palette; returns the files written");
 }
 

@@ -58,8 +58,10 @@ void bind_texture(py::module_& m) {
       .def("lookup", &Palette::lookup, py::arg("t"), "The colour at t in [0, 1], linear between entries.")
       .def("to_image", [](const Palette& p, int rows) { return image_to_numpy(palette_image(p, rows)); },
            py::arg("rows") = 1, "(rows, n, 3) float32: a strip (rows=1) or an n x rows texture")
-      .def("color_map", &pov_color_map, py::arg("entries") = 256,
-           "A POV-Ray color_map (at most 256 entries, colours as srgb).");
+      .def("color_map", &pov_color_map, py::arg("entries") = 256, py::arg("linear") = false,
+           "A POV-Ray color_map (at most 256 entries, colours as srgb, or as linear rgb).")
+      .def("pov_include", &pov_palette_include, py::arg("name"), py::arg("about") = "", py::arg("entries") = 256,
+           "A POV-Ray include declaring IFS_Palette_<name> (linear rgb: parses without assumed_gamma).");
 
   py::class_<PaletteRecipe>(m, "PaletteRecipe", "A palette recipe file (ifsforge-palette/1).")
       .def_readwrite("name", &PaletteRecipe::name)
@@ -87,7 +89,7 @@ void bind_texture(py::module_& m) {
     return image_to_numpy(out);
   }, py::arg("image"), py::arg("palette"), py::arg("threads") = 0,
      "Colour a gray (or RGB: by luminance) image through the palette; alpha is kept.");
-  m.def("pov_color_map", &pov_color_map, py::arg("palette"), py::arg("entries") = 256);
+  m.def("pov_color_map", &pov_color_map, py::arg("palette"), py::arg("entries") = 256, py::arg("linear") = false);
   m.def("hls_to_rgb", [](double h, double l, double s) {
     float rgb[3];
     hls_to_rgb(h, l, s, rgb);

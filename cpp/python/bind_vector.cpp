@@ -295,9 +295,18 @@ void bind_vector(py::module_& m) {
         "Render a scene with the real POV-Ray 3.7 (headless) into a PNG, atomically.");
   m.def("povray_include", &povray_include, "the text of ifsforge.inc");
   m.def("write_povray_include", &write_povray_include, py::arg("folder"));
-  m.def("pov_string", &pov_string, py::arg("text"), "a POV-Ray string literal holding text");
-  m.def("pov_comment", &pov_comment, py::arg("text"), "text made safe inside a // comment");
-  m.def("pov_identifier", &pov_identifier, py::arg("text"));
+  m.def("pov_string", &pov_string, py::arg("text"), "a POV-Ray string literal holding text (ASCII, escaped)");
+  m.def("pov_comment", &pov_comment, py::arg("text"), "text made safe inside a // comment (one ASCII line)");
+  m.def("pov_identifier", &pov_identifier, py::arg("kind"), py::arg("name"),
+        "the identifier IFS_<kind>_<name> (name reduced to ASCII letters, digits and '_')");
+  m.def("pov_name", &pov_name, py::arg("name"), "the name part of pov_identifier");
+  m.def("ascii_text", &ascii_text, py::arg("text"), py::arg("unknown") = '?',
+        "text in printable ASCII: accents dropped, other characters as `unknown`");
+  m.def("pov_reserved_words", [] {
+    std::vector<std::string> words;
+    for (const auto w : pov_reserved_words()) words.emplace_back(w);
+    return words;
+  }, "POV-Ray 3.7's reserved words, sorted");
 
   m.def("write_svg",
         [](const std::string& path, const InstanceList& list, int width, double margin,

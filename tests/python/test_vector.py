@@ -126,7 +126,7 @@ def test_hostile_system_names_stay_inert_in_the_scene(cli, samples, tmp_path):
         check=True)
     scene = (tmp_path / "h.pov").read_text()
     assert "\n#declare Boom" not in scene
-    assert '#declare IFS_Title = "IFS instances: \\"; #system \\"rm?#declare Boom = 1/0;";' in scene
+    assert '#declare IFS_Title = "IFS instances: \\"; #system \\"rm #declare Boom = 1/0;";' in scene
 
 
 def test_cli_bad_input_fails_cleanly(cli, samples, tmp_path):
@@ -162,7 +162,7 @@ def test_user_mesh_primitive_through_every_exporter(samples, tmp_path):
     assert mesh["triangles"].shape == (4, 3)
     np.testing.assert_allclose(inst.primitives[1].bounding_radius, np.linalg.norm(mesh["positions"], axis=1).max())
     ifsforge.write_pov_scene(str(tmp_path / "m.pov"), inst)
-    assert "#declare IFS_Mesh_1 = mesh2" in (tmp_path / "m.pov").read_text()
+    assert "#declare IFS_Mesh_leaf = mesh2" in (tmp_path / "m.pov").read_text()
     ifsforge.render_povray(str(tmp_path / "m.pov"), str(tmp_path / "m.png"), 48, 36)
     assert (tmp_path / "m.png").exists()
 

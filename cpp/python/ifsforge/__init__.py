@@ -45,7 +45,8 @@ from ifsforge._core import (  # noqa: F401  (algorithms: recurrent/super IFS, co
 )
 from ifsforge._core import (  # noqa: F401  (vector: instance lists, addresses, POV-Ray/SVG/glTF)
     AddressLeaves, AddressTable, InstanceList, Primitive, apply_address, count_leaves, default_instance_depth,
-    draw_instances, instances, pov_comment, pov_identifier, pov_string, povray_include, primitive_names, read_mesh,
+    ascii_text, draw_instances, instances, pov_comment, pov_identifier, pov_name, pov_reserved_words, pov_string,
+    povray_include, primitive_names, read_mesh,
     render_povray, string_rewriting, tesseral_synecdoche, write_address_csv, write_gltf_instances, write_pov_scene,
     write_povray_include, write_svg,
 )

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/parallel.h"
@@ -74,7 +75,7 @@ std::string mesh2(const std::string& identifier, const TriangleMesh& mesh) {
 
 }  // namespace
 
-std::string pov_primitive_identifier(const Primitive& primitive, std::size_t index) {
+std::string pov_primitive_identifier(const Primitive& primitive, PovNames& names) {
   switch (primitive.shape) {
     case Shape::Line: return "IFS_Line";
     case Shape::Circle: return primitive.outline ? "IFS_Circle_Outline" : "IFS_Circle";
@@ -85,7 +86,7 @@ std::string pov_primitive_identifier(const Primitive& primitive, std::size_t ind
     case Shape::Cone: return "IFS_Cone";
     case Shape::Cylinder: return "IFS_Cylinder";
     case Shape::Torus: return "IFS_Torus";
-    case Shape::Mesh: return "IFS_Mesh_" + std::to_string(index);
+    case Shape::Mesh: return names.take("Mesh", std::filesystem::path(primitive.mesh_path).stem().string());
   }
   return "IFS_Sphere";
 }
@@ -114,9 +115,10 @@ void write_pov_scene(const std::string& path, const InstanceList& list, const Po
   std::array<double, 3> lo, hi;
   list.bounds(lo, hi);
   const PovFraming framing = frame_instances(list, options);
+  PovNames scene_names;
   std::vector<std::string> identifiers;
-  for (std::size_t p = 0; p < list.primitives.size(); ++p)
-    identifiers.push_back(pov_primitive_identifier(list.primitives[p], p));
+  for (const Primitive& primitive : list.primitives)
+    identifiers.push_back(pov_primitive_identifier(primitive, scene_names));
 
   std::size_t visible = 0;
   for (float s : list.scales) visible += s > 0.0f && std::isfinite(s);

@@ -7,28 +7,13 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
+#include "ifsforge/io/pov_text.h"
 #include "ifsforge/io/povray.h"
 
 namespace ifsforge {
 namespace {
 
 using Vec2 = std::array<double, 2>;
-
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  for (const char ch : text) {
-    const unsigned char c = static_cast<unsigned char>(ch);
-    switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c < 0x20 && c != '\t' && c != '\n' ? ' ' : ch;
-    }
-  }
-  return out;
-}
 
 void number(std::string& out, double v) {
   char buffer[40];
@@ -112,7 +97,7 @@ void write_svg(const std::string& path, const InstanceList& list, const SvgOptio
   out += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + std::to_string(options.width) +
          "\" height=\"" + std::to_string(height) + "\" viewBox=\"0 0 " + std::to_string(options.width) + " " +
          std::to_string(height) + "\">\n";
-  out += "<title>" + xml_escape(options.title.empty() ? list.name : options.title) + "</title>\n";
+  out += "<title>" + xml_text(options.title.empty() ? list.name : options.title) + "</title>\n";
   out += "<desc>Vector IFS instances (seed 5.8.2, 6.1.3.5) written by ifsforge</desc>\n";
   if (options.background) {
     const auto& b = *options.background;

@@ -3,6 +3,7 @@
 #include "ifsforge/terrain/terrain_povray.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -37,6 +38,15 @@ class Text {
   std::string text_;
 };
 
+/// `stem` as a portable file name part: ASCII letters, digits, '.', '-' and '_' (others become
+/// '_'), so the scene names its height PNG by a plain string POV-Ray finds.
+std::string file_stem(const std::string& stem) {
+  std::string out = ascii_text(stem, '_');
+  for (char& c : out)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-') c = '_';
+  return out.empty() || out[0] == '.' ? "terrain" + out : out;
+}
+
 }  // namespace
 
 std::vector<std::string> write_terrain_pov(const std::string& path, const Terrain& t, const Palette& palette,
@@ -55,12 +65,15 @@ std::vector<std::string> write_terrain_pov(const std::string& path, const Terrai
   if (colours.colors.empty()) colours.colors = {{0.2f, 0.2f, 0.2f}, {0.95f, 0.95f, 0.95f}};
 
   Text s;
+  s.raw("// " + pov_comment(o.title) + "\n");
   s.line("// ifsforge terrain: %s grid, %d x %d samples, heights %.6g to %.6g.", to_string(t.grid), t.columns, t.rows,
          lo, hi);
   s.line("// Axes: x east, y up, z north. Render: povray +I<this file> +O<image>.png +W<w> +H<h> +A");
   s.line("#version 3.7;");
   s.line("global_settings { assumed_gamma 1.0 }");
-  s.raw("#declare Ifsforge_Terrain_Colours = " + pov_color_map(colours) + "\n");
+  s.raw("#declare IFS_Title = " + pov_string(o.title) + ";\n");
+  const std::string colour_map = pov_identifier("Palette", o.palette_name);
+  s.raw("#declare " + colour_map + " = " + pov_color_map(colours) + "\n");
   if (o.camera == "top") {
     s.line("camera { orthographic location <%.9g, %.9g, %.9g> direction <0, -1, 0>", 0.5 * (box[0] + box[2]),
            hi + range + span, 0.5 * (box[1] + box[3]));
@@ -83,14 +96,14 @@ std::vector<std::string> write_terrain_pov(const std::string& path, const Terrai
   if (o.shape == "height_field") {
     // POV-Ray maps the image onto the unit square: column -> x, row 0 -> z = 1 (north), gray -> y.
     const std::filesystem::path scene(path);
-    const std::string png_name = scene.stem().string() + "_height.png";
+    const std::string png_name = file_stem(scene.stem().string()) + "_height.png";
     const std::string png_path = (scene.parent_path() / png_name).string();
     write_png(png_path, height_image(t, 0, 0, threads), 16);
     written.push_back(png_path);
     s.line("height_field { png %s smooth", pov_string(png_name).c_str());
     // The pigment lives in the unit square, before the scale: gradient y spans [0, 1) there;
     // 1.0001 keeps the highest point from wrapping round to the lowest colour.
-    s.line("  pigment { gradient y color_map { Ifsforge_Terrain_Colours } scale <1, 1.0001, 1> }");
+    s.line("  pigment { gradient y color_map { %s } scale <1, 1.0001, 1> }", colour_map.c_str());
     s.line("  %s", finish.c_str());
     s.line("  scale <%.9g, %.9g, %.9g> translate <%.9g, %.9g, %.9g> }", sx, range, sy, box[0], lo, box[1]);
   } else {
@@ -107,8 +120,8 @@ std::vector<std::string> write_terrain_pov(const std::string& path, const Terrai
     s.line("  face_indices { %zu,", mesh.triangles.size());
     for (const auto& f : mesh.triangles) s.line("    <%u, %u, %u>,", f[0], f[1], f[2]);
     s.line("  }");
-    s.line("  pigment { gradient y color_map { Ifsforge_Terrain_Colours } scale <1, %.9g, 1> translate <0, %.9g, 0> }",
-           range * 1.0001, lo);
+    s.line("  pigment { gradient y color_map { %s } scale <1, %.9g, 1> translate <0, %.9g, 0> }",
+           colour_map.c_str(), range * 1.0001, lo);
     s.line("  %s", finish.c_str());
     s.line("}");
   }

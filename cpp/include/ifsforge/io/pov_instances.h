@@ -30,7 +30,8 @@ struct PovSceneOptions {
 /// scale of 0 (collapsed by a singular map) are left out; InputError when none is left.
 /// Spheres are written as `sphere { q0, d pigment {...} }`, other primitives as
 /// `object { IFS_<Primitive> matrix <d e1, d e2, d e3, q0> pigment {...} }`, user meshes as one
-/// declared mesh2 each. Colours are written as srgb (POV-Ray converts them to its linear
+/// declared mesh2 each (IFS_Mesh_<file stem>). Names (title, mesh paths) reach only comments
+/// and the IFS_Title string, through pov_comment and pov_string. Colours are written as srgb (POV-Ray converts them to its linear
 /// working space), with srgbt (transmit = 1 - alpha) where alpha < 1.
 void write_pov_scene(const std::string& path, const InstanceList& instances, const PovSceneOptions& options = {});
 
@@ -38,7 +39,9 @@ void write_pov_scene(const std::string& path, const InstanceList& instances, con
 /// bounding balls (2D lists seen from above).
 PovFraming frame_instances(const InstanceList& instances, const PovSceneOptions& options);
 
-/// @brief The ifsforge.inc identifier of a built-in primitive ("IFS_Cone", "IFS_Circle_Outline").
-std::string pov_primitive_identifier(const Primitive& primitive, std::size_t index);
+/// @brief The ifsforge.inc identifier of a built-in primitive ("IFS_Cone", "IFS_Circle_Outline"),
+/// or for a user mesh a new one from `names`: IFS_Mesh_<file stem> (pov_identifier), unique in
+/// the scene.
+std::string pov_primitive_identifier(const Primitive& primitive, PovNames& names);
 
 }  // namespace ifsforge

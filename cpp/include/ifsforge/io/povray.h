@@ -1,8 +1,8 @@
 #pragma once
 /// @file POV-Ray 3.7 pieces shared by every exporter that writes scenes (instances, terrains):
-/// escaping of text written into scene files, fast number formatting, a camera and lights
-/// framed from a bounding box, the scene preamble, the ifsforge.inc include, and running the
-/// real `povray` headless.
+/// fast number formatting, a camera and lights framed from a bounding box (pov_camera.cpp),
+/// the scene preamble, the ifsforge.inc include, and running the real `povray` headless. Text
+/// from input reaches scenes only through io/pov_text.h (included here).
 ///
 /// Scenes keep the coordinates of the IFS unchanged with z up. The camera's image-plane axes
 /// are those of `ifsforge render --view YAW PITCH` (render/frame.h): an orthographic scene
@@ -15,20 +15,11 @@
 #include <vector>
 
 #include "ifsforge/core/progress.h"
+#include "ifsforge/io/pov_text.h"
 
 namespace ifsforge {
 
 using PovVector = std::array<double, 3>;
-
-/// @brief `text` made safe inside a `//` comment: line breaks and other control characters
-/// become spaces and "/*", "*/" are broken up, so nothing can end the comment.
-std::string pov_comment(const std::string& text);
-/// @brief A POV-Ray string literal, quotes included: backslashes and quotes escaped, control
-/// characters and non-ASCII bytes replaced by '?'.
-std::string pov_string(const std::string& text);
-/// @brief An identifier from `text`: "IFS_" then letters, digits and '_' (others become '_'),
-/// at most 40 characters, so it never clashes with POV-Ray's lower-case keywords.
-std::string pov_identifier(const std::string& text);
 
 /// @brief Writes the shortest text that reads back as `value` (float precision) and returns
 /// the end. Needs 16 bytes. Non-finite values are written as 0.
@@ -45,9 +36,14 @@ struct PovView {
   double margin = 0.05;             ///< free border on each side, fraction of the image
 };
 
+/// POV-Ray checks that direction, right and up are perpendicular; written with float digits
+/// they are not quite, so scenes give `sky` and `look_at` after them: POV-Ray then rebuilds the
+/// three exactly perpendicular, keeping their lengths and handedness (right = ±|right| sky x
+/// direction, up = |up| direction x right), with direction along look_at - location.
 struct PovCamera {
   bool orthographic = false;
   PovVector location{}, direction{}, right{}, up{};
+  PovVector sky{}, look_at{};  ///< up's direction; the point the camera aims at
 };
 
 /// @brief A camera, lights and floor for a scene whose content fills a box.
@@ -85,9 +81,10 @@ struct PovEnvironment {
   PovQuality quality = PovQuality::Normal;    ///< draft: no shadows; high: soft shadows, radiosity
 };
 
-/// @brief The preamble of a scene: comments naming `title` and how to render, #version,
-/// #include "ifsforge.inc", IFS_Title as a string, global_settings, camera, lights, sky or
-/// background, floor. `extra_comment` lines go into the header comment.
+/// @brief The preamble of a scene: comments naming `title` (pov_comment) and how to render,
+/// #version, #include "ifsforge.inc", IFS_Title (pov_string of `title`), global_settings, the
+/// camera (with sky and look_at, see PovCamera), lights, sky or background, floor.
+/// `extra_comment` lines go into the header comment (pov_comment_lines).
 std::string pov_preamble(const std::string& title, const std::string& extra_comment,
                          const PovFraming& framing, const PovEnvironment& environment, int width, int height);
 

@@ -21,10 +21,15 @@ struct TerrainPovOptions {
   bool flat = false;
   /// The render's width / height, for the perspective camera.
   double aspect = 4.0 / 3.0;
+  /// First comment line and IFS_Title (pov_comment, pov_string).
+  std::string title = "ifsforge terrain";
+  /// The palette's name: the colours are declared as IFS_Palette_<name> (pov_identifier).
+  std::string palette_name = "terrain";
 };
 
 /// @brief Writes the scene (atomically) and, for a height_field, its PNG; returns the paths
-/// written. The palette (empty: a gray ramp) becomes a `gradient y` pigment spanning the
+/// written (a height_field's PNG is `<scene stem>_height.png`, the stem reduced to ASCII
+/// letters, digits, '.', '-' and '_'). The palette (empty: a gray ramp) becomes a `gradient y` pigment spanning the
 /// terrain's heights. POV-Ray axes: x east, y up, z north (POV-Ray's own y-up convention,
 /// which height_field uses natively). Render from the scene's folder (the PNG is named
 /// relative to it), e.g. with render_povray (io/povray.h) or

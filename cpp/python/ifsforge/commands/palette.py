@@ -31,7 +31,8 @@ def register(subparsers):
     p.add_argument("--bits", type=int, choices=[8, 16], default=8)
     p.add_argument("--apply", nargs=2, metavar=("GRAY.png", "OUT.png"),
                    help="colour a gray image (a height field) through the palette")
-    p.add_argument("--name", help="POV-Ray identifier stem (default: the recipe's name)")
+    p.add_argument("--name", help="name of the POV-Ray color_map, declared as IFS_Palette_<name> "
+                   "(default: the recipe's name)")
     p.set_defaults(run=run)
 
 
@@ -63,12 +64,12 @@ def run(args):
         if args.stops or args.space or args.positions:
             raise ifsforge.InputError("--stops, --space and --positions describe a palette without a recipe")
         recipe = ifsforge.read_palette_recipe(args.recipe)
-        spec, name, entries = recipe.spec, recipe.name, recipe.entries
+        spec, name, entries, description = recipe.spec, recipe.name, recipe.entries, recipe.description
     else:
         if not args.stops:
             raise ifsforge.InputError("give a palette recipe or --stops")
         spec = ifsforge.PaletteSpec(args.space or "rgb", [parse_stop(s) for s in args.stops], args.positions or [])
-        name, entries = "palette", 256
+        name, entries, description = "palette", 256, ""
     if args.roughness:
         maps = len(spec.stops) - 1
         spec.a22 = [ifsforge.vertical_scaling(maps, r, args.signs, args.seed, k) for k, r in enumerate(args.roughness)]
@@ -80,11 +81,11 @@ def run(args):
             ifsforge.write_png(path, palette.to_image(args.rows), args.bits)
             print(f"{path}: {spec.space} fractal palette, {entries}x{args.rows}, {args.bits}-bit")
         else:
-            identifier = "".join(ch if ch.isalnum() else "_" for ch in (args.name or name))
-            text = (f"// ifsforge fractal palette '{name}' ({spec.space}, {len(spec.stops)} stops)\n"
-                    f"#declare Palette_{identifier} = {palette.color_map()}\n")
+            about = f"{spec.space}, {len(spec.stops)} stops" + (f"\n{description}" if description else "")
+            text = palette.pov_include(args.name or name, about, entries)
             write_text(path, text)
-            print(f"{path}: POV-Ray color_map Palette_{identifier} ({min(entries, 256)} entries)")
+            identifier = ifsforge.pov_identifier("Palette", args.name or name)
+            print(f"{path}: POV-Ray color_map {identifier} ({min(entries, 256)} entries)")
     if args.apply:
         source, target = args.apply
         coloured = ifsforge.apply_palette(ifsforge.read_png(source), palette)

@@ -130,11 +130,12 @@ def run(args):
         controls.a22_u = ifsforge.vertical_scaling(maps_u, along, args.signs, args.seed, 1)
         controls.a22_v = ifsforge.vertical_scaling(rows - 1, across, args.signs, args.seed, 2)
 
-    palette = None
+    palette, palette_name = None, "terrain"
     if args.palette:
-        palette = ifsforge.read_palette_recipe(args.palette).make()
+        palette_recipe = ifsforge.read_palette_recipe(args.palette)
+        palette, palette_name = palette_recipe.make(), palette_recipe.name
     elif recipe is not None and recipe.palette is not None:
-        palette = recipe.palette.make()
+        palette, palette_name = recipe.palette.make(), recipe.palette.name
 
     (columns, rows), (width, height) = sample_counts(grid, controls, args.res, recipe)
     terrain = ifsforge.make_terrain(controls, columns, rows, threads=args.threads,
@@ -164,7 +165,8 @@ def run(args):
         else:
             w, h = common.parse_size(args.povray_size)
             written = ifsforge.write_terrain_pov(path, terrain, palette, args.pov_shape, args.pov_camera,
-                                                 args.pov_flat, w / h, args.threads)
+                                                 args.pov_flat, w / h, args.threads, f"ifsforge terrain: {name}",
+                                                 palette_name)
             print(f"{path}: POV-Ray {args.pov_shape} scene" + (f" (+ {written[1]})" if len(written) > 1 else ""))
     if args.preview:
         image = image if image is not None else terrain.height_image(width, height, args.threads)
