@@ -96,7 +96,7 @@ void bind_pifs(py::module_& m) {
         }
         return image_to_numpy(image);
       }, py::arg("scale") = 1.0, py::arg("size") = py::none(), py::arg("decoder") = "hierarchical",
-         py::arg("iterations") = 0, py::arg("deblock") = false, py::arg("threads") = 0,
+         py::arg("iterations") = 0, py::arg("deblock") = PifsDecodeOptions{}.deblock, py::arg("threads") = 0,
          "The image (float32 in [0, 1], (h, w) or (h, w, c)) at scale × the size, or at size=(width, height). "
          "decoder: 'hierarchical' (Baharav) or 'iterative' (DIA); iterations 0 = the default.")
       .def("to_bytes", &to_bytes, "The .pifs file's bytes.")

@@ -52,12 +52,25 @@ BlockFeature transform_feature(const BlockFeature& f, int iso, bool negate) {
 FeatureTree::FeatureTree(std::vector<BlockFeature> points, std::vector<std::uint32_t> tags)
     : points_(std::move(points)), tags_(std::move(tags)) {
   if (!points_.empty()) {
-    nodes_.reserve(2 * points_.size() / kLeafSize + 2);
+    nodes_.reserve(4 * points_.size() / kLeafSize + 2);
+    order_.resize(points_.size());
+    std::iota(order_.begin(), order_.end(), 0);
     build(0, int(points_.size()));
+    std::vector<BlockFeature> p(points_.size());
+    std::vector<std::uint32_t> t(points_.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      p[i] = points_[order_[i]];
+      t[i] = tags_[order_[i]];
+    }
+    points_.swap(p);
+    tags_.swap(t);
+    order_.clear();
+    order_.shrink_to_fit();
   }
 }
 
 int FeatureTree::build(int begin, int end) {
+  // Builds over order_ (indices into points_); the points are permuted once at the end.
   const int index = int(nodes_.size());
   nodes_.emplace_back();
   if (end - begin <= kLeafSize) {
@@ -65,30 +78,25 @@ int FeatureTree::build(int begin, int end) {
     nodes_[index].right = end;
     return index;
   }
-  // Split the widest dimension at its median.
+  // Split the widest dimension (spread measured on at most 64 evenly spaced points) at its median.
+  const int step = std::max(1, (end - begin) / 64);
   int dim = 0;
   float widest = -1;
   for (int d = 0; d < kFeatureDim; ++d) {
-    float lo = points_[begin][d], hi = lo;
-    for (int i = begin + 1; i < end; ++i) {
-      lo = std::min(lo, points_[i][d]);
-      hi = std::max(hi, points_[i][d]);
+    float lo = points_[order_[begin]][d], hi = lo;
+    for (int i = begin + step; i < end; i += step) {
+      const float v = points_[order_[i]][d];
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
     }
     if (hi - lo > widest) { widest = hi - lo; dim = d; }
   }
   const int mid = (begin + end) / 2;
-  std::vector<int> order(end - begin);
-  std::iota(order.begin(), order.end(), begin);
-  std::nth_element(order.begin(), order.begin() + (mid - begin), order.end(), [&](int a, int b) {
-    return points_[a][dim] < points_[b][dim] || (points_[a][dim] == points_[b][dim] && tags_[a] < tags_[b]);
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end, [&](int a, int b) {
+    return points_[a][dim] < points_[b][dim] || (points_[a][dim] == points_[b][dim] && a < b);
   });
-  std::vector<BlockFeature> p(end - begin);
-  std::vector<std::uint32_t> t(end - begin);
-  for (int i = 0; i < end - begin; ++i) { p[i] = points_[order[i]]; t[i] = tags_[order[i]]; }
-  std::copy(p.begin(), p.end(), points_.begin() + begin);
-  std::copy(t.begin(), t.end(), tags_.begin() + begin);
   nodes_[index].dim = dim;
-  nodes_[index].split = points_[mid][dim];
+  nodes_[index].split = points_[order_[mid]][dim];
   const int left = build(begin, mid);
   const int right = build(mid, end);
   nodes_[index].left = left;

@@ -137,13 +137,14 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
     const int lm = half ? m + 1 : m;
     PifsRaster p = decode_plane(code, plane, lm, options.decoder, options.iterations, options.threads);
     if (options.deblock) deblock(code, plane, lm, p);
-    // Crop away the padding.
-    PifsRaster cropped;
-    cropped.width = std::min(full_w, p.width);
-    cropped.height = std::min(full_h, p.height);
-    cropped.values.resize(std::size_t(cropped.width) * cropped.height);
-    for (int y = 0; y < cropped.height; ++y) std::copy_n(p.row(y), cropped.width, cropped.row(y));
-    planes.push_back(resample_area(cropped, width, height));
+    // Crop away the padding (in place: rows only move toward the front).
+    const int cw = std::min(full_w, p.width), ch = std::min(full_h, p.height);
+    for (int y = 1; y < ch && cw < p.width; ++y)
+      std::copy_n(p.values.data() + std::size_t(y) * p.width, cw, p.values.data() + std::size_t(y) * cw);
+    p.width = cw;
+    p.height = ch;
+    p.values.resize(std::size_t(cw) * ch);
+    planes.push_back(cw == width && ch == height ? std::move(p) : resample_area(p, width, height));
   }
   return planes_to_image(planes, code.channels, code.colour, width, height);
 }

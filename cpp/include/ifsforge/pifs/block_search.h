@@ -37,6 +37,7 @@ class FeatureTree {
   std::vector<BlockFeature> points_;
   std::vector<std::uint32_t> tags_;
   std::vector<Node> nodes_;
+  std::vector<int> order_;
 };
 
 }  // namespace ifsforge

@@ -16,7 +16,7 @@ struct PifsDecodeOptions {
   int width = 0, height = 0;    ///< explicit output size (both > 0)
   PifsDecoder decoder = PifsDecoder::Hierarchical;
   int iterations = 0;           ///< 0: kDefaultIterations (coarsest level, or every level for Iterative)
-  bool deblock = false;         ///< smooth the two pixels either side of every range-block edge
+  bool deblock = true;          ///< smooth the two pixels either side of every range-block edge
   int threads = 0;
 };
 
