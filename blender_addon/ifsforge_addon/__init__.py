@@ -34,15 +34,17 @@ import bpy  # noqa: E402
 
 from . import (animation, operators_design, operators_export, operators_generate, panels, preview,  # noqa: E402
                properties)
+from . import fractal_texture  # noqa: E402
 
 classes = (*properties.classes, *operators_generate.classes, *operators_design.classes, *operators_export.classes,
-           *panels.classes)
+           *panels.classes, *fractal_texture.classes)
 
 
 def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.register_pointers()
+    fractal_texture.register_pointers()
     preview.register()
     animation.register()
 
@@ -50,6 +52,7 @@ def register():
 def unregister():
     animation.unregister()
     preview.unregister()
+    fractal_texture.unregister_pointers()
     properties.unregister_pointers()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)
