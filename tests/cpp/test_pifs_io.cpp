@@ -8,6 +8,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/pifs_file.h"
+#include "ifsforge/pifs/decoder.h"
 #include "ifsforge/pifs/encoder.h"
 #include "ifsforge/pifs/range_coder.h"
 
@@ -103,4 +104,37 @@ TEST(PifsFile, RefusesTruncatedAndCorruptFiles) {
   version[4] = 9;
   EXPECT_NE(message_of(version).find("version 9"), std::string::npos);
   EXPECT_THROW(read_pifs(::testing::TempDir() + "/missing.pifs"), FileError);
+}
+
+namespace {
+std::uint32_t crc32(const std::uint8_t* data, std::size_t size) {
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (std::size_t i = 0; i < size; ++i) {
+    c ^= data[i];
+    for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+  }
+  return c ^ 0xFFFFFFFFu;
+}
+}  // namespace
+
+TEST(PifsFile, MutatedFilesWithValidChecksumsNeverCrash) {
+  // Past the checksum every field is still checked: a mutation either reads as some valid code
+  // (which then decodes) or is refused with InputError.
+  const std::vector<std::uint8_t> bytes = pifs_to_bytes(sample_code());
+  std::mt19937 rng(11);
+  int refused = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::vector<std::uint8_t> bad = bytes;
+    const int flips = 1 + int(rng() % 3);
+    for (int f = 0; f < flips; ++f) bad[4 + rng() % (bad.size() - 8)] ^= std::uint8_t(1u << (rng() % 8));
+    const std::uint32_t c = crc32(bad.data(), bad.size() - 4);
+    for (int i = 0; i < 4; ++i) bad[bad.size() - 4 + i] = std::uint8_t(c >> (8 * i));
+    try {
+      const PifsCode code = pifs_from_bytes(bad.data(), bad.size(), "fuzz.pifs");
+      if (code.width * code.height <= 512 * 512) (void)pifs_decode(code);
+    } catch (const InputError&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 100);
 }
