@@ -1,30 +1,40 @@
 #include "ifsforge/pifs/deblock.h"
 
+#include <algorithm>
+#include <vector>
+
 namespace ifsforge {
 
 void deblock(const PifsCode& code, const PifsPlane& plane, int log_scale, PifsRaster& r) {
   auto scaled = [&](int v) { return log_scale >= 0 ? v << log_scale : v >> -log_scale; };
+  // The step δ between the two pixels at an edge is spread as a linear ramp over `w` pixels on
+  // each side, w = the scale (at 1× one pixel: a 3:1 blend of the pair), so a magnified decode
+  // loses its block edges as the original does.
+  const int w = std::max(1, scaled(1));
+  std::vector<float> weight(w);
+  for (int k = 0; k < w; ++k) weight[k] = 0.5f * float(w - k) / float(w + 1);
   // Every inner edge is the left or top edge of exactly one leaf.
   for (const PifsLeaf& leaf : plane.leaves) {
     const int n = scaled(1 << leaf.log_size);
-    if (n < 4) continue;
+    if (n < 4 * w) continue;
     const int x0 = scaled(leaf.x), y0 = scaled(leaf.y);
-    if (x0 > 0)
+    if (x0 >= w)
       for (int v = 0; v < n; ++v) {
         float* p = r.row(y0 + v) + x0;
-        const float a = p[-1], b = p[0];
-        p[-1] = 0.75f * a + 0.25f * b;
-        p[0] = 0.25f * a + 0.75f * b;
+        const float delta = p[0] - p[-1];
+        for (int k = 0; k < w; ++k) {
+          p[-1 - k] += delta * weight[k];
+          p[k] -= delta * weight[k];
+        }
       }
-    if (y0 > 0) {
-      float* above = r.row(y0 - 1) + x0;
-      float* below = r.row(y0) + x0;
+    if (y0 >= w)
       for (int u = 0; u < n; ++u) {
-        const float a = above[u], b = below[u];
-        above[u] = 0.75f * a + 0.25f * b;
-        below[u] = 0.25f * a + 0.75f * b;
+        const float delta = r.row(y0)[x0 + u] - r.row(y0 - 1)[x0 + u];
+        for (int k = 0; k < w; ++k) {
+          r.row(y0 - 1 - k)[x0 + u] += delta * weight[k];
+          r.row(y0 + k)[x0 + u] -= delta * weight[k];
+        }
       }
-    }
   }
 }
 

@@ -5,8 +5,9 @@
 
 namespace ifsforge {
 
-/// @brief Blends the pixel pair on either side of every range-cell edge of `plane` (decoded at
-/// scale 2^log_scale into `raster`) 3:1 toward each other; edges of cells under 4 pixels are left.
+/// @brief Spreads the step at every range-cell edge of `plane` (decoded at
+/// scale 2^log_scale into `raster`) as a ramp as wide as the scale on each side (3:1 blend of the
+/// pair at 1×); cells under 4 ramp widths are left.
 void deblock(const PifsCode& code, const PifsPlane& plane, int log_scale, PifsRaster& raster);
 
 }  // namespace ifsforge
