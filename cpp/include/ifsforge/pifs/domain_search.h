@@ -28,8 +28,8 @@ struct PifsCandidate {
 
 /// @brief Search effort: neighbours evaluated exactly and k-d tree leaves visited per query.
 struct PifsSearch {
-  int neighbours = 6;
-  int max_leaves = 48;
+  int neighbours = 8;
+  int max_leaves = 64;
 };
 
 /// @brief Candidates for every 2^log_size block of `plane` (padded), in raster order of blocks.
