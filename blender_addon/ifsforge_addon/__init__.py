@@ -32,12 +32,13 @@ if not hasattr(ifsforge, "preview_cloud"):
 
 import bpy  # noqa: E402
 
-from . import (animation, bake, files, menus, operators_design, operators_export, operators_generate,  # noqa: E402
-               panels, preferences, preview, properties)
+from . import (animation, bake, files, fractal_texture, menus, operators_design, operators_export,  # noqa: E402
+               operators_generate, panels, preferences, preview, properties)
 
 # Every class the add-on registers, in order (a new module adds its `classes` here).
 classes = (*preferences.classes, *properties.classes, *operators_generate.classes, *operators_design.classes,
-           *operators_export.classes, *bake.classes, *files.classes, *menus.classes, *panels.classes)
+           *operators_export.classes, *bake.classes, *files.classes, *menus.classes, *panels.classes,
+           *fractal_texture.classes)
 
 
 def register():
@@ -45,6 +46,7 @@ def register():
         bpy.utils.register_class(cls)
     properties.register_pointers()
     preferences.register()
+    fractal_texture.register_pointers()
     preview.register()
     animation.register()
     files.register()
@@ -56,6 +58,7 @@ def unregister():
     files.unregister()
     animation.unregister()
     preview.unregister()
+    fractal_texture.unregister_pointers()
     preferences.unregister()
     properties.unregister_pointers()
     for cls in reversed(classes):

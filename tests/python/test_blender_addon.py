@@ -160,3 +160,9 @@ def test_viewport_and_panels_with_a_window(tmp_path):
     # software OpenGL). Any exception in a panel's or the draw handler's code prints a traceback.
     report = run_blender("addon_gui.py", tmp_path, timeout=300, window=True)  # software OpenGL: slow redraws
     assert report["values"]["highlighted_pixels"] > 500
+
+
+@needs_blender
+def test_fractal_texture_in_blender(tmp_path):
+    report = run_blender("addon_fractal_texture.py", tmp_path)
+    assert report["values"]["generated_psnr"] > 25

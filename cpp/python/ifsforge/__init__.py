@@ -53,6 +53,9 @@ from ifsforge._core import (  # noqa: F401  (vector: instance lists, addresses, 
 from ifsforge._core import (  # noqa: F401  (volume: Table 2 renderers, OpenVDB, iso-surfaces)
     Volume, read_vdb_info, render_volume, volume_renderers, volume_to_mesh, write_vdb,
 )
+from ifsforge._core import (  # noqa: F401  (pifs: fractal image compression, seed 3.3.2)
+    PifsCode, pifs_encode, pifs_from_bytes, read_pifs, write_pifs,
+)
 from ifsforge.errors import (  # noqa: F401
     Cancelled,
     DivergentSystemError,

@@ -10,7 +10,7 @@ from ifsforge import cli_common as common
 def register(subparsers):
     p = subparsers.add_parser("info", help="maps, contraction factors, classification, bounds, dimension, "
                                            "transitions, super IFS members, condensation set")
-    common.add_system_argument(p)
+    p.add_argument("system", help=common.SYSTEM_HELP + ", or a .pifs compressed image")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.add_argument("--dimension-size", type=int, default=1024,
                    help="image size for the box-counting estimate (2D systems)")
@@ -124,6 +124,8 @@ def print_condensation(c):
 
 
 def run(args):
+    if args.system.lower().endswith(".pifs"):  # a fractal-compressed image (ifsforge compress)
+        return pifs_info(args)
     system = common.load_system(args.system)
     info = describe(system, args.dimension_size)
     if args.json:
@@ -148,4 +150,14 @@ def run(args):
         print(f"  {name}: [{lo:.6g}, {hi:.6g}]")
     if "box_counting_dimension" in info:
         print(f"box-counting dimension: {info['box_counting_dimension']:.4f}")
+    return 0
+
+
+def pifs_info(args):
+    from ifsforge.commands import compress
+    info = compress.describe_code(ifsforge.read_pifs(args.system))
+    if args.json:
+        print(json.dumps(info, indent=2))
+    else:
+        compress.print_description(info)
     return 0

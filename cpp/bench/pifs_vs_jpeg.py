@@ -1,0 +1,250 @@
+#!/usr/bin/python3
+"""Fractal (PIFS) compression against JPEG and JPEG 2000 at equal file size (seed 3.3.2, Table 1).
+
+For each test photograph and compression ratio R the target is raw bytes / R; PIFS uses its
+rate control (file <= target), JPEG is Pillow's optimised baseline with the quality searched for
+the largest file not above the target, JPEG 2000 is Pillow's OpenJPEG with the rate searched the
+same way. PSNR (all channels) and SSIM against the original. Then Table 1's form: the ratio each
+method reaches at the PSNR PIFS has at 100:1. Then super-resolution (compress the 2x-downsampled
+image, decode at 2x / bicubic-upscale the JPEG of the same bytes, compare with the original) and
+encode/decode times at 512x512.
+
+    PYTHONPATH=build/python cpp/bench/pifs_vs_jpeg.py [--out out/pifs] [--threads 2]
+
+Needs python3-skimage (test images, SSIM), python3-pil, python3-matplotlib (the plot).
+Writes OUT/results.json, OUT/rate_distortion.png and OUT/superres_<image>.png; prints Markdown tables.
+"""
+import argparse
+import io
+import json
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+from skimage import data
+from skimage.metrics import structural_similarity
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "build" / "python"))
+import ifsforge  # noqa: E402
+
+IMAGES = {"camera": data.camera, "astronaut": data.astronaut, "chelsea": data.chelsea, "coffee": data.coffee}
+RATIOS = (25, 50, 75, 100, 150)
+
+
+def psnr(a, b):
+    mse = np.mean((np.asarray(a, np.float64) - np.asarray(b, np.float64)) ** 2)
+    return float(10 * np.log10(255.0 ** 2 / mse))
+
+
+def ssim(a, b):
+    kw = {"channel_axis": -1} if a.ndim == 3 else {}
+    return float(structural_similarity(a, b, data_range=255, **kw))
+
+
+def to8(x):
+    return np.round(np.clip(x, 0, 1) * 255).astype(np.uint8)
+
+
+def jpeg(image, target):
+    """Largest optimised JPEG not above `target` bytes: (bytes, decoded) or None."""
+    best = None
+    for q in range(1, 96):
+        buf = io.BytesIO()
+        Image.fromarray(image).save(buf, "JPEG", quality=q, optimize=True)
+        if buf.tell() > target:
+            break
+        best = buf.getvalue()
+    if best is None:
+        return None
+    return len(best), np.array(Image.open(io.BytesIO(best)))
+
+
+def jpeg2000(image, target):
+    """OpenJPEG with the rate searched for the largest file not above `target` bytes."""
+    raw = image.size
+    lo, hi, best = raw / target, raw / target * 4, None
+    for _ in range(20):
+        buf = io.BytesIO()
+        Image.fromarray(image).save(buf, "JPEG2000", quality_mode="rates", quality_layers=[hi], irreversible=True)
+        if buf.tell() <= target:
+            break
+        hi *= 2
+    for _ in range(18):
+        mid = 0.5 * (lo + hi)
+        buf = io.BytesIO()
+        Image.fromarray(image).save(buf, "JPEG2000", quality_mode="rates", quality_layers=[mid], irreversible=True)
+        if buf.tell() <= target:
+            hi, best = mid, buf.getvalue()
+        else:
+            lo = mid
+    if best is None:
+        buf = io.BytesIO()
+        Image.fromarray(image).save(buf, "JPEG2000", quality_mode="rates", quality_layers=[hi], irreversible=True)
+        best = buf.getvalue()
+    return len(best), np.array(Image.open(io.BytesIO(best)))
+
+
+def pifs(image, target, threads):
+    code = ifsforge.pifs_encode(image, bytes=target, threads=threads)
+    return len(code.to_bytes()), to8(code.decode(threads=threads)), code
+
+
+def row(name, method, target, image, size, decoded):
+    return {"image": name, "method": method, "target": target, "bytes": size, "ratio": image.size / size,
+            "psnr": psnr(image, decoded), "ssim": ssim(image, decoded)}
+
+
+def rate_distortion(images, threads):
+    rows = []
+    for name, image in images.items():
+        for ratio in RATIOS:
+            target = image.size // ratio
+            size, dec, _ = pifs(image, target, threads)
+            rows.append(row(name, "PIFS", ratio, image, size, dec))
+            j = jpeg(image, target)
+            if j:
+                rows.append(row(name, "JPEG", ratio, image, *j))
+            rows.append(row(name, "JPEG 2000", ratio, image, *jpeg2000(image, target)))
+            print(f"  {name} {ratio}:1 done", file=sys.stderr)
+    return rows
+
+
+def table1(images, rows, threads):
+    """The seed's Table 1 form: each method's ratio at the PSNR PIFS reaches at 100:1."""
+    out = []
+    for name, image in images.items():
+        goal = next(r["psnr"] for r in rows if r["image"] == name and r["method"] == "PIFS"
+                    and round(r["ratio"]) == 100)
+        entry = {"image": name, "PIFS": (100.0, goal)}
+        # JPEG: the smallest file whose PSNR reaches the goal.
+        for q in range(1, 96):
+            buf = io.BytesIO()
+            Image.fromarray(image).save(buf, "JPEG", quality=q, optimize=True)
+            dec = np.array(Image.open(io.BytesIO(buf.getvalue())))
+            if psnr(image, dec) >= goal:
+                entry["JPEG"] = (image.size / buf.tell(), psnr(image, dec))
+                break
+        lo, hi = 10.0, 400.0  # JPEG 2000: the largest rate that still reaches the goal
+        for _ in range(16):
+            mid = 0.5 * (lo + hi)
+            buf = io.BytesIO()
+            Image.fromarray(image).save(buf, "JPEG2000", quality_mode="rates", quality_layers=[mid], irreversible=True)
+            p = psnr(image, np.array(Image.open(io.BytesIO(buf.getvalue()))))
+            if p >= goal:
+                lo, entry["JPEG 2000"] = mid, (image.size / buf.tell(), p)
+            else:
+                hi = mid
+        out.append(entry)
+    return out
+
+
+def superres(images, out_dir, threads, ratio=20):
+    """Compress the 2x-downsampled image at raw/ratio bytes; PIFS decodes at 2x, JPEG is upscaled bicubic."""
+    rows = []
+    for name, image in images.items():
+        h, w = image.shape[:2]
+        small = Image.fromarray(image).reduce(2)
+        small_np = np.array(small)
+        target = small_np.size // ratio
+        size, _, code = pifs(small_np, target, threads)
+        fractal = to8(code.decode(size=(w, h), threads=threads))
+        js, jdec = jpeg(small_np, target)
+        bicubic = np.array(Image.fromarray(jdec).resize((w, h), Image.BICUBIC))
+        plain = np.array(small.resize((w, h), Image.BICUBIC))
+        rows.append({"image": name, "bytes": target, "pifs_bytes": size, "jpeg_bytes": js,
+                     "pifs_2x_psnr": psnr(image, fractal), "jpeg_bicubic_psnr": psnr(image, bicubic),
+                     "uncompressed_bicubic_psnr": psnr(image, plain),
+                     "pifs_2x_ssim": ssim(image, fractal), "jpeg_bicubic_ssim": ssim(image, bicubic)})
+        crop = tuple(slice(s // 4, s // 4 + 160) for s in (h, w))
+        strip = np.concatenate([image[crop], fractal[crop], bicubic[crop]], axis=1)
+        Image.fromarray(strip).resize((strip.shape[1] * 2, strip.shape[0] * 2), Image.NEAREST).save(
+            out_dir / f"superres_{name}.png")
+    return rows
+
+
+def timings(threads):
+    camera, astronaut = data.camera(), data.astronaut()
+    def best(f, runs):
+        times = []
+        for _ in range(runs):
+            start = time.perf_counter()
+            f()
+            times.append(time.perf_counter() - start)
+        return statistics.median(times)
+    gray = ifsforge.pifs_encode(camera, ratio=50, threads=threads)
+    colour = ifsforge.pifs_encode(astronaut, ratio=50, threads=threads)
+    return {
+        "threads": threads,
+        "encode_gray_512_s": best(lambda: ifsforge.pifs_encode(camera, ratio=50, threads=threads), 3),
+        "encode_colour_512_s": best(lambda: ifsforge.pifs_encode(astronaut, ratio=50, threads=threads), 3),
+        "decode_gray_512_ms": 1000 * best(lambda: gray.decode(threads=threads), 9),
+        "decode_colour_512_ms": 1000 * best(lambda: colour.decode(threads=threads), 9),
+        "decode_gray_4x_2048_ms": 1000 * best(lambda: gray.decode(scale=4, threads=threads), 5),
+        "decode_colour_4x_2048_ms": 1000 * best(lambda: colour.decode(scale=4, threads=threads), 5),
+    }
+
+
+def plot(rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    names = sorted({r["image"] for r in rows}, key=list(IMAGES).index)
+    fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 3.8), squeeze=False)
+    for ax, name in zip(axes[0], names):
+        for method, style in (("PIFS", "o-"), ("JPEG", "s--"), ("JPEG 2000", "^:")):
+            pts = sorted((r["ratio"], r["psnr"]) for r in rows if r["image"] == name and r["method"] == method)
+            if pts:
+                ax.plot(*zip(*pts), style, label=method)
+        ax.set_title(name)
+        ax.set_xlabel("compression ratio (:1)")
+        ax.set_ylabel("PSNR (dB)")
+        ax.grid(alpha=0.3)
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--out", default=str(ROOT / "out" / "pifs"))
+    parser.add_argument("--threads", type=int, default=2)
+    args = parser.parse_args()
+    out_dir = Path(args.out)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    images = {name: f() for name, f in IMAGES.items()}
+    rows = rate_distortion(images, args.threads)
+    t1 = table1(images, rows, args.threads)
+    sr = superres(images, out_dir, args.threads)
+    times = timings(args.threads)
+    plot(rows, out_dir / "rate_distortion.png")
+    (out_dir / "results.json").write_text(json.dumps({"rate_distortion": rows, "table1": t1, "superres": sr,
+                                                      "times": times}, indent=1))
+    print("\n| image | target | PIFS PSNR / SSIM (ratio) | JPEG | JPEG 2000 |")
+    print("|---|---|---|---|---|")
+    for name in images:
+        for ratio in RATIOS:
+            cells = []
+            for method in ("PIFS", "JPEG", "JPEG 2000"):
+                r = [x for x in rows if x["image"] == name and x["method"] == method and x["target"] == ratio]
+                cells.append(f"{r[0]['psnr']:.2f} / {r[0]['ssim']:.3f} ({r[0]['ratio']:.0f}:1)" if r else "—")
+            print(f"| {name} | {ratio}:1 | " + " | ".join(cells) + " |")
+    print("\n| image | PIFS CR | PSNR | JPEG CR | PSNR | JPEG 2000 CR | PSNR |")
+    print("|---|---|---|---|---|---|---|")
+    for e in t1:
+        cells = [f"{e[m][0]:.1f}:1 | {e[m][1]:.2f}" if m in e else "— | —" for m in ("PIFS", "JPEG", "JPEG 2000")]
+        print(f"| {e['image']} | " + " | ".join(cells) + " |")
+    print("\n| image (2x super-resolution, 20:1 of the half-size image) | PIFS decoded 2x | JPEG + bicubic | "
+          "uncompressed + bicubic |")
+    print("|---|---|---|---|")
+    for r in sr:
+        print(f"| {r['image']} | {r['pifs_2x_psnr']:.2f} dB / {r['pifs_2x_ssim']:.3f} | "
+              f"{r['jpeg_bicubic_psnr']:.2f} dB / {r['jpeg_bicubic_ssim']:.3f} | {r['uncompressed_bicubic_psnr']:.2f} dB |")
+    print("\n" + json.dumps(times, indent=1))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,13 @@
+#pragma once
+/// @file Optional post-filter: softens the step at range-block edges that a blocky code leaves.
+#include "ifsforge/pifs/code.h"
+#include "ifsforge/pifs/domain_search.h"
+
+namespace ifsforge {
+
+/// @brief Spreads the step at every range-cell edge of `plane` (decoded at
+/// scale 2^log_scale into `raster`) as a ramp as wide as the scale on each side (3:1 blend of the
+/// pair at 1×); cells under 4 ramp widths are left.
+void deblock(const PifsCode& code, const PifsPlane& plane, int log_scale, PifsRaster& raster);
+
+}  // namespace ifsforge

@@ -1,0 +1,33 @@
+#pragma once
+/// @file PIFS encoding of an image (seed 3.3.2.1, Steps 1-6) with rate control.
+#include <cstddef>
+
+#include "ifsforge/core/progress.h"
+#include "ifsforge/pifs/code.h"
+#include "ifsforge/pifs/domain_search.h"
+#include "ifsforge/render/image.h"
+
+namespace ifsforge {
+
+struct PifsEncodeOptions {
+  int min_block = 4, max_block = 32;  ///< range sizes (powers of two): the quadtree depths
+  int s_bits = 5;                     ///< contrast bits (Eq. 29's s quantised, |s| ≤ 15/16)
+  int dc_step = 1;                    ///< range-mean quantisation, 8-bit levels
+  /// Rate control, first that is set wins: bytes (file size ≤ bytes), ratio (raw bytes /
+  /// ratio), else quality (collage RMS threshold in 8-bit levels).
+  std::size_t bytes = 0;
+  double ratio = 0;
+  double quality = kDefaultQuality;
+  bool ycbcr = true;                  ///< RGB(A) as YCbCr with half-size chroma (Steps 1-2)
+  PifsSearch search;
+  int threads = 0;
+
+  static constexpr double kDefaultQuality = 8.0;
+};
+
+/// @brief The PIFS code of `image` (1-4 channels, values in [0, 1], read as 8-bit levels).
+/// InputError for an empty image, bad options or a size target below the smallest code.
+PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& options = {},
+                     const ProgressCallback& progress = nullptr);
+
+}  // namespace ifsforge

@@ -1,0 +1,27 @@
+#pragma once
+/// @file Image ↔ coded planes: 8-bit levels, the seed's Steps 1-2 for colour (YCbCr with the
+/// chroma averaged to half resolution), padding to whole top-level blocks, cropping and resampling.
+#include <vector>
+
+#include "ifsforge/pifs/code.h"
+#include "ifsforge/pifs/domain_search.h"
+#include "ifsforge/render/image.h"
+
+namespace ifsforge {
+
+/// @brief The planes of `image` (values rounded to 8-bit levels), unpadded: gray [+ alpha],
+/// Y Cb Cr (chroma at half size, rounded up) [+ alpha] for YCbCr420, else one plane per channel.
+std::vector<PifsRaster> image_planes(const Image& image, PifsColour colour);
+
+/// @brief `plane` extended to `width`×`height` by repeating its last column and row.
+PifsRaster pad_plane(const PifsRaster& plane, int width, int height);
+
+/// @brief The image from planes decoded at the same output size (chroma already at full size):
+/// `width`×`height` taken from their top-left corners, converted back to RGB for YCbCr420.
+Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsColour colour, int width,
+                      int height);
+
+/// @brief Area-weighted resampling of `plane` to `width`×`height` (box filter; exact 2×2 mean for halving).
+PifsRaster resample_area(const PifsRaster& plane, int width, int height);
+
+}  // namespace ifsforge

@@ -1,0 +1,152 @@
+#include "ifsforge/pifs/decoder.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
+#include "ifsforge/pifs/deblock.h"
+#include "ifsforge/pifs/planes.h"
+
+namespace ifsforge {
+namespace {
+
+constexpr std::size_t kJobs = 64;  // leaf chunks: fixed, so the output never depends on threads
+
+int scaled(int v, int log_scale) { return log_scale >= 0 ? v << log_scale : v >> -log_scale; }
+
+PifsRaster blank(int w, int h, float value) {
+  PifsRaster r;
+  r.width = w;
+  r.height = h;
+  r.values.assign(std::size_t(w) * h, value);
+  return r;
+}
+
+/// One application of the PIFS operator (Eq. 29 for every range cell) writing `dst` at scale
+/// 2^l. `from_half`: `src` is the level below (scale 2^(l−1)), where each domain already has the
+/// range's size (Baharav's step); otherwise `src` is at the same scale and φ averages 2×2.
+void apply(const PifsCode& code, const PifsPlane& plane, int l, const PifsRaster& src, bool from_half,
+           PifsRaster& dst, int threads) {
+  const std::size_t count = plane.leaves.size();
+  parallel_jobs(kJobs, threads, [&](std::size_t job, int) {
+    const std::size_t begin = count * job / kJobs, end = count * (job + 1) / kJobs;
+    for (std::size_t k = begin; k < end; ++k) {
+      const PifsLeaf& leaf = plane.leaves[k];
+      const int n = scaled(1 << leaf.log_size, l);
+      const int x0 = scaled(leaf.x, l), y0 = scaled(leaf.y, l);
+      const float dc = float(leaf.dc * code.dc_step);
+      if (leaf.s == 0) {
+        for (int v = 0; v < n; ++v) std::fill_n(dst.row(y0 + v) + x0, n, dc);
+        continue;
+      }
+      const float s = float(code.s_value(leaf.s));
+      const int size = 1 << leaf.log_size;
+      if (from_half) {
+        const float* d = src.row(scaled(leaf.dy * size, l - 1)) + scaled(leaf.dx * size, l - 1);
+        const long stride = src.width;
+        double sum = 0;
+        for (int v = 0; v < n; ++v)
+          for (int u = 0; u < n; ++u) sum += d[long(v) * stride + u];
+        const float mean = float(sum / (double(n) * n));
+        long origin, du, dv;
+        isometry_walk(leaf.isometry, n, stride, origin, du, dv);
+        for (int v = 0; v < n; ++v) {
+          const float* p = d + origin + v * dv;
+          float* out = dst.row(y0 + v) + x0;
+          for (int u = 0; u < n; ++u) out[u] = s * (p[u * du] - mean) + dc;
+        }
+      } else {
+        // φ: the 2n×2n domain averaged 2×2 (read through the isometry on the averaged grid).
+        const float* d = src.row(scaled(leaf.dy * size, l)) + scaled(leaf.dx * size, l);
+        const long stride = src.width;
+        double sum = 0;
+        for (int v = 0; v < 2 * n; ++v)
+          for (int u = 0; u < 2 * n; ++u) sum += d[long(v) * stride + u];
+        const float mean = float(sum / (4.0 * n * n));
+        for (int v = 0; v < n; ++v) {
+          float* out = dst.row(y0 + v) + x0;
+          for (int u = 0; u < n; ++u) {
+            int a, b;
+            isometry_map(leaf.isometry, n, u, v, a, b);
+            const float* p = d + long(2 * b) * stride + 2 * a;
+            const float avg = 0.25f * (p[0] + p[1] + p[stride] + p[stride + 1]);
+            out[u] = s * (avg - mean) + dc;
+          }
+        }
+      }
+    }
+  });
+}
+
+}  // namespace
+
+PifsRaster decode_plane(const PifsCode& code, const PifsPlane& plane, int log_scale, PifsDecoder decoder,
+                        int iterations, int threads) {
+  const int pw = code.padded(plane.width), ph = code.padded(plane.height);
+  if (iterations <= 0) iterations = kDefaultIterations;
+  const int coarsest = -code.min_log;  // the smallest range cells are one pixel there
+  const int top = std::max(log_scale, coarsest);
+  PifsRaster x;
+  if (decoder == PifsDecoder::Iterative) {
+    x = blank(scaled(pw, top), scaled(ph, top), 128.f);
+    PifsRaster next = x;
+    for (int i = 0; i < iterations; ++i) {
+      apply(code, plane, top, x, false, next, threads);
+      std::swap(x, next);
+    }
+  } else {
+    // Baharav: the fixed point of the coarsest level, then each doubling is one pass whose
+    // domains are the previous level's pixels (φ commutes with the 2×2 mean, so it is exact).
+    x = blank(scaled(pw, coarsest), scaled(ph, coarsest), 128.f);
+    PifsRaster next = x;
+    for (int i = 0; i < iterations; ++i) {
+      apply(code, plane, coarsest, x, false, next, threads);
+      std::swap(x, next);
+    }
+    for (int l = coarsest + 1; l <= top; ++l) {
+      next = blank(scaled(pw, l), scaled(ph, l), 0.f);
+      apply(code, plane, l, x, true, next, threads);
+      std::swap(x, next);
+    }
+  }
+  for (int l = top; l > log_scale; --l) x = resample_area(x, x.width / 2, x.height / 2);
+  return x;
+}
+
+Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
+  int width = options.width, height = options.height;
+  if (width <= 0 || height <= 0) {
+    if (!(options.scale > 0) || !std::isfinite(options.scale))
+      throw InputError("PIFS decode: scale must be a positive number");
+    width = std::max(1, int(std::lround(code.width * options.scale)));
+    height = std::max(1, int(std::lround(code.height * options.scale)));
+  }
+  if (double(width) * height > 1.0e9) throw InputError("PIFS decode: output size too large");
+  // The smallest power-of-two scale covering the request; other sizes are resampled from it.
+  int m = -code.min_log;
+  while ((double(code.width) * std::ldexp(1.0, m) < width || double(code.height) * std::ldexp(1.0, m) < height))
+    ++m;
+  const int full_w = int(std::ceil(code.width * std::ldexp(1.0, m)));
+  const int full_h = int(std::ceil(code.height * std::ldexp(1.0, m)));
+  std::vector<PifsRaster> planes;
+  for (std::size_t k = 0; k < code.planes.size(); ++k) {
+    const PifsPlane& plane = code.planes[k];
+    // Chroma stored at half size is decoded one level finer (the seed's Step 6).
+    const bool half = code.colour == PifsColour::YCbCr420 && (k == 1 || k == 2);
+    const int lm = half ? m + 1 : m;
+    PifsRaster p = decode_plane(code, plane, lm, options.decoder, options.iterations, options.threads);
+    if (options.deblock) deblock(code, plane, lm, p);
+    // Crop away the padding (in place: rows only move toward the front).
+    const int cw = std::min(full_w, p.width), ch = std::min(full_h, p.height);
+    for (int y = 1; y < ch && cw < p.width; ++y)
+      std::copy_n(p.values.data() + std::size_t(y) * p.width, cw, p.values.data() + std::size_t(y) * cw);
+    p.width = cw;
+    p.height = ch;
+    p.values.resize(std::size_t(cw) * ch);
+    planes.push_back(cw == width && ch == height ? std::move(p) : resample_area(p, width, height));
+  }
+  return planes_to_image(planes, code.channels, code.colour, width, height);
+}
+
+}  // namespace ifsforge

@@ -1,0 +1,99 @@
+#include "ifsforge/pifs/encoder.h"
+
+#include <cmath>
+#include <string>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/io/pifs_file.h"
+#include "ifsforge/pifs/partition.h"
+#include "ifsforge/pifs/planes.h"
+
+namespace ifsforge {
+namespace {
+
+int log2_exact(int v, const char* what) {
+  int l = 0;
+  while ((1 << l) < v) ++l;
+  if ((1 << l) != v) throw InputError(std::string("PIFS encode: ") + what + " must be a power of two");
+  return l;
+}
+
+void check(const Image& image, const PifsEncodeOptions& o) {
+  if (image.width < 1 || image.height < 1) throw InputError("PIFS encode: the image is empty");
+  if (image.channels < 1 || image.channels > 4) throw InputError("PIFS encode: images have 1 to 4 channels");
+  if (image.width > 32768 || image.height > 32768) throw InputError("PIFS encode: image larger than 32768 pixels");
+  if (o.min_block < 4 || o.max_block > 256 || o.min_block > o.max_block)
+    throw InputError("PIFS encode: block sizes must satisfy 4 <= min_block <= max_block <= 256");
+  if (o.s_bits < 2 || o.s_bits > 8) throw InputError("PIFS encode: s_bits must be in 2..8");
+  if (o.dc_step < 1 || o.dc_step > 64) throw InputError("PIFS encode: dc_step must be in 1..64");
+  if (o.ratio < 0 || !std::isfinite(o.ratio)) throw InputError("PIFS encode: ratio must be positive");
+  if (!(o.quality >= 0) || !std::isfinite(o.quality)) throw InputError("PIFS encode: quality must be >= 0");
+}
+
+}  // namespace
+
+PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const ProgressCallback& progress) {
+  check(image, o);
+  PifsCode code;
+  code.width = image.width;
+  code.height = image.height;
+  code.channels = image.channels;
+  code.colour = o.ycbcr && image.channels >= 3 ? PifsColour::YCbCr420 : PifsColour::Direct;
+  code.min_log = log2_exact(o.min_block, "min_block");
+  code.max_log = log2_exact(o.max_block, "max_block");
+  code.s_bits = o.s_bits;
+  code.dc_step = o.dc_step;
+
+  // Steps 1-4: planes, then every quadtree level's candidates (each plane independently).
+  const std::vector<PifsRaster> planes = image_planes(image, code.colour);
+  std::vector<PifsPlaneCandidates> cands(planes.size());
+  const int levels = code.max_log - code.min_log + 1;
+  int done = 0;
+  for (std::size_t k = 0; k < planes.size(); ++k) {
+    PifsPlaneCandidates& c = cands[k];
+    c.width = planes[k].width;
+    c.height = planes[k].height;
+    c.padded_width = code.padded(c.width);
+    c.padded_height = code.padded(c.height);
+    const PifsRaster padded = pad_plane(planes[k], c.padded_width, c.padded_height);
+    for (int log = code.min_log; log <= code.max_log; ++log) {
+      c.levels.push_back(search_level(code, padded, log, o.search, o.threads));
+      if (progress && !progress(double(++done) / (levels * planes.size()))) throw Cancelled();
+    }
+  }
+  code.planes.resize(planes.size());
+  for (std::size_t k = 0; k < planes.size(); ++k) {
+    code.planes[k].width = planes[k].width;
+    code.planes[k].height = planes[k].height;
+  }
+
+  std::size_t target = o.bytes;
+  if (target == 0 && o.ratio > 0)
+    target = std::size_t(double(image.width) * image.height * image.channels / o.ratio);
+  if (target == 0) {
+    for (std::size_t k = 0; k < planes.size(); ++k) code.planes[k].leaves = partition_threshold(code, cands[k], o.quality);
+    return code;
+  }
+  // Rate control: the file size falls as λ rises; bisect log λ for the largest file ≤ target.
+  // Chroma samples stand for 2×2 pixels, so their errors weigh 4×.
+  auto with_lambda = [&](double lambda) {
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+      const bool half = code.colour == PifsColour::YCbCr420 && (k == 1 || k == 2);
+      code.planes[k].leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
+    }
+    return pifs_to_bytes(code).size();
+  };
+  double lo = std::log(1e-3), hi = std::log(1e9);
+  if (with_lambda(std::exp(hi)) > target)
+    throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
+                     std::to_string(pifs_to_bytes(code).size()) + " bytes; use a larger max_block)");
+  if (with_lambda(std::exp(lo)) <= target) return code;
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (with_lambda(std::exp(mid)) <= target) hi = mid; else lo = mid;
+  }
+  with_lambda(std::exp(hi));
+  return code;
+}
+
+}  // namespace ifsforge

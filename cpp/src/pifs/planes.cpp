@@ -1,0 +1,134 @@
+#include "ifsforge/pifs/planes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ifsforge/core/error.h"
+
+namespace ifsforge {
+namespace {
+
+PifsRaster make(int w, int h) {
+  PifsRaster p;
+  p.width = w;
+  p.height = h;
+  p.values.assign(std::size_t(w) * h, 0.f);
+  return p;
+}
+
+float level(float v) { return std::round(std::clamp(v, 0.f, 1.f) * 255.f); }
+
+/// Chroma averaged over 2×2 (the seed's Step 2); odd edges average what exists.
+PifsRaster halve(const PifsRaster& p) {
+  PifsRaster h = make((p.width + 1) / 2, (p.height + 1) / 2);
+  for (int y = 0; y < h.height; ++y)
+    for (int x = 0; x < h.width; ++x) {
+      float sum = 0;
+      int count = 0;
+      for (int j = 2 * y; j < std::min(2 * y + 2, p.height); ++j)
+        for (int i = 2 * x; i < std::min(2 * x + 2, p.width); ++i) {
+          sum += p.row(j)[i];
+          ++count;
+        }
+      h.row(y)[x] = sum / count;
+    }
+  return h;
+}
+
+}  // namespace
+
+std::vector<PifsRaster> image_planes(const Image& image, PifsColour colour) {
+  const int w = image.width, h = image.height, c = image.channels;
+  const bool ycc = colour == PifsColour::YCbCr420 && c >= 3;
+  std::vector<PifsRaster> planes;
+  for (int k = 0; k < c; ++k) planes.push_back(make(w, h));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      float v[4];
+      for (int k = 0; k < c; ++k) v[k] = level(image.at(x, y, k));
+      if (ycc) {  // JPEG's full-range YCbCr (the seed's YUV, Step 1)
+        const float r = v[0], g = v[1], b = v[2];
+        v[0] = 0.299f * r + 0.587f * g + 0.114f * b;
+        v[1] = 128.f - 0.168736f * r - 0.331264f * g + 0.5f * b;
+        v[2] = 128.f + 0.5f * r - 0.418688f * g - 0.081312f * b;
+      }
+      for (int k = 0; k < c; ++k) planes[k].row(y)[x] = v[k];
+    }
+  if (ycc) {
+    planes[1] = halve(planes[1]);
+    planes[2] = halve(planes[2]);
+  }
+  return planes;
+}
+
+PifsRaster pad_plane(const PifsRaster& p, int width, int height) {
+  PifsRaster out = make(width, height);
+  for (int y = 0; y < height; ++y) {
+    const float* src = p.row(std::min(y, p.height - 1));
+    float* dst = out.row(y);
+    for (int x = 0; x < width; ++x) dst[x] = src[std::min(x, p.width - 1)];
+  }
+  return out;
+}
+
+Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsColour colour, int width,
+                      int height) {
+  const bool ycc = colour == PifsColour::YCbCr420 && channels >= 3;
+  Image image(width, height, channels);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      float v[4];
+      for (int k = 0; k < channels; ++k) v[k] = planes[k].row(y)[x];
+      if (ycc) {
+        const float Y = v[0], cb = v[1] - 128.f, cr = v[2] - 128.f;
+        v[0] = Y + 1.402f * cr;
+        v[1] = Y - 0.344136f * cb - 0.714136f * cr;
+        v[2] = Y + 1.772f * cb;
+      }
+      for (int k = 0; k < channels; ++k) image.at(x, y, k) = std::clamp(v[k] / 255.f, 0.f, 1.f);
+    }
+  return image;
+}
+
+PifsRaster resample_area(const PifsRaster& p, int width, int height) {
+  if (width == p.width && height == p.height) return p;
+  // Separable box filter: output pixel i covers [i·f, (i+1)·f) of the source.
+  auto weights = [](int from, int to) {
+    std::vector<std::vector<std::pair<int, float>>> w(to);
+    const double f = double(from) / to;
+    for (int i = 0; i < to; ++i) {
+      const double a = i * f, b = (i + 1) * f;
+      if (f <= 1) {  // upsampling: linear between sample centres
+        const double c = std::clamp((i + 0.5) * f - 0.5, 0.0, double(from - 1));
+        const int k = std::min(int(c), from - 1);
+        const double t = c - k;
+        w[i].push_back({k, float(1 - t)});
+        if (k + 1 < from) w[i].push_back({k + 1, float(t)});
+        continue;
+      }
+      for (int k = int(a); k < std::min(from, int(std::ceil(b))); ++k) {
+        const double o = std::min(b, double(k + 1)) - std::max(a, double(k));
+        if (o > 0) w[i].push_back({k, float(o / f)});
+      }
+    }
+    return w;
+  };
+  const auto wx = weights(p.width, width), wy = weights(p.height, height);
+  PifsRaster mid = make(width, p.height);
+  for (int y = 0; y < p.height; ++y)
+    for (int x = 0; x < width; ++x) {
+      float s = 0;
+      for (auto [k, w] : wx[x]) s += w * p.row(y)[k];
+      mid.row(y)[x] = s;
+    }
+  PifsRaster out = make(width, height);
+  for (int y = 0; y < height; ++y)
+    for (auto [k, w] : wy[y]) {
+      const float* src = mid.row(k);
+      float* dst = out.row(y);
+      for (int x = 0; x < width; ++x) dst[x] += w * src[x];
+    }
+  return out;
+}
+
+}  // namespace ifsforge

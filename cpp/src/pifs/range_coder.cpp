@@ -1,0 +1,115 @@
+#include "ifsforge/pifs/range_coder.h"
+
+#include "ifsforge/core/error.h"
+
+namespace ifsforge {
+namespace {
+constexpr int kProbBits = 11;
+constexpr int kAdapt = 4;  // fast adaptation: a plane codes only a few thousand symbols
+constexpr std::uint32_t kTop = 1u << 24;
+constexpr unsigned kMaxLength = 24;
+
+unsigned bit_length(unsigned v) {
+  unsigned n = 0;
+  while (v) { ++n; v >>= 1; }
+  return n;
+}
+}  // namespace
+
+void RangeEncoder::bit(BitModel& m, int bit) {
+  const std::uint32_t bound = (range_ >> kProbBits) * m.p;
+  if (bit == 0) {
+    range_ = bound;
+    m.p += ((1u << kProbBits) - m.p) >> kAdapt;
+  } else {
+    low_ += bound;
+    range_ -= bound;
+    m.p -= m.p >> kAdapt;
+  }
+  while (range_ < kTop) {
+    range_ <<= 8;
+    shift_low();
+  }
+}
+
+void RangeEncoder::shift_low() {
+  if (static_cast<std::uint32_t>(low_) < 0xFF000000u || (low_ >> 32) != 0) {
+    const std::uint8_t carry = static_cast<std::uint8_t>(low_ >> 32);
+    std::uint8_t temp = cache_;
+    do {
+      out_.push_back(static_cast<std::uint8_t>(temp + carry));
+      temp = 0xFF;
+    } while (--cache_size_ != 0);
+    cache_ = static_cast<std::uint8_t>(low_ >> 24);
+  }
+  ++cache_size_;
+  low_ = (low_ & 0x00FFFFFFu) << 8;
+}
+
+void RangeEncoder::tree(BitModel* t, int bits, unsigned value) {
+  unsigned node = 1;
+  for (int i = bits - 1; i >= 0; --i) {
+    const int b = (value >> i) & 1;
+    bit(t[node], b);
+    node = node * 2 + b;
+  }
+}
+
+void RangeEncoder::integer(BitModel* length, BitModel (*tail)[24], unsigned value) {
+  const unsigned n = bit_length(value);  // 0 for value 0
+  for (unsigned i = 0; i < n; ++i) bit(length[i], 1);
+  if (n < kMaxLength) bit(length[n], 0);
+  for (int i = int(n) - 2; i >= 0; --i) bit(tail[n][i], (value >> i) & 1);
+}
+
+std::vector<std::uint8_t> RangeEncoder::finish() {
+  for (int i = 0; i < 5; ++i) shift_low();
+  return std::move(out_);
+}
+
+RangeDecoder::RangeDecoder(const std::uint8_t* data, std::size_t size, std::string where)
+    : data_(data), size_(size), where_(std::move(where)) {
+  for (int i = 0; i < 5; ++i) code_ = (code_ << 8) | next();
+}
+
+std::uint8_t RangeDecoder::next() {
+  if (pos_ >= size_) throw InputError(where_ + ": truncated (the transform stream ends early)");
+  return data_[pos_++];
+}
+
+int RangeDecoder::bit(BitModel& m) {
+  const std::uint32_t bound = (range_ >> kProbBits) * m.p;
+  int bit;
+  if (code_ < bound) {
+    range_ = bound;
+    m.p += ((1u << kProbBits) - m.p) >> kAdapt;
+    bit = 0;
+  } else {
+    code_ -= bound;
+    range_ -= bound;
+    m.p -= m.p >> kAdapt;
+    bit = 1;
+  }
+  while (range_ < kTop) {
+    range_ <<= 8;
+    code_ = (code_ << 8) | next();
+  }
+  return bit;
+}
+
+unsigned RangeDecoder::tree(BitModel* t, int bits) {
+  unsigned node = 1;
+  for (int i = 0; i < bits; ++i) node = node * 2 + bit(t[node]);
+  return node - (1u << bits);
+}
+
+unsigned RangeDecoder::integer(BitModel* length, BitModel (*tail)[24]) {
+  unsigned n = 0;
+  while (n < kMaxLength && bit(length[n])) ++n;
+  if (n == 0) return 0;
+  unsigned v = 1;
+  for (int i = int(n) - 2; i >= 0; --i) v = (v << 1) | unsigned(bit(tail[n][i]));
+  return v;
+}
+
+}  // namespace ifsforge
