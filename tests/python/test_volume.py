@@ -68,8 +68,10 @@ def test_vdb_read_back_by_pyopenvdb(tmp_path, samples, half, compress, tolerance
     color = pyopenvdb.read(str(path), "color")
     assert density.gridClass == "fog volume"
     # The transform puts voxel (i, j, k) where the system puts it, and every value matches, to
-    # half precision (relative 2^-11) or exactly.
-    accessor, density_accessor, colors = color.getConstAccessor(), density.getConstAccessor(), volume.color
+    # half precision (relative 2^-11) or exactly; the colour grid holds the display colours
+    # decoded to linear (what Blender's Principled Volume reads).
+    accessor, density_accessor = color.getConstAccessor(), density.getConstAccessor()
+    colors = ifsforge.srgb_to_linear(volume.color)
     for index in range(len(volume)):
         ijk = tuple(int(c) for c in volume.coords[index])
         assert np.allclose(accessor.getValue(ijk), colors[index], rtol=tolerance, atol=0)
