@@ -1,11 +1,14 @@
 """Arrays from the ifsforge module into Blender meshes (bulk foreach_set, no per-element Python)."""
 import numpy as np
 
+import ifsforge
+
 
 def fill_mesh(mesh, positions, triangles, normals=None, uvs=None, colors=None, color_name="ifs_color",
               smooth=True):
     """Replaces `mesh`'s geometry by triangles over positions; optional per-vertex normals (custom
-    split normals), uvs (per vertex, as the layer "UVMap") and sRGB(A) colours (a colour attribute)."""
+    split normals), uvs (per vertex, as the layer "UVMap") and display RGB(A) colours (a colour
+    attribute, stored linear)."""
     positions = np.ascontiguousarray(positions, np.float32).reshape(-1, 3)
     triangles = np.ascontiguousarray(triangles, np.int32).reshape(-1, 3)
     mesh.clear_geometry()
@@ -29,15 +32,23 @@ def fill_mesh(mesh, positions, triangles, normals=None, uvs=None, colors=None, c
         mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(normals, np.float32).reshape(-1, 3))
 
 
-def set_colors(mesh, name, colors):
-    """A per-vertex FLOAT_COLOR attribute from sRGB(A) values in [0, 1]."""
+def linear_colors(colors):
+    """(n, 4) float32 linear RGBA from display (sRGB) RGB(A) in [0, 1]: the one colour rule,
+    through the core's srgb_to_linear; alpha is not encoded."""
     colors = np.asarray(colors, np.float32)
-    if colors.shape[1] == 3:
-        colors = np.hstack([colors, np.ones((len(colors), 1), np.float32)])
+    out = np.ones((len(colors), 4), np.float32)
+    out[:, :3] = ifsforge.srgb_to_linear(colors[:, :3])
+    if colors.shape[1] == 4:
+        out[:, 3] = colors[:, 3]
+    return out
+
+
+def set_colors(mesh, name, colors):
+    """A per-vertex FLOAT_COLOR attribute (linear, as Blender stores it) from display RGB(A)."""
     if name in mesh.attributes:
         mesh.attributes.remove(mesh.attributes[name])
     attribute = mesh.attributes.new(name, 'FLOAT_COLOR', 'POINT')
-    attribute.data.foreach_set("color_srgb", np.ascontiguousarray(colors).ravel())
+    attribute.data.foreach_set("color", linear_colors(colors).ravel())
 
 
 def points_mesh(mesh, positions):
