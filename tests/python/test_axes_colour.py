@@ -1,6 +1,7 @@
 """Issue 11's axes and colour rules, end to end: the CLI writes the files, real Blender imports
 them with its importers' default settings (tests/blender/mesh_axes_import.py)."""
 import json
+import re
 import shutil
 import struct
 
@@ -84,3 +85,84 @@ def test_every_mesh_stands_upright_in_blender(cli, tmp_path, samples):
     (tmp_path / "axes.json").write_text(json.dumps(files))
     report = run_blender("mesh_axes_import.py", tmp_path, timeout=300)
     assert len(report["checks"]) == 7
+
+
+DISPLAY = np.array([0.8, 0.2, 0.4])  # on the 16-level grid of the instance materials and exact in 8 bits
+
+
+def colour_rule_system(path):
+    """A Sierpinski tetrahedron whose maps set constant colours: DISPLAY on pieces 0 and 3 (all of
+    the attractor with x, y < 0.5), (0, 1, 0) and (1, 0, 1) on the others, so that every channel
+    spans [0, 1] and the Eq. 101 stretch leaves the colours as they are."""
+    colours = [DISPLAY, (0, 1, 0), (1, 0, 1), DISPLAY]
+    corners = ([0, 0, 0], [0.5, 0, 0], [0, 0.5, 0], [0, 0, 0.5])
+    maps = [{"scale": [0.5] * 3, "rotation": [0, 0, 0], "translation": t,
+             "channels": [[0, 0, 0, 0, 0, 0, float(c)] for c in rgb]} for t, rgb in zip(corners, colours)]
+    path.write_text(json.dumps({"format": "ifsforge/1", "name": "colour rule", "layout": "xyz+rgb",
+                                "probabilities": "uniform", "maps": maps}))
+    return path
+
+
+def corner(points):
+    points = np.asarray(points)
+    return (points[:, 0] < 0.45) & (points[:, 1] < 0.45)
+
+
+def assert_display(display, what):
+    display = np.asarray(display, float).reshape(-1, 3)
+    assert len(display) > 0, what
+    error = np.abs(display - DISPLAY).max()
+    assert error <= 1 / 255, f"{what}: off by {error * 255:.2f}/255"
+
+
+def test_one_colour_through_every_file(cli, tmp_path):
+    system = colour_rule_system(tmp_path / "rule.json")
+    linear = ifsforge.srgb_to_linear(DISPLAY)
+    assert np.all(np.abs(linear - DISPLAY) > 0.1)  # the test can tell linear from display values
+    # PNG: display values as they are (top view, x right, y up).
+    cli("render", system, "-o", "p.png", "--size", "64", "--mode", "color", "--view", "0", "90",
+        "--window", "0", "0", "1", "1", check=True)
+    image = ifsforge.read_png(str(tmp_path / "p.png"))
+    rows, columns = np.mgrid[0:64, 0:64]
+    centres = np.stack([(columns + 0.5) / 64, 1 - (rows + 0.5) / 64], -1).reshape(-1, 2)
+    covered = image.reshape(-1, 3).sum(-1) > 0
+    assert_display(image.reshape(-1, 3)[corner(centres) & covered], "png")
+    # .vdb: the colour grid linear; iso .glb: COLOR_0 linear; iso .ply: 8-bit display values.
+    cli("volume", system, "--res", "32", "-o", "v.vdb", "--mesh", "iso.glb", check=True)
+    cli("volume", system, "--res", "32", "--mesh", "iso.ply", check=True)
+    pyopenvdb = pytest.importorskip("pyopenvdb")
+    volume = ifsforge.render_volume(ifsforge.load(str(system)), "prr", 32)
+    grid = pyopenvdb.read(str(tmp_path / "v.vdb"), "color").getConstAccessor()
+    inside = corner(volume.positions)
+    assert_display(ifsforge.linear_to_srgb([grid.getValue(tuple(map(int, c))) for c in volume.coords[inside]]),
+                   "vdb")
+    gltf, binary = read_glb(tmp_path / "iso.glb")
+    attributes = gltf["meshes"][0]["primitives"][0]["attributes"]
+    stored = glb_attribute(gltf, binary, attributes["POSITION"], 3)
+    positions = np.stack([stored[:, 0], -stored[:, 2], stored[:, 1]], 1)  # the file holds (x, z, -y)
+    colours = glb_attribute(gltf, binary, attributes["COLOR_0"], 4)[:, :3]
+    assert_display(ifsforge.linear_to_srgb(colours[corner(positions)]), "iso glb")
+    # Instances: .glb baseColorFactor linear, POV-Ray srgb as it is.
+    cli("instances", system, "--depth", "2", "--gltf", "i.glb", "--pov", "i.pov", check=True)
+    gltf, _ = read_glb(tmp_path / "i.glb")
+    factors = [gltf["materials"][gltf["meshes"][n["mesh"]]["primitives"][0]["material"]]["pbrMetallicRoughness"]
+               ["baseColorFactor"][:3] for n in gltf["nodes"][1:] if corner([[n["translation"][0],
+                                                                             -n["translation"][2]]])[0]]
+    assert len(factors) == 8
+    assert_display(ifsforge.linear_to_srgb(factors), "instance glb")
+    spheres = re.findall(r"sphere\{<([^>]*)>,[^ ]* pigment\{srgb<([^>]*)>\}\}", (tmp_path / "i.pov").read_text())
+    assert len(spheres) == 16
+    srgb = [[float(v) for v in c.split(",")] for p, c in spheres if corner([[float(v) for v in p.split(",")]])[0]]
+    assert len(srgb) == 8
+    assert_display(srgb, "POV-Ray")
+    if shutil.which("blender") is None:
+        pytest.skip("Blender is not installed: the add-on and Blender's importers are not checked")
+    (tmp_path / "colour.json").write_text(json.dumps({
+        "system": str(system), "display": DISPLAY.tolist(), "iso_glb": str(tmp_path / "iso.glb"),
+        "iso_ply": str(tmp_path / "iso.ply"), "instances_glb": str(tmp_path / "i.glb")}))
+    report = run_blender("colour_rule.py", tmp_path, timeout=300)
+    # The add-on's own .vdb holds the same linear colour.
+    path = report["values"]["addon_vdb"]
+    grid = pyopenvdb.read(path, "color").getConstAccessor()
+    assert_display(ifsforge.linear_to_srgb([grid.getValue(tuple(map(int, c))) for c in volume.coords[inside]]),
+                   "add-on vdb")
