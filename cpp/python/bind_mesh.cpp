@@ -37,7 +37,7 @@ void bind_mesh(py::module_& m) {
       .value("z", Up::z);
   m.def("default_up", &default_up, py::arg("path"),
         "The up axis the reader of `path` expects by its extension: .glb/.gltf/.obj y, else (.ply) z.");
-  m.def("srgb_to_linear", py::vectorize([](double c) { return srgb_to_linear(c); }), py::arg("c"),
+  m.def("srgb_to_linear", py::vectorize([](double c) { return srgb_to_linear<double>(c); }), py::arg("c"),
         "Display (sRGB-encoded) colour values in [0, 1] to linear light (IEC 61966-2-1), clamped first: what "
         "glTF COLOR_0/baseColorFactor, the .vdb colour grid and Blender colour attributes hold.");
   m.def("linear_to_srgb", py::vectorize([](double c) { return linear_to_srgb(c); }), py::arg("c"),

@@ -63,7 +63,11 @@ TEST(Colour, SrgbDecodingHasItsStandardValues) {
   EXPECT_NEAR(srgb_to_linear(0.04045 + 1e-9), 0.04045 / 12.92, 1e-8);  // ...and the curve joins it
   EXPECT_EQ(srgb_to_linear(-0.5), 0.0);  // clamped
   EXPECT_DOUBLE_EQ(srgb_to_linear(2.0), 1.0);
-  for (int i = 0; i <= 255; ++i) EXPECT_NEAR(linear_to_srgb(srgb_to_linear(i / 255.0)), i / 255.0, 1e-12) << i;
+  for (int i = 0; i <= 255; ++i) {
+    EXPECT_NEAR(linear_to_srgb(srgb_to_linear(i / 255.0)), i / 255.0, 1e-12) << i;
+    // The float instantiation (grids, vertex colours) agrees to float rounding.
+    EXPECT_NEAR(srgb_to_linear(i / 255.0f), srgb_to_linear(double(i / 255.0f)), 4e-7 * srgb_to_linear(i / 255.0)) << i;
+  }
 }
 
 TEST(Axes, FormatsHaveTheirReadersUpAxis) {

@@ -167,8 +167,7 @@ void write_glb(const std::string& path, const TriangleMesh& mesh, const MeshWrit
     std::vector<std::array<float, 4>> linear(mesh.colors.size());
     for (std::size_t i = 0; i < linear.size(); ++i) {
       const auto& c = mesh.colors[i];
-      linear[i] = {float(srgb_to_linear(c[0])), float(srgb_to_linear(c[1])), float(srgb_to_linear(c[2])),
-                   std::clamp(c[3], 0.0f, 1.0f)};
+      linear[i] = {srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2]), std::clamp(c[3], 0.0f, 1.0f)};
     }
     primitive.attributes["COLOR_0"] = add_accessor(model, linear, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                                    TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER, false);

@@ -92,7 +92,7 @@ openvdb::GridBase::Ptr attribute_grid(const Volume& volume, const AttributeRecip
       openvdb::Vec3f rgb;
       recipe.evaluate(&volume.channels[v * nc], rgb.asPointer());
       // Blender's Principled Volume reads the colour grid as linear (the one colour rule).
-      for (int c = 0; c < 3; ++c) rgb[c] = static_cast<float>(srgb_to_linear(rgb[c]));
+      for (int c = 0; c < 3; ++c) rgb[c] = srgb_to_linear(rgb[c]);
       return rgb;
     });
     grid->setVectorType(openvdb::VEC_INVARIANT);
