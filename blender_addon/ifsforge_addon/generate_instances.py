@@ -17,7 +17,7 @@ class InstancesGenerator(Generator):
     label = "Instances"
     suffix = ""  # nothing on disk: the instance list lives in the .blend
 
-    needs = ("instances",)
+    needs = ("instances", "srgb_to_linear")
     feature = "vector IFS"
 
     def draw(self, layout, settings, system):

@@ -15,7 +15,7 @@ class MeshGenerator(Generator):
     label = "Iso-surface"
     suffix = ""  # the mesh lives in the .blend
 
-    needs = ("render_volume", "volume_to_mesh")
+    needs = ("render_volume", "volume_to_mesh", "srgb_to_linear")
     feature = "iso-surfaces"
 
     def draw(self, layout, settings, system):

@@ -17,7 +17,7 @@ class TerrainGenerator(Generator):
     label = "Terrain"
     suffix = "_palette.png"
 
-    needs = ("make_terrain",)
+    needs = ("make_terrain", "srgb_to_linear")
     feature = "terrains"
 
     def draw(self, layout, settings, system):

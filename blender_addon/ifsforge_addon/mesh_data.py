@@ -23,7 +23,7 @@ def prepare(data):
 def fill_mesh(mesh, positions, faces, normals=None, uvs=None, colors=None, color_name="ifs_color",
               smooth=True, custom_normals=False, edges=None):
     """Replaces `mesh`'s geometry by faces (n, 3 or 4) over positions; optional uvs (per vertex,
-    as the layer "UVMap") and sRGB(A) colours (a colour attribute, set by set_colors). The core's
+    as the layer "UVMap") and display RGB(A) colours (a colour attribute stored linear, set by set_colors). The core's
     meshes index only their own vertices and have no degenerate faces, so no validate(): that
     alone took seconds on a 1025^2 terrain. Smooth shading uses the normals Blender derives from
     the faces; the core's per-vertex normals become custom split normals only when asked (they
@@ -61,16 +61,23 @@ def fill_mesh(mesh, positions, faces, normals=None, uvs=None, colors=None, color
         mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(normals, np.float32).reshape(-1, 3))
 
 
-def set_colors(mesh, name, colors):
-    """A per-vertex FLOAT_COLOR attribute from sRGB(A) values in [0, 1]: the one place where
-    the add-on's mesh colour arrays reach Blender (a colour-space conversion belongs here)."""
+def linear_colors(colors):
+    """(n, 4) float32 linear RGBA from display (sRGB) RGB(A) in [0, 1]: the one colour rule,
+    through the core's srgb_to_linear; alpha is not encoded."""
     colors = np.asarray(colors, np.float32)
-    if colors.shape[1] == 3:
-        colors = np.hstack([colors, np.ones((len(colors), 1), np.float32)])
+    out = np.ones((len(colors), 4), np.float32)
+    out[:, :3] = ifsforge.srgb_to_linear(colors[:, :3])
+    if colors.shape[1] == 4:
+        out[:, 3] = colors[:, 3]
+    return out
+
+
+def set_colors(mesh, name, colors):
+    """A per-vertex FLOAT_COLOR attribute (linear, as Blender stores it) from display RGB(A)."""
     if name in mesh.attributes:
         mesh.attributes.remove(mesh.attributes[name])
     attribute = mesh.attributes.new(name, 'FLOAT_COLOR', 'POINT')
-    attribute.data.foreach_set("color_srgb", np.ascontiguousarray(colors).ravel())
+    attribute.data.foreach_set("color", linear_colors(colors).ravel())
 
 
 def points_mesh(mesh, positions):

@@ -1,12 +1,22 @@
-// Triangle meshes: write PLY / OBJ / GLB from numpy arrays.
+// Triangle meshes: write PLY / OBJ / GLB from numpy arrays; the up-axis convention and the
+// colour rule shared by every writer.
 #include "bindings.h"
 
 #include <cstring>
+#include "ifsforge/core/colour.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/mesh.h"
 #include "ifsforge/io/mesh_edges.h"
 
 namespace ifsforge::python {
+
+std::optional<Up> up_argument(const py::object& up) {
+  if (up.is_none()) return std::nullopt;
+  if (py::isinstance<Up>(up)) return up.cast<Up>();
+  if (py::isinstance<py::str>(up)) return up_from_string(up.cast<std::string>());
+  throw InputError("up is 'y', 'z' or None, not " + py::repr(up).cast<std::string>());
+}
+
 namespace {
 
 template <typename T, std::size_t N>
@@ -22,25 +32,42 @@ std::vector<std::array<T, N>> rows(const std::optional<py::array>& array, const 
 }
 
 void bind_mesh(py::module_& m) {
+  py::enum_<Up>(m, "Up", "A mesh file's up axis. ifsforge's own axes are z up (x east, y north); a y-up file "
+                         "holds (x, z, -y): glTF and OBJ expect y, PLY z.")
+      .value("y", Up::y)
+      .value("z", Up::z);
+  m.def("default_up", &default_up, py::arg("path"),
+        "The up axis the reader of `path` expects by its extension: .glb/.gltf/.obj y, else (.ply) z.");
+  m.def("srgb_to_linear", py::vectorize([](double c) { return srgb_to_linear<double>(c); }), py::arg("c"),
+        "Display (sRGB-encoded) colour values in [0, 1] to linear light (IEC 61966-2-1), clamped first: what "
+        "glTF COLOR_0/baseColorFactor, the .vdb colour grid and Blender colour attributes hold.");
+  m.def("linear_to_srgb", py::vectorize([](double c) { return linear_to_srgb(c); }), py::arg("c"),
+        "The inverse of srgb_to_linear on [0, 1].");
   m.def("write_mesh",
         [](const std::string& path, py::array positions, py::array triangles, std::optional<py::array> normals,
            std::optional<py::array> colors, std::optional<py::array> uvs, const std::string& texture,
-           const std::string& name, bool compute) {
+           const std::string& name, bool compute, const py::object& up) {
           TriangleMesh mesh;
           mesh.positions = rows<float, 3>(positions, "positions");
           mesh.triangles = rows<std::uint32_t, 3>(triangles, "triangles");
           mesh.normals = rows<float, 3>(normals, "normals");
           mesh.colors = rows<float, 4>(colors, "colors");
           mesh.uvs = rows<float, 2>(uvs, "uvs");
+          MeshWriteOptions options;
+          options.base_color_texture = texture;
+          options.name = name;
+          const std::optional<Up> file_up = up_argument(up);
           py::gil_scoped_release release;
           if (compute && mesh.normals.empty()) compute_normals(mesh);
-          write_mesh(path, mesh, MeshWriteOptions{texture, name});
+          options.up = file_up;
+          write_mesh(path, mesh, options);
         },
         py::arg("path"), py::arg("positions"), py::arg("triangles"), py::arg("normals") = py::none(),
         py::arg("colors") = py::none(), py::arg("uvs") = py::none(), py::arg("texture") = "",
-        py::arg("name") = "ifsforge", py::arg("compute_normals") = true,
-        "Write a triangle mesh as .ply, .obj or .glb (atomically). colors are RGBA in [0, 1]; texture is a "
-        "PNG embedded as the glTF base colour (needs uvs).");
+        py::arg("name") = "ifsforge", py::arg("compute_normals") = true, py::arg("up") = py::none(),
+        "Write a triangle mesh given in ifsforge's z-up axes as .ply, .obj or .glb (atomically), turned to "
+        "`up` ('y', 'z'; None: the format's, see default_up). colors are display RGBA in [0, 1] (the .glb "
+        "stores them linear); texture is a PNG embedded as the glTF base colour (needs uvs).");
   m.def("mesh_edges",
         [](py::array faces, std::size_t vertex_count) {
           auto a = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(faces);

@@ -34,13 +34,10 @@ py::dict mesh_to_dict(const TriangleMesh& mesh) {
   return d;
 }
 
-TerrainMeshOptions mesh_options(bool solid, std::optional<double> base, const std::string& up,
-                                const std::optional<Palette>& palette) {
-  if (up != "y" && up != "z") throw InputError("up is 'y' or 'z', not '" + up + "'");
+TerrainMeshOptions mesh_options(bool solid, std::optional<double> base, const std::optional<Palette>& palette) {
   TerrainMeshOptions o;
   o.solid = solid;
   if (base) o.base = *base;
-  o.up = up[0];
   if (palette) o.palette = *palette;
   return o;
 }
@@ -138,18 +135,21 @@ void bind_terrain(py::module_& m) {
         return image_to_numpy(image);
       }, py::arg("width") = 0, py::arg("height") = 0, py::arg("threads") = 0,
          "(height, width) float32 in [0, 1] (min_height..max_height), north up; write with write_png(..., 16)")
-      .def("mesh", [](const Terrain& t, bool solid, std::optional<double> base, const std::string& up,
+      .def("mesh", [](const Terrain& t, bool solid, std::optional<double> base, const py::object& up,
                       std::optional<Palette> palette, int threads) {
-        const TerrainMeshOptions o = mesh_options(solid, base, up, palette);
+        const TerrainMeshOptions o = mesh_options(solid, base, palette);
+        const Up axes = up_argument(up).value_or(Up::z);
         TriangleMesh mesh;
         {
           py::gil_scoped_release release;
           mesh = terrain_mesh(t, o, threads);
+          orient(mesh, axes);
         }
         return mesh_to_dict(mesh);
-      }, py::arg("solid") = false, py::arg("base") = py::none(), py::arg("up") = "y", py::arg("palette") = py::none(),
+      }, py::arg("solid") = false, py::arg("base") = py::none(), py::arg("up") = "z", py::arg("palette") = py::none(),
          py::arg("threads") = 0,
-         "dict of numpy arrays (positions, normals, uvs, colors with a palette, triangles), ready for write_mesh");
+         "dict of numpy arrays (positions, normals, uvs, display colors with a palette, triangles) in `up` axes: "
+         "'z' (default) is ifsforge's (x, y, height), what write_mesh expects; 'y' gives (x, height, -y)");
 
   m.def("make_terrain", [](const TerrainControls& c, int columns, int rows, int threads, const py::object& progress) {
     ProgressCallback callback = wrap_progress(progress);
@@ -184,13 +184,15 @@ void bind_terrain(py::module_& m) {
         py::arg("folder") = ".");
 
   m.def("write_terrain_mesh", [](const std::string& path, const Terrain& t, std::optional<Palette> palette, bool solid,
-                                 std::optional<double> base, const std::string& up, int threads) {
-    const TerrainMeshOptions o = mesh_options(solid, base, up, palette);
+                                 std::optional<double> base, const py::object& up, int threads) {
+    TerrainMeshOptions o = mesh_options(solid, base, palette);
+    o.up = up_argument(up);
     py::gil_scoped_release release;
     write_terrain_mesh(path, t, o, threads);
   }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("solid") = false,
-     py::arg("base") = py::none(), py::arg("up") = "y", py::arg("threads") = 0,
-     ".glb (palette strip embedded as base-colour texture), .obj or .ply; uv = (normalised height, 0.5)");
+     py::arg("base") = py::none(), py::arg("up") = py::none(), py::arg("threads") = 0,
+     ".glb (palette strip embedded as base-colour texture), .obj or .ply; uv = (normalised height, 0.5); "
+     "up: the file's up axis ('y', 'z'; None: the format's, glTF/OBJ y, PLY z)");
   m.def("write_terrain_pov", [](const std::string& path, const Terrain& t, std::optional<Palette> palette,
                                 const std::string& shape, const std::string& camera, bool flat, double aspect,
                                 int threads, const std::string& title, const std::string& palette_name) {

@@ -322,18 +322,21 @@ void bind_vector(py::module_& m) {
         py::arg("path"), py::arg("instances"), py::arg("width") = 1024, py::arg("margin") = 0.03,
         py::arg("background") = py::none(), py::arg("title") = "", "SVG of a 2D instance list, one element per instance.");
   m.def("write_gltf_instances",
-        [](const std::string& path, const InstanceList& list, int segments, int color_levels, bool extras, const std::string& name) {
+        [](const std::string& path, const InstanceList& list, int segments, int color_levels, bool extras,
+           const std::string& name, const py::object& up) {
           GltfInstanceOptions o;
           o.segments = segments;
           o.color_levels = color_levels;
           o.extras = extras;
           o.name = name;
+          o.up = up_argument(up).value_or(o.up);
           py::gil_scoped_release release;
           write_gltf_instances(path, list, o);
         },
         py::arg("path"), py::arg("instances"), py::arg("segments") = 24, py::arg("color_levels") = 16,
-        py::arg("extras") = true, py::arg("name") = "",
-        "Binary glTF: each primitive's mesh stored once, one node per instance (Blender: linked duplicates).");
+        py::arg("extras") = true, py::arg("name") = "", py::arg("up") = py::none(),
+        "Binary glTF: each primitive's mesh stored once, one node per instance (Blender: linked duplicates); "
+        "materials hold the display colours as linear baseColorFactor; up: 'y' (None: glTF's) or 'z'.");
   m.def("draw_instances",
         [](const InstanceList& list, int width, std::optional<int> height, std::optional<std::array<double, 4>> window,
            std::array<double, 2> view, std::array<float, 4> background, int supersample, int threads) {

@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "ifsforge/core/progress.h"
+#include "ifsforge/io/axes.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/render/image.h"
 
@@ -24,6 +25,9 @@ void bind_all(py::module_& m);
 /// @brief A C++ progress callback around a Python callable f(fraction) -> bool | None
 /// (False cancels). Ctrl-C also cancels. Empty when `callback` is None.
 ProgressCallback wrap_progress(const py::object& callback);
+
+/// @brief An `up` argument: None (the format's default: none), "y", "z" or ifsforge.Up.
+std::optional<Up> up_argument(const py::object& up);
 
 /// @brief A float32 numpy array (copy) of shape `shape` from contiguous data.
 py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssize_t> shape);

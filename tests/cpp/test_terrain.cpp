@@ -388,11 +388,10 @@ TEST(Terrain, MeshTopology) {
     if (!edges.count({e.second, e.first})) ++boundary;
   }
   EXPECT_EQ(boundary, 2 * 32 + 2 * 16);
-  for (const auto& n : open.normals) EXPECT_GT(n[1], 0.0f);  // y up: every normal points up
+  for (const auto& n : open.normals) EXPECT_GT(n[2], 0.0f);  // our axes, z up: every normal points up
 
   TerrainMeshOptions solid;
   solid.solid = true;
-  solid.up = 'z';
   const TriangleMesh closed = terrain_mesh(t, solid);
   EXPECT_EQ(closed.positions.size(), 33u * 17u + (2 * 32 + 2 * 16) + 1);
   // Watertight: every directed edge once, and its reverse once.

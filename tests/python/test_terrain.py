@@ -66,7 +66,10 @@ def test_terrain_binding_hits_controls_and_ignores_threads():
     mesh = one.mesh(palette=two_tone())
     assert mesh["positions"].shape == (241 * 401, 3) and mesh["triangles"].shape == (2 * 240 * 400, 3)
     assert mesh["colors"].shape == (241 * 401, 4)
-    assert np.allclose(mesh["positions"][:, 1], one.heights.ravel())  # y up
+    assert np.allclose(mesh["positions"][:, 2], one.heights.ravel())  # ifsforge's axes: z up
+    turned = one.mesh(up="y")  # (x, height, -y)
+    assert np.allclose(turned["positions"], mesh["positions"][:, [0, 2, 1]] * [1, 1, -1])
+    assert np.allclose(turned["normals"], mesh["normals"][:, [0, 2, 1]] * [1, 1, -1])
     cancelled = []
     with pytest.raises(ifsforge.Cancelled):
         ifsforge.make_terrain(controls(rows=9, columns=9), 4096, 64, progress=lambda f: cancelled.append(f) or False)

@@ -33,6 +33,7 @@ from ifsforge._core import (  # noqa: F401
     write_mesh,
     write_png,
 )
+from ifsforge._core import Up, default_up, linear_to_srgb, srgb_to_linear  # noqa: F401  (axes, colour rule)
 from ifsforge._core import PreviewCloud, morph, pad_maps, piece_color, preview_cloud  # noqa: F401  (design)
 from ifsforge._core import (  # noqa: F401  (terrain: fractal interpolation, terrains, palettes)
     FractalInterpolation, Palette, PaletteRecipe, PaletteSpec, Terrain, TerrainControls, TerrainRecipe,

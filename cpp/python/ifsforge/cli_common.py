@@ -11,6 +11,13 @@ def add_system_argument(parser):
     parser.add_argument("system", help=SYSTEM_HELP)
 
 
+def add_up_argument(parser):
+    """--up for every command that writes meshes (default: what each format's reader expects)."""
+    parser.add_argument("--up", choices=["y", "z"], default=None,
+                        help="the mesh files' up axis (default: the format's: .glb/.obj y, .ply z, so that "
+                        "Blender's importers stand the mesh upright)")
+
+
 def load_system(spec):
     return ifsforge.load(spec)
 

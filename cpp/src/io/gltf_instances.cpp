@@ -9,17 +9,16 @@
 #include <map>
 #include <tuple>
 
+#include "ifsforge/core/colour.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
+#include "ifsforge/io/axes.h"
 #include "ifsforge/io/povray.h"
 
 namespace ifsforge {
 namespace {
 
 using Mat3 = std::array<std::array<double, 3>, 3>;
-
-// Our z-up axes to glTF's y-up: (x, y, z) -> (x, z, -y), a rotation.
-std::array<float, 3> to_gltf(float x, float y, float z) { return {x, z, -y}; }
 
 void json_number(std::string& out, double v) {
   char buffer[32];
@@ -66,11 +65,6 @@ std::array<double, 4> quaternion(const Mat3& m) {
   return q;
 }
 
-double srgb_to_linear(double c) {
-  c = std::clamp(c, 0.0, 1.0);
-  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-}
-
 struct Binary {
   std::string bytes;
   std::string views;  // JSON of the bufferViews
@@ -89,6 +83,9 @@ struct Binary {
 }  // namespace
 
 void write_gltf_instances(const std::string& path, const InstanceList& list, const GltfInstanceOptions& options) {
+  const Up up = options.up;
+  // The columns of C: where our unit axes land in the file's axes.
+  const std::array<float, 3> axes[3] = {oriented(1, 0, 0, up), oriented(0, 1, 0, up), oriented(0, 0, 1, up)};
   if (options.color_levels < 0 || options.color_levels == 1 || options.color_levels > 256)
     throw InputError("colour levels must be 0 (no per-colour meshes) or 2..256");
   check_writable(path);
@@ -105,14 +102,14 @@ void write_gltf_instances(const std::string& path, const InstanceList& list, con
     float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
       const auto& q = mesh.positions[v];
-      const auto g = to_gltf(q[0], q[1], q[2]);
+      const auto g = oriented(q, up);
       for (int c = 0; c < 3; ++c) {
         positions.push_back(g[c]);
         lo[c] = std::min(lo[c], g[c]);
         hi[c] = std::max(hi[c], g[c]);
       }
       const auto& n = mesh.normals.size() == mesh.positions.size() ? mesh.normals[v] : std::array<float, 3>{0, 0, 1};
-      const auto gn = to_gltf(n[0], n[1], n[2]);
+      const auto gn = oriented(n, up);
       normals.insert(normals.end(), gn.begin(), gn.end());
     }
     std::vector<std::uint32_t> indices;
@@ -217,17 +214,18 @@ void write_gltf_instances(const std::string& path, const InstanceList& list, con
     if (node_mesh[i] < 0) continue;
     const auto& p = list.positions[i];
     const auto& f = list.frames[i];
-    // The frame R has columns e1, e2, e3 and the stored meshes are C v, so the node rotation is
-    // R' = C R C^T, whose columns are C e1, C e3 and -C e2.
-    const auto c1 = to_gltf(f[0], f[1], f[2]), c2 = to_gltf(f[6], f[7], f[8]), c3 = to_gltf(-f[3], -f[4], -f[5]);
+    // The frame R has columns e1, e2, e3 and the stored meshes are C v (C: the axis rotation),
+    // so the node rotation is R' = C R C^T, whose column j is sum_k C[j][k] (C e_k).
+    const std::array<float, 3> ce[3] = {oriented(f[0], f[1], f[2], up), oriented(f[3], f[4], f[5], up),
+                                        oriented(f[6], f[7], f[8], up)};
     Mat3 r;
-    for (int row = 0; row < 3; ++row) {
-      r[row][0] = c1[row];
-      r[row][1] = c2[row];
-      r[row][2] = c3[row];
-    }
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        r[i][j] = 0.0;
+        for (int k = 0; k < 3; ++k) r[i][j] += double(axes[k][j]) * ce[k][i];
+      }
     const auto q = quaternion(r);
-    const auto t = to_gltf(p[0], p[1], p[2]);
+    const auto t = oriented(p[0], p[1], p[2], up);
     json += ",{\"name\":" + json_string(list.addresses.to_string(i)) + ",\"mesh\":" + std::to_string(node_mesh[i]) +
             ",\"translation\":[";
     for (int c = 0; c < 3; ++c) {

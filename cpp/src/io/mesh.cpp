@@ -12,6 +12,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "ifsforge/core/colour.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/fractint.h"
@@ -58,14 +59,17 @@ void validate(const TriangleMesh& mesh) {
       if (!std::isfinite(c)) throw InputError("the mesh has a vertex that is NaN or infinite");
 }
 
-void write_with_openmesh(const std::string& path, const std::string& ext, const TriangleMesh& mesh) {
+void write_with_openmesh(const std::string& path, const std::string& ext, const TriangleMesh& mesh, Up up) {
   OMesh om;
   std::vector<OMesh::VertexHandle> handles;
   handles.reserve(mesh.positions.size());
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-    const auto& p = mesh.positions[i];
+    const auto p = oriented(mesh.positions[i], up);
     const auto v = om.add_vertex(OMesh::Point(p[0], p[1], p[2]));
-    if (!mesh.normals.empty()) om.set_normal(v, OMesh::Normal(mesh.normals[i][0], mesh.normals[i][1], mesh.normals[i][2]));
+    if (!mesh.normals.empty()) {
+      const auto n = oriented(mesh.normals[i], up);
+      om.set_normal(v, OMesh::Normal(n[0], n[1], n[2]));
+    }
     if (!mesh.colors.empty()) {
       const auto& c = mesh.colors[i];
       om.set_color(v, OMesh::Color(c[0], c[1], c[2], c[3]));
@@ -134,21 +138,40 @@ int add_accessor(tinygltf::Model& model, const std::vector<T>& data, int compone
   return static_cast<int>(model.accessors.size() - 1);
 }
 
-void write_glb(const std::string& path, const TriangleMesh& mesh, const MeshWriteOptions& options) {
+/// The vectors in `up` axes (a copy only when they change).
+const std::vector<std::array<float, 3>>& oriented_all(const std::vector<std::array<float, 3>>& in, Up up,
+                                                      std::vector<std::array<float, 3>>& storage) {
+  if (up == Up::z) return in;
+  storage.resize(in.size());
+  for (std::size_t i = 0; i < in.size(); ++i) storage[i] = oriented(in[i], up);
+  return storage;
+}
+
+void write_glb(const std::string& path, const TriangleMesh& mesh, const MeshWriteOptions& options, Up up) {
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "ifsforge";
   model.buffers.resize(1);
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
-  primitive.attributes["POSITION"] = add_accessor(model, mesh.positions, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                                  TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+  std::vector<std::array<float, 3>> storage;
+  primitive.attributes["POSITION"] = add_accessor(model, oriented_all(mesh.positions, up, storage),
+                                                  TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3,
+                                                  TINYGLTF_TARGET_ARRAY_BUFFER, true);
   if (!mesh.normals.empty())
-    primitive.attributes["NORMAL"] = add_accessor(model, mesh.normals, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                                  TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, false);
-  if (!mesh.colors.empty())
-    primitive.attributes["COLOR_0"] = add_accessor(model, mesh.colors, TINYGLTF_COMPONENT_TYPE_FLOAT,
+    primitive.attributes["NORMAL"] = add_accessor(model, oriented_all(mesh.normals, up, storage),
+                                                  TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3,
+                                                  TINYGLTF_TARGET_ARRAY_BUFFER, false);
+  if (!mesh.colors.empty()) {
+    // glTF's COLOR_0 is linear; alpha is not encoded.
+    std::vector<std::array<float, 4>> linear(mesh.colors.size());
+    for (std::size_t i = 0; i < linear.size(); ++i) {
+      const auto& c = mesh.colors[i];
+      linear[i] = {srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2]), std::clamp(c[3], 0.0f, 1.0f)};
+    }
+    primitive.attributes["COLOR_0"] = add_accessor(model, linear, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                                    TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+  }
   if (!mesh.uvs.empty())
     primitive.attributes["TEXCOORD_0"] = add_accessor(model, mesh.uvs, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                                       TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER, false);
@@ -219,10 +242,11 @@ void write_mesh(const std::string& path, const TriangleMesh& mesh, const MeshWri
     throw InputError("cannot write '" + path + "': mesh files end in .ply, .obj or .glb");
   check_writable(path);
   validate(mesh);
+  const Up up = options.up.value_or(default_up(path));
   if (ext == "glb")
-    write_glb(path, mesh, options);
+    write_glb(path, mesh, options, up);
   else
-    write_with_openmesh(path, ext, mesh);
+    write_with_openmesh(path, ext, mesh, up);
 }
 
 void compute_normals(TriangleMesh& mesh) {

@@ -15,6 +15,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "ifsforge/core/colour.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
@@ -90,6 +91,8 @@ openvdb::GridBase::Ptr attribute_grid(const Volume& volume, const AttributeRecip
     auto grid = make_grid<openvdb::Vec3fGrid>(volume, recipe.name, [&](std::size_t v) {
       openvdb::Vec3f rgb;
       recipe.evaluate(&volume.channels[v * nc], rgb.asPointer());
+      // Blender's Principled Volume reads the colour grid as linear (the one colour rule).
+      for (int c = 0; c < 3; ++c) rgb[c] = srgb_to_linear(rgb[c]);
       return rgb;
     });
     grid->setVectorType(openvdb::VEC_INVARIANT);

@@ -24,20 +24,16 @@ Vec cross(const Vec& a, const Vec& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
-std::array<float, 3> oriented(const Vec& p, char up) {
-  if (up == 'y') return {float(p[0]), float(p[2]), float(-p[1])};
-  return {float(p[0]), float(p[1]), float(p[2])};
-}
+std::array<float, 3> point(const Vec& p) { return {float(p[0]), float(p[1]), float(p[2])}; }
 
-std::array<float, 3> unit(const Vec& n, char up) {
+std::array<float, 3> unit(const Vec& n) {
   const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  return oriented(l > 0 ? Vec{n[0] / l, n[1] / l, n[2] / l} : Vec{0, 0, 1}, up);
+  return point(l > 0 ? Vec{n[0] / l, n[1] / l, n[2] / l} : Vec{0, 0, 1});
 }
 
 }  // namespace
 
 TriangleMesh terrain_mesh(const Terrain& t, const TerrainMeshOptions& o, int threads) {
-  if (o.up != 'y' && o.up != 'z') throw InputError("terrain mesh: up is 'y' or 'z'");
   if (t.columns < 2 || t.rows < 2 || t.heights.size() != std::size_t(t.columns) * t.rows)
     throw InputError("terrain mesh: the terrain has no samples");
   const bool circular = t.grid == TerrainGrid::Circular;
@@ -77,8 +73,8 @@ TriangleMesh terrain_mesh(const Terrain& t, const TerrainMeshOptions& o, int thr
     return std::uint32_t(r == 0 ? 0 : 1 + (r - 1) * w + c);
   };
   auto set_vertex = [&](std::size_t i, const Vec& p, const Vec& normal) {
-    mesh.positions[i] = oriented(p, o.up);
-    mesh.normals[i] = unit(normal, o.up);
+    mesh.positions[i] = point(p);
+    mesh.normals[i] = unit(normal);
     const float level = range > 0 ? float((p[2] - lo) / range) : 0.0f;
     mesh.uvs[i] = {std::clamp(level, 0.0f, 1.0f), 0.5f};
     if (!mesh.colors.empty()) {
@@ -161,6 +157,7 @@ void write_terrain_mesh(const std::string& path, const Terrain& terrain, const T
   const TriangleMesh mesh = terrain_mesh(terrain, build, threads);
   MeshWriteOptions write;
   write.name = "ifsforge_terrain";
+  write.up = options.up;
   if (!textured) {
     write_mesh(path, mesh, write);
     return;

@@ -107,9 +107,7 @@ std::vector<std::string> write_terrain_pov(const std::string& path, const Terrai
     s.line("  %s", finish.c_str());
     s.line("  scale <%.9g, %.9g, %.9g> translate <%.9g, %.9g, %.9g> }", sx, range, sy, box[0], lo, box[1]);
   } else {
-    TerrainMeshOptions mo;
-    mo.up = 'z';
-    const TriangleMesh mesh = terrain_mesh(t, mo, threads);
+    const TriangleMesh mesh = terrain_mesh(t, {}, threads);
     s.line("mesh2 {");
     s.line("  vertex_vectors { %zu,", mesh.positions.size());
     for (const auto& p : mesh.positions) s.line("    <%.7g, %.7g, %.7g>,", p[0], p[2], p[1]);

@@ -3,15 +3,19 @@
 /// through tinygltf. The libraries stay behind this header.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "ifsforge/io/axes.h"
+
 namespace ifsforge {
 
+/// In ifsforge's axes (right-handed, z up); the writers turn them into the file's axes.
 struct TriangleMesh {
   std::vector<std::array<float, 3>> positions;
   std::vector<std::array<float, 3>> normals;   ///< empty, or one per vertex
-  std::vector<std::array<float, 4>> colors;    ///< empty, or one RGBA in [0, 1] per vertex
+  std::vector<std::array<float, 4>> colors;    ///< empty, or one RGBA per vertex: display (sRGB) values in [0, 1]
   std::vector<std::array<float, 2>> uvs;       ///< empty, or one per vertex
   std::vector<std::array<std::uint32_t, 3>> triangles;  ///< counter-clockwise seen from outside
 };
@@ -21,11 +25,14 @@ struct MeshWriteOptions {
   std::string base_color_texture;
   /// glTF only: the mesh/node name.
   std::string name = "ifsforge";
+  /// The file's up axis; none: what its reader expects (default_up: glTF and OBJ y, PLY z).
+  std::optional<Up> up;
 };
 
-/// @brief Writes by extension: .ply (binary; normals, RGBA colours, uvs), .obj (normals and uvs;
-/// OBJ has no standard vertex colour, so colours are left out), .glb (binary glTF 2.0 with all
-/// attributes and the optional texture). Atomic; InputError for an unknown
+/// @brief Writes by extension: .ply (binary; normals, RGBA colours as display values, uvs), .obj
+/// (normals and uvs; OBJ has no standard vertex colour, so colours are left out), .glb (binary
+/// glTF 2.0 with all attributes, COLOR_0 linear as glTF requires, and the optional texture).
+/// Positions and normals are turned to the file's up axis (MeshWriteOptions::up). Atomic; InputError for an unknown
 /// extension or a malformed mesh (indices out of range, attribute counts that do not match).
 void write_mesh(const std::string& path, const TriangleMesh& mesh, const MeshWriteOptions& options = {});
 

@@ -29,10 +29,10 @@ struct VdbWriteOptions {
 };
 
 /// @brief Writes `volume` as a .vdb: FloatGrid "density" (a fog volume), Vec3fGrid "color"
-/// (RGB in [0, 1]) when the layout has colour, FloatGrids for the other channels ("gray",
-/// "alpha", ...; see volume_attributes). Every grid has the same active voxels and a transform
-/// that puts voxel (i, j, k)'s centre at origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size in
-/// the system's coordinates. File metadata describes the volume (algorithm, depth, points,
+/// (linear RGB: srgb_to_linear of the display colour) when the layout has colour, FloatGrids
+/// for the other channels ("gray", "alpha", ...; see volume_attributes). Every grid has the
+/// same active voxels and a transform that puts voxel (i, j, k)'s centre at
+/// origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size in the system's coordinates. File metadata describes the volume (algorithm, depth, points,
 /// density, grid origin, voxel size and dimensions, channel ranges), the source system when
 /// given, and options.metadata. The grids' leaves are built in parallel (the file does not
 /// depend on the thread count). Atomic; FileError when it cannot write.
@@ -63,7 +63,7 @@ struct IsoSurfaceOptions {
 
 /// @brief The iso-surface of a volume (OpenVDB's volume-to-mesh, seed 7's iso-surfaces) as
 /// triangles counter-clockwise seen from outside, in the system's coordinates, with normals
-/// and, when the volume has colour, per-vertex RGBA: the colours of the occupied voxels around
+/// and, when the volume has colour, per-vertex RGBA display values: the colours of the occupied voxels around
 /// each vertex, trilinearly weighted.
 TriangleMesh volume_to_mesh(const Volume& volume, const IsoSurfaceOptions& options = {});
 

@@ -1,6 +1,7 @@
 #pragma once
 /// @file A terrain as a triangle mesh (normals, palette UVs and colours) and its files.
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "ifsforge/io/mesh.h"
@@ -17,9 +18,9 @@ struct TerrainMeshOptions {
   /// The floor height of a solid; NaN: 10% of the height range (at least 1% of the
   /// horizontal extent) below the lowest point.
   double base = std::nan("");
-  /// 'y': (x, height, -y), the glTF and OBJ convention (Blender's importers turn it to z up);
-  /// 'z': (x, y, height).
-  char up = 'y';
+  /// write_terrain_mesh: the file's up axis (none: its reader's, see default_up). terrain_mesh
+  /// itself always gives ifsforge's axes, (x, y, height).
+  std::optional<Up> up;
   /// Vertex colours from this palette by height (empty palette: no colours).
   Palette palette;
 };

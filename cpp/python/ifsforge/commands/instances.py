@@ -45,6 +45,7 @@ def register(subparsers):
     o.add_argument("--render", metavar="IMAGE.png", help="render the --pov scene with POV-Ray")
     o.add_argument("--svg", metavar="FILE.svg", help="SVG (2D systems)")
     o.add_argument("--gltf", metavar="FILE.glb", help="binary glTF, one node per instance (Blender)")
+    common.add_up_argument(o)
     o.add_argument("--npy", metavar="FILE.npy", help="numpy structured array (numpy.load)")
     o.add_argument("--csv", metavar="FILE.csv", help="the addresses: index,address,length,probability")
     o.add_argument("--png", metavar="IMAGE.png", help="a picture drawn without POV-Ray (2D vector IFS; 3D preview)")
@@ -109,7 +110,7 @@ def run(args):
                            background=None if args.background == [1.0, 1.0, 1.0] else args.background)
         print(f"{args.svg}: SVG, {width} px wide")
     if args.gltf:
-        ifsforge.write_gltf_instances(args.gltf, instances)
+        ifsforge.write_gltf_instances(args.gltf, instances, up=args.up)
         print(f"{args.gltf}: glTF, one node per instance")
     if args.npy:
         array = instances.to_numpy()

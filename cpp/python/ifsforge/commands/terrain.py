@@ -46,7 +46,7 @@ def register(subparsers):
     o.add_argument("--palette", metavar="PALETTE.json", help="palette recipe (default: the recipe's)")
     o.add_argument("--preview", metavar="IMAGE.png", help="also write the height image coloured by the palette")
     o.add_argument("--solid", action="store_true", help="meshes: close with walls and a floor (watertight)")
-    o.add_argument("--up", choices=["y", "z"], default="y", help="mesh up axis (y: glTF/OBJ convention)")
+    common.add_up_argument(o)
     o.add_argument("--pov-shape", choices=["height_field", "mesh2"], default="height_field")
     o.add_argument("--pov-camera", choices=["perspective", "top"], default="perspective")
     o.add_argument("--pov-flat", action="store_true", help="POV-Ray: no lights, the palette unshaded")

@@ -42,6 +42,7 @@ def register(subparsers):
     p.add_argument("--compress", action="store_true", help="Blosc-compress the .vdb (about a third smaller, slower)")
     p.add_argument("--iso", type=float, default=0.5, help="mesh: iso level of the occupancy (default 0.5)")
     p.add_argument("--adaptivity", type=float, default=0.0, help="mesh: 0 (every voxel) .. 1 (merge flat areas)")
+    common.add_up_argument(p)
     p.set_defaults(run=run)
 
 
@@ -76,5 +77,5 @@ def run(args):
     if args.mesh:
         mesh = ifsforge.volume_to_mesh(volume, iso=args.iso, adaptivity=args.adaptivity, color_scale=args.color_scale)
         ifsforge.write_mesh(args.mesh, mesh["positions"], mesh["triangles"], normals=mesh["normals"],
-                            colors=mesh["colors"], name=system.name)
+                            colors=mesh["colors"], name=system.name, up=args.up)
         print(f"{args.mesh}: {len(mesh['positions']):,} vertices, {len(mesh['triangles']):,} triangles")
