@@ -54,9 +54,7 @@ def test_same_volume_same_bytes(cli, tmp_path):
 def test_vdb_metadata_is_typed_and_holds_no_threads_or_path(cli, tmp_path):
     import pyopenvdb
     cli("volume", SYSTEM, "--res", "48", "--threads", "2", "-o", tmp_path / "v.vdb", check=True)
-    meta = pyopenvdb.readAllGridMetadata(str(tmp_path / "v.vdb"))
-    file_meta = pyopenvdb.readFileMetadata(str(tmp_path / "v.vdb"))
-    assert meta
+    file_meta = pyopenvdb.readMetadata(str(tmp_path / "v.vdb"))
     assert file_meta["ifsforge_resolution"] == 48 and isinstance(file_meta["ifsforge_resolution"], int)
     command = file_meta["ifsforge_command"]
     assert "threads" not in command and str(tmp_path) not in command and "res=48" in command
