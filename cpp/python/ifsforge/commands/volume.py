@@ -19,7 +19,7 @@ def register(subparsers):
     common.add_system_argument(p)
     p.add_argument("-o", "--output", help="the .vdb file to write")
     p.add_argument("--mesh", help="also write the iso-surface as .ply, .obj or .glb")
-    p.add_argument("--res", type=common.int_option(1, 8192), default=256, help="voxels along the longest side of the grid (default 256)")
+    p.add_argument("--res", type=int, default=256, help="voxels along the longest side of the grid (default 256)")
     p.add_argument("--bounds", type=float, nargs=6, metavar=("XMIN", "YMIN", "ZMIN", "XMAX", "YMAX", "ZMAX"),
                    help="the grid's world box (default: around the attractor, its box corners on voxel centres)")
     p.add_argument("--algorithm", "-a", default="prr",
