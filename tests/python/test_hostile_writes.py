@@ -58,3 +58,14 @@ def test_vdb_metadata_is_typed_and_holds_no_threads_or_path(cli, tmp_path):
     assert file_meta["ifsforge_resolution"] == 48 and isinstance(file_meta["ifsforge_resolution"], int)
     command = file_meta["ifsforge_command"]
     assert "threads" not in command and str(tmp_path) not in command and "res=48" in command
+
+
+def test_convert_writes_all_entries_or_none(cli, tmp_path):
+    out = tmp_path / "out"
+    (out / "zigzag2.json").mkdir(parents=True)  # the last entry cannot be written
+    result = cli("convert", SAMPLES / "classic.ifs", "-o", out)
+    assert result.returncode == 2 and "zigzag2.json" in result.stderr, result.stderr
+    assert sorted(p.name for p in out.iterdir()) == ["zigzag2.json"]
+    (out / "zigzag2.json").rmdir()
+    assert cli("convert", SAMPLES / "classic.ifs", "-o", out).returncode == 0
+    assert len(list(out.glob("*.json"))) == 13
