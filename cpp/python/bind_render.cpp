@@ -38,8 +38,8 @@ void bind_render(py::module_& m) {
   m.def("render",
         [](const Ifs& ifs, const std::string& algorithm, int width, std::optional<int> height,
            std::optional<std::array<double, 4>> window, std::optional<std::array<double, 2>> view,
-           std::uint64_t iterations, int depth, std::uint64_t seed, int threads, bool binary,
-           double points_per_pixel, std::uint64_t skip, const py::object& progress,
+           long long iterations, int depth, std::uint64_t seed, int threads, bool binary,
+           double points_per_pixel, long long skip, const py::object& progress,
            std::optional<py::array> reference_image, std::optional<Ifs> reference_system,
            std::optional<py::dict> parameters) {
           RenderOptions o;
@@ -47,13 +47,13 @@ void bind_render(py::module_& m) {
           o.height = height.value_or(width);
           if (window) o.window = Window{(*window)[0], (*window)[1], (*window)[2], (*window)[3]};
           if (view) o.view = View{(*view)[0], (*view)[1]};
-          o.iterations = iterations;
+          o.iterations = count_argument(iterations, "iterations");
           o.depth = depth;
           o.seed = seed;
           o.threads = threads;
           o.binary = binary;
           o.points_per_pixel = points_per_pixel;
-          o.skip = skip;
+          o.skip = count_argument(skip, "skip");
           o.progress = wrap_progress(progress);
           if (reference_image) o.reference_image = std::make_shared<Image>(image_from_numpy(*reference_image));
           if (reference_system) o.reference_system = std::make_shared<Ifs>(*reference_system);

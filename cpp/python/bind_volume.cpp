@@ -117,7 +117,7 @@ void bind_volume(py::module_& m) {
 
   m.def("render_volume",
         [](const Ifs& ifs, const std::string& algorithm, int resolution, std::optional<std::array<double, 6>> bounds,
-           const std::string& density, int depth, std::uint64_t iterations, int escape_bound,
+           const std::string& density, int depth, long long iterations, int escape_bound,
            const std::string& escape_norm, bool escape_pick_max, std::uint64_t seed, int threads,
            const py::object& progress) {
           VolumeOptions o;
@@ -125,7 +125,7 @@ void bind_volume(py::module_& m) {
           if (bounds) o.bounds = *bounds;
           o.density = volume_density_from_string(density);
           o.depth = depth;
-          o.iterations = iterations;
+          o.iterations = count_argument(iterations, "iterations");
           o.escape_bound = escape_bound;
           o.escape_norm = escape_norm_from_string(escape_norm);
           o.escape_pick_max = escape_pick_max;

@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "ifsforge/core/error.h"
 #include "ifsforge/core/progress.h"
 #include "ifsforge/io/axes.h"
 #include "ifsforge/model/ifs.h"
@@ -36,5 +37,12 @@ py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssiz
 Image image_from_numpy(const py::array& array);
 /// @brief (h, w) for one channel, else (h, w, c), float32.
 py::array_t<float> image_to_numpy(const Image& image);
+
+/// A count a Python caller gives as an int: negative values are an InputError naming the
+/// option (not pybind's TypeError for an unsigned parameter).
+inline std::uint64_t count_argument(long long value, const char* name) {
+  if (value < 0) throw InputError(std::string(name) + ": expects 0 or more, got " + std::to_string(value));
+  return static_cast<std::uint64_t>(value);
+}
 
 }  // namespace ifsforge::python

@@ -1,5 +1,6 @@
 #include "ifsforge/io/atomic_file.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -18,6 +19,18 @@ std::string folder_of(const std::string& path) {
 
 void check_writable(const std::string& path) {
   if (path.empty()) throw FileError("no output path given");
+  // The output is written beside the target and renamed over it: that would replace a device
+  // node, a FIFO or a symbolic link with a regular file, so those are refused.
+  struct stat info;
+  if (lstat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode)) {
+    const char* kind = S_ISLNK(info.st_mode)   ? "a symbolic link"
+                       : S_ISDIR(info.st_mode) ? "a folder"
+                       : S_ISFIFO(info.st_mode) ? "a FIFO"
+                       : S_ISSOCK(info.st_mode) ? "a socket"
+                                                : "a device";
+    throw FileError("cannot write '" + path + "': it is " + kind +
+                    "; ifsforge writes only regular files (give the path of a new or regular file)");
+  }
   const std::string folder = folder_of(path);
   if (access(folder.c_str(), W_OK) != 0)
     throw FileError("cannot write '" + path + "': folder '" + folder + "' " +
@@ -38,12 +51,17 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::commit() {
-  const bool written = std::fflush(file_) == 0 && !std::ferror(file_);
+  const bool written = std::fflush(file_) == 0 && !std::ferror(file_) && fsync(fileno(file_)) == 0;
   const int saved = errno;
+  const long position = std::ftell(file_);
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
   if (!written || !closed)
     throw FileError("cannot write '" + path_ + "': " + std::strerror(written ? errno : saved));
+  // The bytes on disk must be the bytes written (a writer with its own stream checks its own).
+  struct stat info;
+  if (position > 0 && (stat(temporary_.c_str(), &info) != 0 || info.st_size != position))
+    throw FileError("cannot write '" + path_ + "': only part of the file reached the disk");
   if (std::rename(temporary_.c_str(), path_.c_str()) != 0)
     throw FileError("cannot write '" + path_ + "': " + std::strerror(errno));
   committed_ = true;

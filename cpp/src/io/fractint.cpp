@@ -1,5 +1,7 @@
 #include "ifsforge/io/fractint.h"
 
+#include <sys/stat.h>
+
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -9,6 +11,7 @@
 #include <sstream>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
 #include "ifsforge/io/ifs_json.h"
 
 namespace ifsforge {
@@ -35,6 +38,17 @@ struct Pending {
 }  // namespace
 
 std::string read_text_file(const std::string& path) {
+  struct stat info;
+  if (stat(path.c_str(), &info) != 0) throw FileError("cannot read '" + path + "': " + std::strerror(errno));
+  if (S_ISDIR(info.st_mode)) throw FileError("cannot read '" + path + "': it is a folder, not a file");
+  if (S_ISREG(info.st_mode)) {
+    const double bytes = static_cast<double>(info.st_size);
+    if (bytes > kMaxTextFileBytes)
+      throw InputError(path + ": the file holds " + std::to_string(info.st_size) + " bytes, more than the " +
+                       std::to_string(kMaxTextFileBytes >> 20) + " MiB an input file may have");
+    // A parsed document (JSON DOM, maps) takes up to ~40 bytes per byte of text.
+    check_memory(40.0 * bytes, "reading '" + path + "'");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw FileError("cannot read '" + path + "': " + std::strerror(errno));
   std::ostringstream text;
@@ -120,6 +134,10 @@ std::vector<Ifs> parse_fractint(const std::string& text, const std::string& sour
           if (!std::isfinite(v))
             throw InputError(where(int(pos) + 1) + ": map " + std::to_string(map_index) +
                              " has a number that is NaN or infinite");
+        for (double v : numbers)
+          if (std::fabs(v) > kMaxCoefficient)
+            throw InputError(where(int(pos) + 1) + ": map " + std::to_string(map_index) +
+                             " has a number larger than 1e9 (iterating it would escape to infinity)");
         if (entry.three_d) {
           entry.maps.emplace_back(3, std::vector<double>(numbers.begin(), numbers.begin() + 9),
                                   std::vector<double>(numbers.begin() + 9, numbers.begin() + 12));

@@ -10,6 +10,7 @@
 #include "ifsforge/model/map_params.h"
 #include "ifsforge/model/recurrent.h"
 #include "ifsforge/model/super_ifs.h"
+#include "json_document.h"
 
 namespace ifsforge {
 namespace {
@@ -38,6 +39,16 @@ class Reader {
       fail(path, "expected " + std::to_string(count) + " numbers, found " + std::to_string(j.size()));
     std::vector<double> out;
     for (std::size_t i = 0; i < j.size(); ++i) out.push_back(number(j[i], path + "/" + std::to_string(i)));
+    return out;
+  }
+
+  /// `numbers`, each within +-kMaxCoefficient (a map's matrix row, offset or channel row).
+  std::vector<double> coefficients(const json& j, const std::string& path, std::size_t count) const {
+    std::vector<double> out = numbers(j, path, count);
+    for (std::size_t i = 0; i < out.size(); ++i)
+      if (std::fabs(out[i]) > kMaxCoefficient)
+        fail(path + "/" + std::to_string(i), "a map coefficient must lie within +-1e9 (iterating it would "
+                                             "escape to infinity), found " + describe(j[i]));
     return out;
   }
 
@@ -83,11 +94,11 @@ AffineMap read_map(const Reader& r, const json& m, const std::string& path, cons
       r.fail(path + "/matrix", "expected " + std::to_string(n) + " rows for layout '" + layout.text() + "'");
     std::vector<double> a;
     for (int i = 0; i < n; ++i) {
-      auto row = r.numbers(rows[i], path + "/matrix/" + std::to_string(i), n);
+      auto row = r.coefficients(rows[i], path + "/matrix/" + std::to_string(i), n);
       a.insert(a.end(), row.begin(), row.end());
     }
     if (!m.contains("offset")) r.fail(path, "a matrix needs an offset");
-    return AffineMap(n, a, r.numbers(m["offset"], path + "/offset", n));
+    return AffineMap(n, a, r.coefficients(m["offset"], path + "/offset", n));
   }
   if (!has_params) r.fail(path, "a map needs a matrix and offset, or parameters (scale, rotation, ...)");
   MapParams p;
@@ -122,7 +133,7 @@ AffineMap read_map(const Reader& r, const json& m, const std::string& path, cons
     }
   }
   if (m.contains("translation")) {
-    auto t = r.numbers(m["translation"], path + "/translation", k);
+    auto t = r.coefficients(m["translation"], path + "/translation", k);
     std::copy(t.begin(), t.end(), p.translation.begin());
   }
   const AffineMap spatial = map_from_params(p);
@@ -140,7 +151,7 @@ AffineMap read_map(const Reader& r, const json& m, const std::string& path, cons
     if (!rows.is_array() || rows.size() != static_cast<std::size_t>(n - k))
       r.fail(path + "/channels", "expected " + std::to_string(n - k) + " rows");
     for (int i = k; i < n; ++i) {
-      auto row = r.numbers(rows[i - k], path + "/channels/" + std::to_string(i - k), n + 1);
+      auto row = r.coefficients(rows[i - k], path + "/channels/" + std::to_string(i - k), n + 1);
       for (int j = 0; j < n; ++j) map.a(i, j) = row[j];
       map.b(i) = row[n];
     }
@@ -168,7 +179,9 @@ Ifs read_maps(const Reader& r, const json& obj, const std::string& at, const Cha
       if (recurrent)
         r.fail(path + "/probability", "a recurrent system's map frequencies come from its transitions; remove it");
       ++with_probability;
-      probabilities.push_back(r.number(list[i]["probability"], path + "/probability"));
+      const double p = r.number(list[i]["probability"], path + "/probability");
+      if (p < 0) r.fail(path + "/probability", "a probability must be 0 or more, found " + Reader::describe(list[i]["probability"]));
+      probabilities.push_back(p);
     }
   }
   if (with_probability != 0 && with_probability != maps.size())
@@ -259,27 +272,7 @@ Condensation read_condensation(const Reader& r, const json& j, int channels) {
 }  // namespace
 
 Ifs parse_ifs_json(const std::string& text, const std::string& source) {
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::out_of_range& e) {
-    throw InputError(source + ": a number is out of range: " + std::string(e.what()).substr(std::string(e.what()).find(']') + 2));
-  } catch (const json::parse_error& e) {
-    // Turn the byte offset into line:column.
-    int line = 1, column = 1;
-    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
-    std::string what = e.what();
-    const auto colon = what.rfind(": ");
-    throw InputError(source + ":" + std::to_string(line) + ":" + std::to_string(column) +
-                     ": malformed JSON: " + (colon == std::string::npos ? what : what.substr(colon + 2)));
-  }
+  json doc = detail::parse_json_document(text, source);
   const Reader r(source);
   if (!doc.is_object()) r.fail("", "expected a JSON object holding one system");
   if (doc.contains("format") && r.text(doc["format"], "/format") != kFormatVersion)

@@ -1,5 +1,6 @@
 #include "ifsforge/io/png.h"
 
+#include <cctype>
 #include <png.h>
 
 #include <algorithm>
@@ -29,6 +30,10 @@ void write_png(const std::string& path, const Image& image, int bit_depth) {
   if (bit_depth != 8 && bit_depth != 16) throw InputError("PNG bit depth must be 8 or 16");
   if (image.channels < 1 || image.channels > 4) throw InputError("PNG images have 1 to 4 channels");
   if (image.width < 1 || image.height < 1) throw InputError("cannot write an empty image");
+  std::string extension = path.size() >= 4 ? path.substr(path.size() - 4) : std::string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension != ".png")
+    throw FileError("cannot write '" + path + "': images are written as PNG only; give a name ending in .png");
   AtomicFile out(path);
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, const_cast<std::string*>(&path),
                                             on_error, on_warning);

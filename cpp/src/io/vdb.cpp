@@ -21,6 +21,7 @@
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/ifs_json.h"
+#include "vdb_archive.h"
 
 namespace ifsforge {
 namespace {
@@ -150,18 +151,12 @@ void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOpti
     meta.insertMeta("ifsforge_name", openvdb::StringMetadata(options.system->name()));
     meta.insertMeta("ifsforge_layout", openvdb::StringMetadata(options.system->layout().text()));
   }
-  for (const auto& [key, value] : options.metadata) meta.insertMeta(key, openvdb::StringMetadata(value));
+  for (const auto& [key, value] : options.metadata) meta.insertMeta(key, *detail::typed_metadata(value));
 
   AtomicFile out(path);
-  try {
-    openvdb::io::File file(out.temporary_path());
-    // Inactive values are all background: the active mask alone restores them.
-    file.setCompression(openvdb::io::COMPRESS_ACTIVE_MASK | (options.compress ? openvdb::io::COMPRESS_BLOSC : 0));
-    file.write(grids, meta);
-    file.close();
-  } catch (const openvdb::Exception& e) {
-    throw FileError("cannot write '" + path + "': " + e.what());
-  }
+  // Inactive values are all background: the active mask alone restores them.
+  detail::write_vdb_archive(out.temporary_path(), path, openvdb::GridCPtrVec(grids.begin(), grids.end()), meta,
+                            openvdb::io::COMPRESS_ACTIVE_MASK | (options.compress ? openvdb::io::COMPRESS_BLOSC : 0));
   out.commit();
 }
 

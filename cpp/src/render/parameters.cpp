@@ -5,10 +5,30 @@
 #include <cstdlib>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
 
 namespace ifsforge {
 
+void check_render_options(const RenderOptions& o) {
+  auto refuse = [](const std::string& option, const std::string& what) { throw InputError(option + ": " + what); };
+  if (o.width < 1 || o.width > 65535 || o.height < 1 || o.height > 65535)
+    refuse("size", "expects 1..65535 pixels per side, got " + std::to_string(o.width) + "x" + std::to_string(o.height));
+  if (o.iterations > kMaxIterations)
+    refuse("iterations", "at most 10^12 points, got " + std::to_string(o.iterations));
+  if (!(o.points_per_pixel > 0 && o.points_per_pixel <= kMaxPointsPerPixel))
+    refuse("points_per_pixel", "expects a number in (0, 10^6], got " + std::to_string(o.points_per_pixel));
+  if (o.skip > kMaxIterations) refuse("skip", "at most 10^12 points, got " + std::to_string(o.skip));
+  if (o.depth < 0 || o.depth > kMaxDepth)
+    refuse("depth", "expects 0 (automatic) to " + std::to_string(kMaxDepth) + ", got " + std::to_string(o.depth));
+  if (o.threads < 0 || o.threads > kMaxThreads)
+    refuse("threads", "expects 0 (every core) to " + std::to_string(kMaxThreads) + ", got " + std::to_string(o.threads));
+  // A raster keeps counts, channel sums and per-thread partial rasters: ~64 bytes a pixel.
+  check_memory(64.0 * o.width * o.height,
+               "a " + std::to_string(o.width) + "x" + std::to_string(o.height) + " raster");
+}
+
 void check_parameters(const Renderer& renderer, const RenderOptions& options) {
+  check_render_options(options);
   const auto declared = renderer.parameters();
   for (const auto& entry : options.parameters) {
     bool known = false;

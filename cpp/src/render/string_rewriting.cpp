@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/render/leaf_plotter.h"
 #include "ifsforge/render/parameters.h"
@@ -57,6 +58,11 @@ Raster StringRewriting::render(const Ifs& ifs, const RenderOptions& options) con
   const Point start = ifs.start_point();
   const std::vector<Point> spread = spread_points(ifs);
   const int fixed = options.depth > 0 ? std::min(options.depth, 64) : 0;
+  // At a fixed depth every string of the level before the last may be kept: maps^(depth-1)
+  // composed maps and masses, in two level buffers.
+  if (fixed > 1)
+    check_memory(std::pow(double(maps), fixed - 1) * (stride + 1) * 8.0 * 2.0,
+                 "string rewriting to depth " + std::to_string(fixed) + " with " + std::to_string(maps) + " maps");
   LeafPlotter plotter(ifs, frame);
   // Rewrites every string of `a` into its N successors STR w_k: finished strings are plotted
   // into `batch`, the others appended to `b`.

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "../io/json_document.h"
 #include "ifsforge/core/error.h"
 
 namespace ifsforge::detail {
@@ -96,12 +97,7 @@ class RecipeReader {
 
   /// The document, after checking "format".
   json parse(const std::string& text, const char* format) const {
-    json j;
-    try {
-      j = json::parse(text);
-    } catch (const json::parse_error& e) {
-      fail("", std::string("not valid JSON: ") + e.what());
-    }
+    const json j = parse_json_document(text, source_);
     if (!j.is_object()) fail("", "expected a JSON object, found " + describe(j));
     if (!j.contains("format")) fail("/format", std::string("missing: this file needs \"format\": \"") + format + "\"");
     if (text_of(j["format"]) != format)

@@ -150,7 +150,11 @@ TerrainRecipe parse_terrain_recipe(const std::string& text, const std::string& s
     const json& p = j["palette"];
     if (p.is_string()) {
       const std::string file = resolve(folder, p.get<std::string>());
-      recipe.palette = read_palette_recipe(file);
+      try {
+        recipe.palette = read_palette_recipe(file);
+      } catch (const FileError& e) {
+        r.fail("/palette", e.what());
+      }
     } else if (p.is_object()) {
       recipe.palette = parse_palette_recipe(p.dump(), source + ": /palette");
     } else {

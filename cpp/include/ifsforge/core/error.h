@@ -5,10 +5,14 @@
 
 namespace ifsforge {
 
-/// @brief Base of every ifsforge error.
+/// @brief `text` with every byte that is not printable ASCII or part of valid UTF-8 written as
+/// \xNN (NUL included), so a message quoting hostile input stays whole and readable.
+std::string printable_text(const std::string& text);
+
+/// @brief Base of every ifsforge error; its message is always printable (see printable_text).
 class Error : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit Error(const std::string& what) : std::runtime_error(printable_text(what)) {}
 };
 
 /// @brief Malformed input: a file, a parameter, a coefficient (NaN, wrong shape, ...).

@@ -9,6 +9,10 @@ namespace ifsforge {
 constexpr int kMaxDim = 8;
 using Point = std::array<double, kMaxDim>;
 
+/// Readers refuse a coefficient larger than this in magnitude: no useful map stretches by 10^9,
+/// and iterating one soon overflows to infinity far from the file that held it.
+constexpr double kMaxCoefficient = 1e9;
+
 class AffineMap {
  public:
   AffineMap() = default;

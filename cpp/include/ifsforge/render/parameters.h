@@ -9,7 +9,18 @@
 
 namespace ifsforge {
 
-/// @brief InputError unless every name in options.parameters is one `renderer` declares.
+/// Limits on options that only burn time or memory (a render asking for more is refused).
+constexpr std::uint64_t kMaxIterations = 1'000'000'000'000ull;  ///< 10^12 points
+constexpr double kMaxPointsPerPixel = 1e6;
+constexpr int kMaxDepth = 64;  ///< recursive renderers stop at 64 levels anyway
+constexpr int kMaxThreads = 1024;
+
+/// @brief InputError naming the option when a size, count or depth is out of range;
+/// MemoryBudgetError when the raster alone would not fit the memory budget.
+void check_render_options(const RenderOptions& options);
+
+/// @brief check_render_options, then InputError unless every name in options.parameters is one
+/// `renderer` declares.
 void check_parameters(const Renderer& renderer, const RenderOptions& options);
 
 /// @brief The settings of one render: the caller's values over the renderer's defaults.

@@ -37,7 +37,7 @@ def register(subparsers):
     p.add_argument("-o", "--output", required=True, help="folder for the contact sheet, images and table")
     p.add_argument("--size", default="512", help="N or WxH pixels (default 512)")
     p.add_argument("--algorithms", help="comma-separated subset (default: all but colour-stealing)")
-    p.add_argument("--threads", type=int, default=0, help="0: every core")
+    p.add_argument("--threads", type=common.int_option(0, 1024), default=0, help="0: every core")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--param", action="append", default=[], metavar="[ALGORITHM.]KEY=VALUE",
                    help="a setting for one algorithm (ALGORITHM.KEY) or for every algorithm that takes KEY")

@@ -25,13 +25,18 @@ def run(args):
     else:
         systems = [common.load_system(source)]
     os.makedirs(args.output, exist_ok=True)
-    used = set()
+    used, paths = set(), []
     for system in systems:
         name = slug(system.name)
         while name in used:
             name += "_"
         used.add(name)
-        path = os.path.join(args.output, name + ".json")
-        ifsforge.write_json(path, system)
+        paths.append(os.path.join(args.output, name + ".json"))
+    for path in paths:
+        common.ensure_output_folder(path)
+    with common.all_or_none(paths) as staged:
+        for system, path in zip(systems, paths):
+            ifsforge.write_json(staged[path], system)
+    for system, path in zip(systems, paths):
         print(f"{path}: {system.name} ({system.layout}, {len(system)} maps)")
     return 0

@@ -19,7 +19,7 @@ def register(subparsers):
     p.add_argument("--mode", default="auto", choices=["auto", "binary", "density", "color"],
                    help="density shows each pixel's age in cycles; color the channel values")
     p.add_argument("--bits", type=int, default=8, choices=[8, 16])
-    p.add_argument("--threads", type=int, default=0)
+    p.add_argument("--threads", type=common.int_option(0, 1024), default=0)
     p.set_defaults(run=run)
 
 

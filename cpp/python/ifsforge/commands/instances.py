@@ -18,7 +18,7 @@ def register(subparsers):
         "(Eq. 60-62), primitive (the k channel, Eq. 99/107) and colour (the colour channels, Eq. 101).")
     common.add_system_argument(p)
     g = p.add_argument_group("the instance list")
-    g.add_argument("--depth", type=int, default=0, help="recursion depth L: N^L instances (0: largest L with N^L <= 50000)")
+    g.add_argument("--depth", type=common.int_option(0, 64), default=0, help="recursion depth L: N^L instances (0: largest L with N^L <= 50000)")
     g.add_argument("--primitive", default="sphere",
                    help="primitive, or a comma list the k channel picks from: line, circle, triangle, square "
                    "(each also -outline), sphere, box, cone, cylinder, torus, mesh:PATH (default sphere)")
@@ -64,7 +64,7 @@ def register(subparsers):
     s.add_argument("--bounded-by", action="store_true",
                    help="POV-Ray: add bounded_by to the union (POV-Ray 3.7 then traces far slower)")
     s.add_argument("--antialias", type=float, default=0.3, help="POV-Ray's +A threshold (0: off)")
-    p.add_argument("--threads", type=int, default=0, help="0: every core (the output never depends on it)")
+    p.add_argument("--threads", type=common.int_option(0, 1024), default=0, help="0: every core (the output never depends on it)")
     p.set_defaults(run=run)
 
 

@@ -13,17 +13,17 @@ def register(subparsers):
     p.add_argument("--algorithm", "-a", default=None,
                    help="rendering algorithm (see `ifsforge algorithms`; default chaos)")
     p.add_argument("--size", default=None, help="N or WxH pixels (default 1024)")
-    p.add_argument("--iterations", type=int, default=0, help="points for random iteration (0: Eq. 44/45)")
-    p.add_argument("--depth", type=int, default=0, help="recursion depth (0: automatic, Eq. 59)")
+    p.add_argument("--iterations", type=common.int_option(0, 10**12), default=0, help="points for random iteration (0: Eq. 44/45)")
+    p.add_argument("--depth", type=common.int_option(0, 64), default=0, help="recursion depth (0: automatic, Eq. 59)")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--threads", type=int, default=0, help="0: every core (the image never depends on it)")
+    p.add_argument("--threads", type=common.int_option(0, 1024), default=0, help="0: every core (the image never depends on it)")
     p.add_argument("--mode", default="auto", choices=["auto", "binary", "density", "color", "shaded"],
                    help="binary coverage, log density, the colour channels, or a lit z-buffer (3D); "
                    "auto: shaded for 3D, color when the layout has colour, else density")
-    p.add_argument("--gamma", type=float, default=2.2)
+    p.add_argument("--gamma", type=common.float_option(0, 100, low_open=True), default=2.2)
     p.add_argument("--invert", action="store_true", help="dark attractor on white")
     p.add_argument("--bits", type=int, default=8, choices=[8, 16])
-    p.add_argument("--points-per-pixel", type=float, default=16.0, help="PEPP of Eq. 44")
+    p.add_argument("--points-per-pixel", type=common.float_option(0, 1e6, low_open=True), default=16.0, help="PEPP of Eq. 44")
     p.add_argument("--window", type=float, nargs=4, metavar=("XMIN", "YMIN", "XMAX", "YMAX"))
     p.add_argument("--view", type=float, nargs=2, metavar=("YAW", "PITCH"), help="3D systems: degrees")
     p.add_argument("--reference", help="colour-stealing: the picture colours come from")

@@ -52,7 +52,7 @@ def register(subparsers):
     o.add_argument("--pov-flat", action="store_true", help="POV-Ray: no lights, the palette unshaded")
     o.add_argument("--povray-render", metavar="IMAGE.png", help="render the .pov output with POV-Ray")
     o.add_argument("--povray-size", default="800x600", help="WxH of the POV-Ray render")
-    o.add_argument("--threads", type=int, default=0, help="0: every core (the result never depends on it)")
+    o.add_argument("--threads", type=common.int_option(0, 1024), default=0, help="0: every core (the result never depends on it)")
     p.set_defaults(run=run)
 
 
@@ -85,7 +85,7 @@ def sample_counts(grid, controls, res, recipe):
         if circular:
             return (columns, rows), (2 * rows - 1, 2 * rows - 1)
         return (columns, rows), (columns, rows)
-    width, height = common.parse_size(res or "1025")
+    width, height = common.parse_size(res or "1025", "--res")
     if circular:
         # The radius spans half the image; a circle gets at least pi * side angles, a multiple
         # of the controls per circle so that every control height is a sample.

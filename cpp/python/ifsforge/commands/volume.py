@@ -27,14 +27,14 @@ def register(subparsers):
                    "iteration), eta (escape time)")
     p.add_argument("--density", default="binary", choices=["binary", "hits", "measure"],
                    help="what the density grid holds (default binary: 1 per occupied voxel)")
-    p.add_argument("--depth", type=int, default=0,
+    p.add_argument("--depth", type=common.int_option(0, 64), default=0,
                    help="prr: recursion depth; dia: rewriting levels (0: until occupancy stops changing)")
-    p.add_argument("--iterations", type=int, default=0, help="ria: points (0: until occupancy stops changing)")
+    p.add_argument("--iterations", type=common.int_option(0, 10**12), default=0, help="ria: points (0: until occupancy stops changing)")
     p.add_argument("--escape-bound", type=int, default=0, help="eta: steps a voxel must survive (0: from --res)")
     p.add_argument("--escape-norm", default="euclidean", choices=["euclidean", "linear"], help="eta: Eq. 55 delta")
     p.add_argument("--escape-max", action="store_true", help="eta: try the largest delta first (Eq. 56)")
     p.add_argument("--seed", type=int, default=0, help="ria: random seed")
-    p.add_argument("--threads", type=int, default=0, help="0: every core (the volume never depends on it)")
+    p.add_argument("--threads", type=common.int_option(0, 1024), default=0, help="0: every core (the volume never depends on it)")
     p.add_argument("--color-scale", default="auto", choices=["auto", "range", "clamp"],
                    help="channels to [0, 1]: auto keeps values already in [0, 1], else range (Eq. 101)")
     p.add_argument("--full-precision", action="store_true",
@@ -67,15 +67,24 @@ def run(args):
     nx, ny, nz = volume.dims
     print(f"{system.name}: {nx}x{ny}x{nz} voxels of {volume.voxel_size:.6g}, {volume.algorithm} "
           f"(depth {volume.depth}), {len(volume):,} occupied, {time.perf_counter() - start:.2f} s")
-    if args.output:
-        parameters = {"ifsforge_resolution": str(args.res), "ifsforge_command": "ifsforge volume " + " ".join(
-            f"{k}={v}" for k, v in sorted(vars(args).items()) if k not in ("run", "command"))}
-        start = time.perf_counter()
-        ifsforge.write_vdb(args.output, volume, system=system, metadata=parameters, color_scale=args.color_scale,
-                           half=not args.full_precision, compress=args.compress)
-        print(f"{args.output}: {os.path.getsize(args.output):,} bytes, {time.perf_counter() - start:.2f} s")
+    # The mesh is built before anything is written, then the .vdb and the mesh are committed
+    # together: an error or Ctrl-C leaves neither.
+    mesh = None
     if args.mesh:
         mesh = ifsforge.volume_to_mesh(volume, iso=args.iso, adaptivity=args.adaptivity, color_scale=args.color_scale)
-        ifsforge.write_mesh(args.mesh, mesh["positions"], mesh["triangles"], normals=mesh["normals"],
-                            colors=mesh["colors"], name=system.name, up=args.up)
-        print(f"{args.mesh}: {len(mesh['positions']):,} vertices, {len(mesh['triangles']):,} triangles")
+    targets = [path for path in (args.output, args.mesh) if path]
+    with common.all_or_none(targets) as staged:
+        if args.output:
+            # Only what shapes the volume: no thread count (the bytes never depend on it), no path.
+            shown = {k: v for k, v in sorted(vars(args).items())
+                     if k not in ("run", "command", "threads", "output", "mesh")}
+            parameters = {"ifsforge_resolution": str(args.res),
+                          "ifsforge_command": "ifsforge volume " + " ".join(f"{k}={v}" for k, v in shown.items())}
+            start = time.perf_counter()
+            ifsforge.write_vdb(staged[args.output], volume, system=system, metadata=parameters,
+                               color_scale=args.color_scale, half=not args.full_precision, compress=args.compress)
+            print(f"{args.output}: {os.path.getsize(staged[args.output]):,} bytes, {time.perf_counter() - start:.2f} s")
+        if args.mesh:
+            ifsforge.write_mesh(staged[args.mesh], mesh["positions"], mesh["triangles"], normals=mesh["normals"],
+                                colors=mesh["colors"], name=system.name, up=args.up)
+            print(f"{args.mesh}: {len(mesh['positions']):,} vertices, {len(mesh['triangles']):,} triangles")

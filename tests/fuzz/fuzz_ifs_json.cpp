@@ -1,0 +1,7 @@
+#include "fuzz_common.h"
+#include "ifsforge/io/ifs_json.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  fuzz::with_text(data, size, [](const std::string& text) { ifsforge::parse_ifs_json(text, "fuzz.json"); });
+  return 0;
+}

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# tests/fuzz/run.sh SECONDS: builds the libFuzzer targets (ASan + UBSan) in build-fuzz, then runs
+# each for SECONDS on a corpus seeded from samples/ and from the hostile regression inputs.
+# Exits non-zero on the first crash (the reproducer is left in build-fuzz/crashes/).
+set -euo pipefail
+seconds="${1:-30}"
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+build="$here/build-fuzz"
+cmake -S "$here/tests/fuzz" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+  ${CCACHE:+-DCMAKE_CXX_COMPILER_LAUNCHER=ccache} >/dev/null
+cmake --build "$build" -j "$(nproc)" >/dev/null
+
+# Seeds: the samples, and the inputs of tests/python/test_hostile*.py.
+seeds="$build/seeds"
+rm -rf "$seeds" && mkdir -p "$seeds"/{ifs_json,fractint,recipes,mesh,png,vdb_info} "$build/crashes"
+cp "$here"/samples/systems/*.json "$seeds/ifs_json/"
+cp "$here"/samples/systems/*.ifs "$seeds/fractint/"
+cp "$here"/samples/terrain/*.json "$seeds/recipes/"
+find "$here/samples" -name '*.png' -size -1M -exec cp {} "$seeds/png/" \;
+python3 - "$seeds" <<'PY'
+import sys
+seeds = sys.argv[1]
+deep = "[" * 100000 + "]" * 100000
+def put(target, name, data):
+    with open(f"{seeds}/{target}/{name}", "wb") as f:
+        f.write(data if isinstance(data, bytes) else data.encode())
+put("ifs_json", "deep_maps", '{"maps": ' + deep + "}")
+put("ifs_json", "garbage", bytes(range(256)) * 4)
+put("ifs_json", "bad_utf8", b'{"name": "\xff\xfe"}')
+put("ifs_json", "huge_coefficient", '{"maps": [{"matrix": [[1e308, 0], [0, 0.5]], "offset": [0, 0]}]}')
+put("ifs_json", "negative_probability", '{"maps": [{"matrix": [[0.5, 0], [0, 0.5]], "offset": [0, 0], "probability": -1}]}')
+put("recipes", "deep_grid", '{"format": "ifsforge-terrain/1", "grid": ' + deep + "}")
+put("fractint", "nul", b"fern {\n 0 0 0 0.16 0 0 0.01\n 0.85 x\x00yz 0 0 0 0 0.85\n}\n")
+put("mesh", "huge_ply", b"\x00ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
+    b"property float z\nend_header\n0 0 0\n")
+put("mesh", "triangle_obj", b"\x01v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+put("mesh", "triangle_off", b"\x02OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+put("vdb_info", "empty", b"")
+PY
+if python3 -c "import pyopenvdb" 2>/dev/null; then
+  python3 -c "import pyopenvdb as v; g = v.FloatGrid(); g.name = 'density'; g.fill((0,0,0),(3,3,3),1.0); v.write('$seeds/vdb_info/cube.vdb', grids=[g])"
+fi
+
+status=0
+for target in ifs_json fractint recipes mesh png vdb_info; do
+  corpus="$build/corpus/$target"
+  mkdir -p "$corpus"
+  echo "fuzz_$target: ${seconds} s"
+  if ! ASAN_OPTIONS=detect_leaks=0 "$build/fuzz_$target" -max_total_time="$seconds" -max_len=1048576 \
+      -rss_limit_mb=4096 -artifact_prefix="$build/crashes/$target-" -print_final_stats=1 \
+      "$corpus" "$seeds/$target" 2>"$build/$target.log"; then
+    echo "fuzz_$target FAILED: see $build/$target.log and $build/crashes/" >&2
+    tail -40 "$build/$target.log" >&2
+    status=1
+  fi
+  grep -E "stat::number_of_executed_units" "$build/$target.log" || true
+done
+exit $status

@@ -1,0 +1,173 @@
+"""Hostile input (issue 18): every case refuses with exit 2, no signal, no traceback, no output
+file, a message naming its file and place, and a peak memory within the budget."""
+import os
+import resource
+import stat
+import subprocess
+
+import pytest
+
+from conftest import BUILD_PYTHON, SAMPLES
+
+import ifsforge
+
+BUDGET_MB = 200
+
+
+def hostile(tmp_path, *args):
+    """Runs the CLI with a 200 MB budget; returns (exit code, stderr, peak RSS in MB)."""
+    env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON), IFSFORGE_MEMORY_BUDGET_MB=str(BUDGET_MB))
+    with open(tmp_path / "stderr.txt", "wb") as err:
+        child = subprocess.Popen(["/usr/bin/python3", "-m", "ifsforge", *map(str, args)],
+                                 stdout=subprocess.DEVNULL, stderr=err, env=env, cwd=tmp_path)
+        _, status, usage = os.wait4(child.pid, 0)
+    text = (tmp_path / "stderr.txt").read_text()
+    return os.waitstatus_to_exitcode(status), text, usage.ru_maxrss / 1024
+
+
+def refused(tmp_path, *args, names=()):
+    code, err, peak = hostile(tmp_path, *args)
+    assert code == 2, err
+    assert "Traceback" not in err
+    assert err.strip().split("error:", 1)[-1].strip(), "empty message"
+    for name in names:
+        assert name in err, err
+    assert peak < BUDGET_MB, f"peak {peak:.0f} MB"
+    return err
+
+
+def deep(n):
+    return "[" * n + "]" * n
+
+
+def test_deep_nesting_under_maps_is_refused_at_its_place(tmp_path):
+    (tmp_path / "deep.json").write_text('{"maps": ' + deep(100000) + "}")
+    refused(tmp_path, "info", "deep.json", names=("deep.json:1:", "nested deeper than 100"))
+
+
+def test_deep_nesting_in_terrain_grid(tmp_path):
+    (tmp_path / "t.json").write_text('{"format": "ifsforge-terrain/1", "grid": ' + deep(100000) + "}")
+    with pytest.raises(ifsforge.InputError, match=r"t\.json:1:\d+: .*nested deeper"):
+        ifsforge.read_terrain_recipe(str(tmp_path / "t.json"))
+
+
+@pytest.mark.parametrize("data", [bytes(range(256)) * 4, b'{"name": "\xff\xfe"}'])
+def test_binary_garbage_gives_a_printable_message_with_line_and_column(tmp_path, data):
+    (tmp_path / "bad.json").write_bytes(data)
+    err = refused(tmp_path, "info", "bad.json", names=("bad.json:1:",))
+    assert err.isprintable() or all(c.isprintable() or c in "\n\t" for c in err)
+    with pytest.raises(ifsforge.InputError) as caught:
+        ifsforge.load(str(tmp_path / "bad.json"))
+    assert str(caught.value).startswith(str(tmp_path / "bad.json") + ":1:")
+
+
+def test_nul_byte_does_not_cut_the_fractint_message(tmp_path):
+    (tmp_path / "nul.ifs").write_bytes(b"fern {\n 0 0 0 0.16 0 0 0.01\n 0.85 x\x00yz 0 0 0 0 0.85\n}\n")
+    err = refused(tmp_path, "info", "nul.ifs", names=("nul.ifs:3:", "\\x00yz"))
+    assert "\x00" not in err
+
+
+def test_huge_coefficient_names_its_json_path(tmp_path):
+    (tmp_path / "big.json").write_text('{"maps": [{"matrix": [[1e308, 0], [0, 0.5]], "offset": [0, 0]},'
+                                       ' {"matrix": [[0.5, 0], [0, 0.5]], "offset": [1, 0]}]}')
+    refused(tmp_path, "render", "big.json", "-o", "out.png", "--size", "32", names=("big.json: /maps/0/matrix/0/0",))
+    assert not (tmp_path / "out.png").exists()
+
+
+def test_negative_probability_names_its_json_path(tmp_path):
+    (tmp_path / "p.json").write_text('{"maps": [{"matrix": [[0.5, 0], [0, 0.5]], "offset": [0, 0], "probability": -1},'
+                                     ' {"matrix": [[0.5, 0], [0, 0.5]], "offset": [1, 0], "probability": 1}]}')
+    refused(tmp_path, "info", "p.json", names=("p.json: /maps/0/probability",))
+
+
+def test_a_folder_is_not_malformed_json(tmp_path):
+    with pytest.raises(ifsforge.FileError, match="it is a folder"):
+        ifsforge.load("/tmp")
+
+
+def test_an_oversized_file_is_refused_before_reading(tmp_path):
+    big = tmp_path / "big.ifs"
+    with open(big, "wb") as f:
+        f.truncate(100 << 20)  # sparse: 100 MB declared, nothing to read
+    refused(tmp_path, "info", "big.ifs", names=("big.ifs", "MiB"))
+
+
+def test_missing_palette_names_the_recipe_field(tmp_path):
+    import json
+    recipe = json.loads((SAMPLES.parent / "terrain" / "crater.json").read_text())
+    recipe["palette"] = "nowhere.json"
+    (tmp_path / "t.json").write_text(json.dumps(recipe))
+    with pytest.raises(ifsforge.Error, match=r"t\.json: /palette: .*nowhere\.json"):
+        ifsforge.read_terrain_recipe(str(tmp_path / "t.json"))
+
+
+def test_ply_declaring_four_billion_vertices(tmp_path):
+    (tmp_path / "huge.ply").write_text("ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\n"
+                                       "property float y\nproperty float z\nend_header\n0 0 0\n")
+    with pytest.raises(ifsforge.InputError, match="huge.ply.*4000000000"):
+        ifsforge.read_mesh(str(tmp_path / "huge.ply"))
+
+
+@pytest.mark.parametrize("args,option", [
+    (["render", "--iterations", "-1"], "--iterations"),
+    (["render", "--depth", "-3"], "--depth"),
+    (["render", "--gamma", "-1"], "--gamma"),
+    (["render", "--iterations", "10000000000000"], "--iterations"),
+    (["render", "--points-per-pixel", "1e9"], "--points-per-pixel"),
+    (["render", "--threads", "-4"], "--threads"),
+    (["volume", "-a", "ria", "--iterations", "-5"], "--iterations"),
+])
+def test_out_of_range_options_name_the_option(tmp_path, args, option):
+    out = "out.vdb" if args[0] == "volume" else "out.png"
+    refused(tmp_path, args[0], SAMPLES / "sierpinski_triangle.json", "-o", out, *args[1:], names=(option,))
+    assert not (tmp_path / out).exists()
+
+
+def test_instances_negative_depth(tmp_path):
+    refused(tmp_path, "instances", SAMPLES / "tree.json", "--depth", "-2", "-o", "x.gltf", names=("--depth",))
+
+
+def test_terrain_res_names_res(tmp_path):
+    refused(tmp_path, "terrain", "--res", "100000", "-o", "t.png", names=("--res",))
+
+
+def test_python_callers_get_input_errors_not_type_errors():
+    system = ifsforge.load(str(SAMPLES / "sierpinski_triangle.json"))
+    with pytest.raises(ifsforge.InputError, match="iterations"):
+        ifsforge.render(system, "chaos", 16, iterations=-1)
+    with pytest.raises(ifsforge.InputError, match="threads"):
+        ifsforge.render(system, "chaos", 16, threads=-4)
+    with pytest.raises(ifsforge.InputError, match="depth"):
+        ifsforge.render(system, "prr", 16, depth=-3)
+
+
+def test_budget_refuses_a_huge_raster_before_allocating(tmp_path):
+    refused(tmp_path, "render", SAMPLES / "sierpinski_triangle.json", "-a", "prr", "--size", "4000",
+            "-o", "big.png", names=("4000x4000 raster", "budget"))
+    assert not (tmp_path / "big.png").exists()
+
+
+def test_budget_refuses_deep_string_rewriting(tmp_path):
+    refused(tmp_path, "render", SAMPLES / "barnsley_fern.json", "-a", "string-rewriting", "--depth", "14",
+            "--size", "64", "-o", "s.png", names=("string rewriting to depth 14", "budget"))
+
+
+@pytest.mark.skipif(os.geteuid() != 0 or not os.path.exists("/dev/full"), reason="needs /dev/full")
+def test_device_node_is_refused_and_kept(tmp_path):
+    refused(tmp_path, "render", SAMPLES / "sierpinski_triangle.json", "--size", "16", "-o", "/dev/full",
+            names=("/dev/full", "regular"))
+    assert stat.S_ISCHR(os.stat("/dev/full").st_mode)
+
+
+def test_symlink_is_refused_and_kept(tmp_path):
+    (tmp_path / "real.png").write_bytes(b"x")
+    os.symlink("real.png", tmp_path / "link.png")
+    refused(tmp_path, "render", SAMPLES / "sierpinski_triangle.json", "--size", "16", "-o", "link.png",
+            names=("link.png", "regular file"))
+    assert os.path.islink(tmp_path / "link.png") and (tmp_path / "real.png").read_bytes() == b"x"
+
+
+def test_jpg_name_is_refused(tmp_path):
+    refused(tmp_path, "render", SAMPLES / "sierpinski_triangle.json", "--size", "16", "-o", "x.jpg",
+            names=("x.jpg", ".png"))
+    assert not (tmp_path / "x.jpg").exists()
