@@ -49,6 +49,9 @@ from ifsforge._core import (  # noqa: F401  (vector: instance lists, addresses, 
 from ifsforge._core import (  # noqa: F401  (volume: Table 2 renderers, OpenVDB, iso-surfaces)
     Volume, read_vdb_info, render_volume, volume_renderers, volume_to_mesh, write_vdb,
 )
+from ifsforge._core import (  # noqa: F401  (inverse problem: collage theorem, fitting)
+    attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance,
+)
 from ifsforge.errors import (  # noqa: F401
     Cancelled,
     DivergentSystemError,

@@ -1,0 +1,39 @@
+"""The inverse problem from Python and the CLI: collage distance (Eq. 41-42) and fitting."""
+import json
+
+import numpy as np
+import pytest
+
+import ifsforge
+
+SQUARE = """{"format": "ifsforge/1", "name": "square", "layout": "xy", "maps": [
+ {"scale": 0.5, "translation": [0, 0]}, {"scale": 0.5, "translation": [0.5, 0]},
+ {"scale": 0.5, "translation": [0, 0.5]}, {"scale": 0.5, "translation": [0.5, 0.5]}],
+ "render": {"window": [0, 0, 1, 1]}}"""
+
+
+def test_collage_cli_of_an_exact_tiling(cli, tmp_path):
+    # A white square on black, laid on [0, 1]^2: its four half copies tile it exactly.
+    picture = np.zeros((40, 40), np.float32)
+    picture[8:32, 8:32] = 1
+    ifsforge.write_png(str(tmp_path / "t.png"), picture)
+    (tmp_path / "square.json").write_text(SQUARE)
+    report = json.loads(cli("collage", "square.json", "t.png", "--json", check=True).stdout)
+    # Target pixels 8..31 on both axes; the copies cover [4, 16) and [24, 36) on both axes. The
+    # farthest target pixels from the collage are (19, 19)-like, sqrt(4^2 + 4^2) from (15, 15);
+    # the farthest collage pixels from the target are the corners (4, 4) and (35, 35), as far.
+    assert report["distance_pixels"] == pytest.approx(32 ** 0.5)
+    collage = ifsforge.collage_mask(ifsforge.parse_json(SQUARE), picture > 0.5)
+    assert collage[4:16, 4:16].all() and collage[24:36, 24:36].all() and collage.sum() == 4 * 12 * 12
+    assert ifsforge.hausdorff_distance(picture > 0.5, collage) == pytest.approx(32 ** 0.5)
+    assert report["contraction"] == 0.5
+    assert report["bound_pixels"] == pytest.approx(2 * report["distance_pixels"])
+    assert report["target_pixels"] == 24 * 24
+
+
+def test_collage_cli_names_a_bad_target(cli, tmp_path):
+    (tmp_path / "square.json").write_text(SQUARE)
+    ifsforge.write_png(str(tmp_path / "blank.png"), np.zeros((8, 8), np.float32))
+    result = cli("collage", "square.json", "blank.png")
+    assert result.returncode != 0
+    assert "blank.png" in result.stderr and "no shape" in result.stderr
