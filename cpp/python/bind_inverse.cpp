@@ -77,7 +77,7 @@ void bind_inverse(py::module_& m) {
   }, py::arg("ifs"), py::arg("target"), py::arg("window") = py::none(), py::arg("threshold") = 0.5,
         "bool (h, w): the collage U w_i(target) on the target's grid (what lands outside is dropped).");
   m.def("fit", [](const py::array& target, int maps, int raster, double max_contraction, int restarts,
-                  int generations, int refine_generations, double time_limit, std::uint64_t seed, int threads,
+                  int generations, int attractor_generations, int refine_generations, double time_limit, std::uint64_t seed, int threads,
                   double threshold, const py::object& progress) {
     FitOptions o;
     o.maps = maps;
@@ -85,6 +85,7 @@ void bind_inverse(py::module_& m) {
     o.max_contraction = max_contraction;
     o.restarts = restarts;
     o.generations = generations;
+    o.attractor_generations = attractor_generations;
     o.refine_generations = refine_generations;
     o.time_limit = time_limit;
     o.seed = seed;
@@ -107,6 +108,7 @@ void bind_inverse(py::module_& m) {
   }, py::arg("target"), py::arg("maps") = FitOptions{}.maps, py::arg("raster") = FitOptions{}.raster,
         py::arg("max_contraction") = FitOptions{}.max_contraction, py::arg("restarts") = FitOptions{}.restarts,
         py::arg("generations") = FitOptions{}.generations,
+        py::arg("attractor_generations") = FitOptions{}.attractor_generations,
         py::arg("refine_generations") = FitOptions{}.refine_generations, py::arg("time_limit") = 0.0,
         py::arg("seed") = 0, py::arg("threads") = 0, py::arg("threshold") = 0.5, py::arg("progress") = py::none(),
         "An IFS of `maps` maps whose attractor resembles the target (a bool mask or a picture): CMA-ES "

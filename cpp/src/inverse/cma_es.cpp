@@ -83,8 +83,13 @@ CmaResult minimize_cma(const std::function<double(const std::vector<double>&, in
       c[i] = (1 - c1 - cmu) * c[i] + c1 * (pc[i] * pc[i] + (hs ? 0.0 : cc * (2 - cc) * c[i])) + cmu * rank;
     }
     sigma *= std::exp((cs / ds) * (psn / chi - 1));
-    history.push_back(best.value);
-    if (history.size() > 20 && history[history.size() - 21] - best.value < o.tolerance) break;
+    // Stop when the generations' best values stay within the tolerance for 20 generations.
+    history.push_back(values[order[0]]);
+    if (history.size() >= 20) {
+      const auto last = history.end() - 20;
+      const auto [lo, hi] = std::minmax_element(last, history.end());
+      if (*hi - *lo < o.tolerance) break;
+    }
     if (sigma < 1e-12) break;
   }
   return best;

@@ -11,7 +11,7 @@ namespace ifsforge {
 struct CmaOptions {
   int population = 0;        ///< lambda; 0: 4 + 3 ln n
   int max_generations = 200;
-  double tolerance = 1e-7;   ///< stop when the best value moved less than this over 20 generations
+  double tolerance = 1e-7;   ///< stop when 20 generations' best values lie within this
   std::uint64_t seed = 0;
   int threads = 0;
 };

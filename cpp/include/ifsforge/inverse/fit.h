@@ -18,6 +18,7 @@ struct FitOptions {
   double overlap_weight = 1.0;   ///< weight of the copies' overlap in the collage proxy
   int restarts = 6;              ///< CMA-ES runs (each from its own initial collage)
   int generations = 150;         ///< per run
+  int attractor_generations = 40;  ///< per run, on the attractor after the collage proxy
   int refine_generations = 60;   ///< of the final refinement on the attractor
   int refine_raster = 256;       ///< cells along the long side during the refinement (at most the picture's)
   double time_limit = 0;         ///< seconds; 0: none (only then is the run independent of speed)
@@ -28,7 +29,7 @@ struct FitOptions {
 
 struct FitResult {
   Ifs system;                 ///< 2D, maps in the target's plane, render.window and size set
-  double iou = 0;             ///< of the attractor and the target on the refinement's raster
+  double iou = 0;             ///< of the attractor and the target on the refinement grid
   double proxy = 0;           ///< collage proxy of the result
   std::uint64_t evaluations = 0;
   int restarts = 0;           ///< runs completed
