@@ -6,6 +6,8 @@ import pytest
 
 import ifsforge
 
+from conftest import SAMPLES
+
 SQUARE = """{"format": "ifsforge/1", "name": "square", "layout": "xy", "maps": [
  {"scale": 0.5, "translation": [0, 0]}, {"scale": 0.5, "translation": [0.5, 0]},
  {"scale": 0.5, "translation": [0, 0.5]}, {"scale": 0.5, "translation": [0.5, 0.5]}],
@@ -37,3 +39,44 @@ def test_collage_cli_names_a_bad_target(cli, tmp_path):
     result = cli("collage", "square.json", "blank.png")
     assert result.returncode != 0
     assert "blank.png" in result.stderr and "no shape" in result.stderr
+
+
+def sierpinski_target(size):
+    system = ifsforge.load(str(SAMPLES / "sierpinski_triangle.json"))
+    return np.asarray(ifsforge.render(system, "chaos", size, size, binary=True).mask, bool)
+
+
+def test_fit_recovers_a_sierpinski_triangle(cli, tmp_path):
+    target = sierpinski_target(96)
+    ifsforge.write_png(str(tmp_path / "t.png"), target.astype(np.float32))
+    summary = json.loads(cli("fit", "t.png", "-o", "fit.json", "--maps", "3", "--restarts", "2", "--seed", "1",
+                             "--json", check=True).stdout)
+    system = ifsforge.read_json(str(tmp_path / "fit.json"))
+    assert len(system) == 3 and summary["maps"] == 3
+    assert max(system.contraction_factors()) < 0.9 + 1e-9
+    assert ifsforge.attractor_iou(system, target) >= 0.85
+    # render.window and the size frame the attractor exactly like the target.
+    cli("render", "fit.json", "-o", "fit.png", "--mode", "binary", check=True)
+    drawn = ifsforge.read_png(str(tmp_path / "fit.png"))
+    drawn = (drawn if drawn.ndim == 2 else drawn[..., :3].max(axis=2)) > 0.05
+    assert drawn.shape == target.shape
+    assert (drawn & target).sum() / (drawn | target).sum() >= 0.85
+
+
+def test_fit_is_identical_for_any_thread_count():
+    target = sierpinski_target(40)
+    runs = [ifsforge.fit(target, maps=2, restarts=1, generations=30, attractor_generations=5,
+                         refine_generations=5, seed=3, threads=t) for t in (1, 2)]
+    assert ifsforge.to_json(runs[0]["system"]) == ifsforge.to_json(runs[1]["system"])
+    other = ifsforge.fit(target, maps=2, restarts=1, generations=30, attractor_generations=5,
+                         refine_generations=5, seed=4, threads=2)
+    assert ifsforge.to_json(other["system"]) != ifsforge.to_json(runs[0]["system"])
+
+
+def test_fit_refuses_bad_options(cli, tmp_path):
+    ifsforge.write_png(str(tmp_path / "t.png"), sierpinski_target(32).astype(np.float32))
+    result = cli("fit", "t.png", "-o", "x.json", "--maps", "many")
+    assert result.returncode != 0 and "--maps" in result.stderr
+    result = cli("fit", "t.png", "-o", "x.json", "--max-contraction", "1.5")
+    assert result.returncode != 0 and "contraction" in result.stderr
+    assert not (tmp_path / "x.json").exists()
