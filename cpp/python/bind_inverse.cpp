@@ -1,6 +1,7 @@
 // The inverse problem (seed chapter 4): collage distance, automatic fitting.
 #include "bindings.h"
 #include "ifsforge/core/error.h"
+#include "ifsforge/inverse/address_of.h"
 #include "ifsforge/inverse/collage.h"
 #include "ifsforge/inverse/fit.h"
 
@@ -116,6 +117,18 @@ void bind_inverse(py::module_& m) {
         "carries render.window and the target's size. Returns a dict: system, iou (on the search raster), "
         "proxy, evaluations, restarts, time_limited. Identical for a given seed and any thread count unless "
         "time_limit cut it short.");
+  py::reinterpret_borrow<py::class_<Ifs>>(m.attr("Ifs"))
+      .def("address_of", [](const Ifs& ifs, const std::vector<double>& point, int depth) {
+        PointAddresses r;
+        {
+          py::gil_scoped_release release;
+          r = address_of(ifs, point, depth);
+        }
+        return py::make_tuple(r.addresses, r.distance);
+      }, py::arg("point"), py::arg("depth") = 8,
+      "(addresses, distance): the depth-`depth` addresses (lists of 0-based map indices, outermost map "
+      "first) of the pieces that may hold the attractor point nearest to `point`, by the hierarchy of "
+      "bounding boxes (seed 3.3.1), and the distance to the nearest attractor point found.");
   m.def("attractor_iou", [](const Ifs& ifs, const py::array& target, std::uint64_t seed, double threshold) {
     const PixelSet t = pixel_set_from_numpy(target, threshold);
     py::gil_scoped_release release;

@@ -80,3 +80,21 @@ def test_fit_refuses_bad_options(cli, tmp_path):
     result = cli("fit", "t.png", "-o", "x.json", "--max-contraction", "1.5")
     assert result.returncode != 0 and "contraction" in result.stderr
     assert not (tmp_path / "x.json").exists()
+
+
+def test_address_of_cantor_dust_points(cli, samples):
+    # A point of the dust w_a0(w_a1(...(corner))) has exactly that address: the pieces are apart.
+    dust = ifsforge.load(str(samples / "cantor_dust.json"))
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        address = [int(a) for a in rng.integers(0, 4, 6)]
+        x = y = 0.0  # the fixed point of map 0
+        for a in reversed(address):
+            x, y = x / 3 + (2 / 3) * (a % 2), y / 3 + (2 / 3) * (a // 2)
+        found, distance = dust.address_of([x, y], 6)
+        assert found == [address] and distance == pytest.approx(0, abs=1e-12)
+    result = json.loads(cli("address", str(samples / "cantor_dust.json"), "0.99", "0.01", "--depth", "3", "--json",
+                            check=True).stdout)
+    assert result["addresses"] == [[1, 1, 1]]  # the bottom-right piece of side 1/27
+    result = cli("address", str(samples / "cantor_dust.json"), "0.5", "--depth", "3")
+    assert result.returncode != 0 and "coordinates" in result.stderr
