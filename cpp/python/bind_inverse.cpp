@@ -4,6 +4,7 @@
 #include "ifsforge/inverse/address_of.h"
 #include "ifsforge/inverse/collage.h"
 #include "ifsforge/inverse/fit.h"
+#include "ifsforge/inverse/tops.h"
 
 namespace ifsforge::python {
 
@@ -45,6 +46,14 @@ std::optional<Window> window_from(const std::optional<std::vector<double>>& w) {
   if (!w) return std::nullopt;
   if (w->size() != 4) throw InputError("window expects 4 numbers: xmin ymin xmax ymax");
   return Window{(*w)[0], (*w)[1], (*w)[2], (*w)[3]};
+}
+
+/// The frame `render` uses: the window given, else the system's render.window, else the attractor's.
+Frame frame_of(const Ifs& ifs, int width, int height, const std::optional<std::vector<double>>& window) {
+  std::optional<Window> w = window_from(window);
+  const auto& saved = ifs.render_defaults().window;
+  if (!w && saved.size() == 4) w = Window{saved[0], saved[1], saved[2], saved[3]};
+  return Frame::fit(ifs, width, height, w);
 }
 
 void bind_inverse(py::module_& m) {
@@ -129,6 +138,41 @@ void bind_inverse(py::module_& m) {
       "(addresses, distance): the depth-`depth` addresses (lists of 0-based map indices, outermost map "
       "first) of the pieces that may hold the attractor point nearest to `point`, by the hierarchy of "
       "bounding boxes (seed 3.3.1), and the distance to the nearest attractor point found.");
+  m.def("tops", [](const Ifs& ifs, int width, int height, std::optional<std::vector<double>> window,
+                   std::uint64_t iterations, std::uint64_t seed) {
+    TopsOptions o{width, height, iterations, seed};
+    Tops t;
+    {
+      py::gil_scoped_release release;
+      t = tops(ifs, frame_of(ifs, width, height, window), o);
+    }
+    py::array_t<std::uint8_t> digits({height, width, kTopsDepth});
+    auto d = digits.mutable_unchecked<3>();
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        for (int k = 0; k < kTopsDepth; ++k)
+          d(y, x, k) = static_cast<std::uint8_t>((t.codes[std::size_t(y) * width + x] >> (60 - 4 * k)) & 15);
+    PixelSet covered{width, height, t.covered};
+    return py::make_tuple(digits, pixel_set_to_numpy(covered));
+  }, py::arg("ifs"), py::arg("width"), py::arg("height"), py::arg("window") = py::none(),
+        py::arg("iterations") = 0, py::arg("seed") = 0,
+        "Fractal tops (seed 3.3.5): (digits uint8 (h, w, 16), covered bool (h, w)): per pixel the largest "
+        "address (outermost map first) among the chaos game's points in it. window: default the system's "
+        "render.window, else the attractor's frame.");
+  m.def("tops_warp", [](const Ifs& f, const py::array& picture, const Ifs& g, int width, int height,
+                        std::uint64_t iterations, std::uint64_t seed) {
+    const Image image = image_from_numpy(picture);
+    Image out;
+    {
+      py::gil_scoped_release release;
+      const Frame ff = frame_of(f, image.width, image.height, std::nullopt);
+      out = tops_warp(f, ff, image, g, frame_of(g, width, height, std::nullopt), TopsOptions{width, height, iterations, seed});
+    }
+    return image_to_numpy(out);
+  }, py::arg("from_system"), py::arg("picture"), py::arg("to_system"), py::arg("width"), py::arg("height"),
+        py::arg("iterations") = 0, py::arg("seed") = 0,
+        "The picture laid on F's frame (its render.window, else its attractor's) carried onto G's attractor "
+        "by the fractal homeomorphism phi_G o tau_F (3.3.5): RGBA (height, width, 4), alpha 0 off G.");
   m.def("attractor_iou", [](const Ifs& ifs, const py::array& target, std::uint64_t seed, double threshold) {
     const PixelSet t = pixel_set_from_numpy(target, threshold);
     py::gil_scoped_release release;

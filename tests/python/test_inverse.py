@@ -1,5 +1,6 @@
 """The inverse problem from Python and the CLI: collage distance (Eq. 41-42) and fitting."""
 import json
+import os
 
 import numpy as np
 import pytest
@@ -98,3 +99,33 @@ def test_address_of_cantor_dust_points(cli, samples):
     assert result["addresses"] == [[1, 1, 1]]  # the bottom-right piece of side 1/27
     result = cli("address", str(samples / "cantor_dust.json"), "0.5", "--depth", "3")
     assert result.returncode != 0 and "coordinates" in result.stderr
+
+
+def test_tops_address_of_a_pixel_is_its_analytic_address():
+    # The filled square of four half maps: pixel (x, y) of a 64^2 image of [0, 1]^2 lies in the
+    # depth-6 piece whose digit k is bit k of x plus twice bit k of y (top-left origin flipped).
+    square = ifsforge.parse_json(SQUARE)
+    digits, covered = ifsforge.tops(square, 64, 64, seed=2)
+    assert covered.all()
+    for row, col in [(0, 0), (63, 63), (10, 40), (33, 7), (50, 21)]:
+        x, y = col, 63 - row
+        expected = [((x >> (5 - k)) & 1) + 2 * ((y >> (5 - k)) & 1) for k in range(6)]
+        assert list(digits[row, col, :6]) == expected
+
+
+def test_warp_from_f_to_f_gives_the_picture_back(cli, tmp_path):
+    (tmp_path / "square.json").write_text(SQUARE)
+    yy, xx = np.mgrid[0:128, 0:128] / 127.0
+    picture = np.stack([xx, yy, 0.5 + 0.5 * np.sin(6 * xx) * np.cos(4 * yy)], axis=2).astype(np.float32)
+    ifsforge.write_png(str(tmp_path / "p.png"), picture)
+    cli("warp", "p.png", "--from", "square.json", "--to", "square.json", "-o", "w.png", "--size", "128", check=True)
+    warped = ifsforge.read_png(str(tmp_path / "w.png"))
+    assert warped.shape == (128, 128, 4) and (warped[..., 3] == 1).all()
+    mse = float(((warped[..., :3] - ifsforge.read_png(str(tmp_path / "p.png"))) ** 2).mean())
+    assert 10 * np.log10(1 / mse) > 30
+    cli("warp", "p.png", "--from", "square.json", "--to", "square.json", "-o", "frames", "--size", "32",
+        "--frames", "3", check=True)
+    assert sorted(os.listdir(tmp_path / "frames")) == [f"frame_{k:04d}.png" for k in range(3)]
+    result = cli("warp", "p.png", "--from", "square.json", "--to", str(SAMPLES / "sierpinski_triangle.json"),
+                 "-o", "x.png")
+    assert result.returncode != 0 and "same number of maps" in result.stderr and not (tmp_path / "x.png").exists()

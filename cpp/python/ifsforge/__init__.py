@@ -50,7 +50,7 @@ from ifsforge._core import (  # noqa: F401  (volume: Table 2 renderers, OpenVDB,
     Volume, read_vdb_info, render_volume, volume_renderers, volume_to_mesh, write_vdb,
 )
 from ifsforge._core import (  # noqa: F401  (inverse problem: collage theorem, fitting)
-    attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance,
+    attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance, tops, tops_warp,
 )
 from ifsforge.errors import (  # noqa: F401
     Cancelled,
