@@ -129,3 +129,18 @@ def test_warp_from_f_to_f_gives_the_picture_back(cli, tmp_path):
     result = cli("warp", "p.png", "--from", "square.json", "--to", str(SAMPLES / "sierpinski_triangle.json"),
                  "-o", "x.png")
     assert result.returncode != 0 and "same number of maps" in result.stderr and not (tmp_path / "x.png").exists()
+
+
+def test_render_tops_colours_by_top_address(cli, tmp_path):
+    # The default reference of 4 maps is the 2 x 2 grid, i.e. the square's own maps: each pixel's
+    # top address leads back to itself and the picture comes back.
+    (tmp_path / "square.json").write_text(SQUARE)
+    yy, xx = np.mgrid[0:64, 0:64] / 63.0
+    picture = np.stack([xx, yy, 1 - xx * yy], axis=2).astype(np.float32)
+    ifsforge.write_png(str(tmp_path / "p.png"), picture)
+    cli("render", "square.json", "-o", "t.png", "-a", "tops", "--reference", "p.png", "--size", "64", check=True)
+    drawn = ifsforge.read_png(str(tmp_path / "t.png"))[..., :3]
+    mse = float(((drawn - ifsforge.read_png(str(tmp_path / "p.png"))) ** 2).mean())
+    assert 10 * np.log10(1 / mse) > 30
+    result = cli("render", "square.json", "-o", "u.png", "-a", "tops")
+    assert result.returncode != 0 and "reference" in result.stderr

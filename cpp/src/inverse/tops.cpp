@@ -4,6 +4,7 @@
 #include <string>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
 #include "ifsforge/core/random.h"
 
 namespace ifsforge {
@@ -48,6 +49,7 @@ void chaos_pair(const Ifs& f, const Ifs& g, const TopsOptions& o, std::uint64_t 
 
 Tops tops(const Ifs& ifs, const Frame& frame, const TopsOptions& o) {
   check(ifs);
+  check_memory(9.0 * frame.width() * frame.height(), "a fractal-tops image");
   Tops t{frame.width(), frame.height(), std::vector<std::uint64_t>(std::size_t(frame.width()) * frame.height()),
          std::vector<std::uint8_t>(std::size_t(frame.width()) * frame.height())};
   const std::uint64_t points = o.iterations ? o.iterations : 16ull * t.width * t.height;
@@ -69,6 +71,7 @@ Image tops_warp(const Ifs& f, const Frame& f_frame, const Image& picture, const 
                      std::to_string(f.size()) + ", '" + g.name() + "' " + std::to_string(g.size()));
   if (picture.width < 1 || picture.height < 1) throw InputError("the picture to warp is empty");
   const int w = g_frame.width(), h = g_frame.height();
+  check_memory(41.0 * w * h, "a fractal-tops warp");
   std::vector<std::uint64_t> codes(std::size_t(w) * h);
   std::vector<std::uint8_t> covered(codes.size());
   std::vector<std::array<double, 2>> source(codes.size());
