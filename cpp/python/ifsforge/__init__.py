@@ -57,6 +57,9 @@ from ifsforge._core import (  # noqa: F401  (volume: Table 2 renderers, OpenVDB,
 from ifsforge._core import (  # noqa: F401  (pifs: fractal image compression, seed 3.3.2)
     PifsCode, pifs_encode, pifs_from_bytes, read_pifs, write_pifs,
 )
+from ifsforge._core import (  # noqa: F401  (inverse problem: collage theorem, fitting)
+    attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance, tops, tops_warp,
+)
 from ifsforge.errors import (  # noqa: F401
     Cancelled,
     DivergentSystemError,

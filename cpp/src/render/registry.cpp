@@ -6,6 +6,7 @@
 #include "ifsforge/render/accurate_fractal.h"
 #include "ifsforge/render/chaos_game.h"
 #include "ifsforge/render/colour_stealing.h"
+#include "ifsforge/inverse/tops_renderer.h"
 #include "ifsforge/render/constant_mass.h"
 #include "ifsforge/render/deterministic_iteration.h"
 #include "ifsforge/render/escape_time.h"
@@ -45,6 +46,7 @@ const std::vector<Entry>& registry() {
     e.push_back({std::make_unique<SelfCongruent>(), {"growth"}});
     e.push_back({std::make_unique<RecurrentPhotocopy>(), {"recurrent-photocopy"}});
     e.push_back({std::make_unique<ProbabilisticDomain>(), {"vrpda"}});
+    e.push_back({std::make_unique<TopsRenderer>(), {"fractal-tops"}});  // seed 3.3.5, after chapter 5
     return e;
   }();
   return entries;

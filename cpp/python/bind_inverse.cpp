@@ -1,0 +1,187 @@
+// The inverse problem (seed chapter 4): collage distance, automatic fitting.
+#include "bindings.h"
+#include "ifsforge/core/error.h"
+#include "ifsforge/inverse/address_of.h"
+#include "ifsforge/inverse/collage.h"
+#include "ifsforge/inverse/fit.h"
+#include "ifsforge/inverse/tops.h"
+
+namespace ifsforge::python {
+
+/// A bool (h, w) array is taken as it is; any other array is a picture whose foreground is
+/// found by ifsforge::foreground.
+PixelSet pixel_set_from_numpy(const py::array& array, double threshold) {
+  if (array.dtype().kind() == 'b') {
+    if (array.ndim() != 2) throw InputError("a boolean target must be a (height, width) array");
+    auto a = py::array_t<bool, py::array::c_style | py::array::forcecast>::ensure(array);
+    PixelSet s{static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)), {}};
+    s.cells.assign(a.data(), a.data() + a.size());
+    return s;
+  }
+  return foreground(image_from_numpy(array), threshold);
+}
+
+py::array_t<bool> pixel_set_to_numpy(const PixelSet& s) {
+  py::array_t<bool> out({s.height, s.width});
+  std::copy(s.cells.begin(), s.cells.end(), out.mutable_data());
+  return out;
+}
+
+namespace {
+
+py::dict report_dict(const CollageReport& r) {
+  py::dict d;
+  d["distance_pixels"] = r.distance_pixels;
+  d["distance"] = r.distance;
+  d["contraction"] = r.contraction;
+  d["bound"] = r.bound;
+  d["bound_pixels"] = r.bound_pixels;
+  d["target_pixels"] = r.target_pixels;
+  d["collage_pixels"] = r.collage_pixels;
+  d["window"] = py::make_tuple(r.window.xmin, r.window.ymin, r.window.xmax, r.window.ymax);
+  return d;
+}
+
+std::optional<Window> window_from(const std::optional<std::vector<double>>& w) {
+  if (!w) return std::nullopt;
+  if (w->size() != 4) throw InputError("window expects 4 numbers: xmin ymin xmax ymax");
+  return Window{(*w)[0], (*w)[1], (*w)[2], (*w)[3]};
+}
+
+/// The frame `render` uses: the window given, else the system's render.window, else the attractor's.
+Frame frame_of(const Ifs& ifs, int width, int height, const std::optional<std::vector<double>>& window) {
+  std::optional<Window> w = window_from(window);
+  const auto& saved = ifs.render_defaults().window;
+  if (!w && saved.size() == 4) w = Window{saved[0], saved[1], saved[2], saved[3]};
+  return Frame::fit(ifs, width, height, w);
+}
+
+void bind_inverse(py::module_& m) {
+  m.def("foreground", [](const py::array& image, double threshold) {
+    return pixel_set_to_numpy(foreground(image_from_numpy(image), threshold));
+  }, py::arg("image"), py::arg("threshold") = 0.5,
+        "bool (h, w): the picture's shape, i.e. the pixels on the other side of `threshold` from the border's "
+        "usual value (luminance times alpha).");
+  m.def("hausdorff_distance", [](const py::array& a, const py::array& b) {
+    return hausdorff_distance(pixel_set_from_numpy(a, 0.5), pixel_set_from_numpy(b, 0.5));
+  }, py::arg("a"), py::arg("b"), "Eq. 12 between two bool (h, w) pixel sets, in pixels (exact distance transforms).");
+  m.def("collage_distance", [](const Ifs& ifs, const py::array& target, std::optional<std::vector<double>> window,
+                               double threshold) {
+    const PixelSet t = pixel_set_from_numpy(target, threshold);
+    CollageReport r;
+    {
+      py::gil_scoped_release release;
+      r = collage_distance(ifs, t, window_from(window));
+    }
+    return report_dict(r);
+  }, py::arg("ifs"), py::arg("target"), py::arg("window") = py::none(), py::arg("threshold") = 0.5,
+        "Collage theorem (Eq. 41-42): the Hausdorff distance between the target (a bool mask or a picture) and "
+        "the union of its images under the maps, and the bound distance / (1 - s) on the distance from the "
+        "target to the attractor. The target lies on `window` (default: the attractor's frame at the "
+        "target's size; or the system's render.window). Returns a dict: distance_pixels, distance, contraction, bound, bound_pixels, "
+        "target_pixels, collage_pixels, window.");
+  m.def("collage_mask", [](const Ifs& ifs, const py::array& target, std::optional<std::vector<double>> window,
+                           double threshold) {
+    const PixelSet t = pixel_set_from_numpy(target, threshold);
+    return pixel_set_to_numpy(collage_pixels(t, pixel_maps(ifs, target_frame(ifs, t, window_from(window))), 0));
+  }, py::arg("ifs"), py::arg("target"), py::arg("window") = py::none(), py::arg("threshold") = 0.5,
+        "bool (h, w): the collage U w_i(target) on the target's grid (what lands outside is dropped).");
+  m.def("fit", [](const py::array& target, int maps, int raster, double max_contraction, int restarts,
+                  int generations, int attractor_generations, int refine_generations, double time_limit, std::uint64_t seed, int threads,
+                  double threshold, const py::object& progress) {
+    FitOptions o;
+    o.maps = maps;
+    o.raster = raster;
+    o.max_contraction = max_contraction;
+    o.restarts = restarts;
+    o.generations = generations;
+    o.attractor_generations = attractor_generations;
+    o.refine_generations = refine_generations;
+    o.time_limit = time_limit;
+    o.seed = seed;
+    o.threads = threads;
+    o.progress = wrap_progress(progress);
+    const PixelSet t = pixel_set_from_numpy(target, threshold);
+    FitResult r;
+    {
+      py::gil_scoped_release release;
+      r = fit_ifs(t, o);
+    }
+    py::dict d;
+    d["system"] = r.system;
+    d["iou"] = r.iou;
+    d["proxy"] = r.proxy;
+    d["evaluations"] = r.evaluations;
+    d["restarts"] = r.restarts;
+    d["time_limited"] = r.time_limited;
+    return d;
+  }, py::arg("target"), py::arg("maps") = FitOptions{}.maps, py::arg("raster") = FitOptions{}.raster,
+        py::arg("max_contraction") = FitOptions{}.max_contraction, py::arg("restarts") = FitOptions{}.restarts,
+        py::arg("generations") = FitOptions{}.generations,
+        py::arg("attractor_generations") = FitOptions{}.attractor_generations,
+        py::arg("refine_generations") = FitOptions{}.refine_generations, py::arg("time_limit") = 0.0,
+        py::arg("seed") = 0, py::arg("threads") = 0, py::arg("threshold") = 0.5, py::arg("progress") = py::none(),
+        "An IFS of `maps` maps whose attractor resembles the target (a bool mask or a picture): CMA-ES "
+        "restarts on a collage proxy over a `raster`-cell grid, then refinement on the attractor. The system "
+        "carries render.window and the target's size. Returns a dict: system, iou (on the search raster), "
+        "proxy, evaluations, restarts, time_limited. Identical for a given seed and any thread count unless "
+        "time_limit cut it short.");
+  py::reinterpret_borrow<py::class_<Ifs>>(m.attr("Ifs"))
+      .def("address_of", [](const Ifs& ifs, const std::vector<double>& point, int depth) {
+        PointAddresses r;
+        {
+          py::gil_scoped_release release;
+          r = address_of(ifs, point, depth);
+        }
+        return py::make_tuple(r.addresses, r.distance);
+      }, py::arg("point"), py::arg("depth") = 8,
+      "(addresses, distance): the depth-`depth` addresses (lists of 0-based map indices, outermost map "
+      "first) of the pieces that may hold the attractor point nearest to `point`, by the hierarchy of "
+      "bounding boxes (seed 3.3.1), and the distance to the nearest attractor point found.");
+  m.def("tops", [](const Ifs& ifs, int width, int height, std::optional<std::vector<double>> window,
+                   std::uint64_t iterations, std::uint64_t seed) {
+    TopsOptions o{width, height, iterations, seed};
+    Tops t;
+    {
+      py::gil_scoped_release release;
+      t = tops(ifs, frame_of(ifs, width, height, window), o);
+    }
+    py::array_t<std::uint8_t> digits({height, width, kTopsDepth});
+    auto d = digits.mutable_unchecked<3>();
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        for (int k = 0; k < kTopsDepth; ++k)
+          d(y, x, k) = static_cast<std::uint8_t>((t.codes[std::size_t(y) * width + x] >> (60 - 4 * k)) & 15);
+    PixelSet covered{width, height, t.covered};
+    return py::make_tuple(digits, pixel_set_to_numpy(covered));
+  }, py::arg("ifs"), py::arg("width"), py::arg("height"), py::arg("window") = py::none(),
+        py::arg("iterations") = 0, py::arg("seed") = 0,
+        "Fractal tops (seed 3.3.5): (digits uint8 (h, w, 16), covered bool (h, w)): per pixel the largest "
+        "address (outermost map first) among the chaos game's points in it. window: default the system's "
+        "render.window, else the attractor's frame.");
+  m.def("tops_warp", [](const Ifs& f, const py::array& picture, const Ifs& g, int width, int height,
+                        std::uint64_t iterations, std::uint64_t seed) {
+    const Image image = image_from_numpy(picture);
+    Image out;
+    {
+      py::gil_scoped_release release;
+      const Frame ff = frame_of(f, image.width, image.height, std::nullopt);
+      out = tops_warp(f, ff, image, g, frame_of(g, width, height, std::nullopt), TopsOptions{width, height, iterations, seed});
+    }
+    return image_to_numpy(out);
+  }, py::arg("from_system"), py::arg("picture"), py::arg("to_system"), py::arg("width"), py::arg("height"),
+        py::arg("iterations") = 0, py::arg("seed") = 0,
+        "The picture laid on F's frame (its render.window, else its attractor's) carried onto G's attractor "
+        "by the fractal homeomorphism phi_G o tau_F (3.3.5): RGBA (height, width, 4), alpha 0 off G.");
+  m.def("attractor_iou", [](const Ifs& ifs, const py::array& target, std::uint64_t seed, double threshold) {
+    const PixelSet t = pixel_set_from_numpy(target, threshold);
+    py::gil_scoped_release release;
+    return attractor_iou(ifs, t, seed);
+  }, py::arg("ifs"), py::arg("target"), py::arg("seed") = 0, py::arg("threshold") = 0.5,
+        "Intersection over union of the attractor (chaos game) and the target laid on fit's window.");
+}
+
+const Binding registered(70, &bind_inverse);
+
+}  // namespace
+}  // namespace ifsforge::python

@@ -1,0 +1,245 @@
+#include "ifsforge/inverse/fit.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
+#include "ifsforge/core/random.h"
+#include "ifsforge/inverse/cma_es.h"
+#include "ifsforge/inverse/collage.h"
+#include "fit_raster.h"
+#include "ifsforge/model/map_params.h"
+#include "ifsforge/render/renderer.h"
+
+namespace ifsforge {
+namespace {
+
+constexpr int kParams = 6;  // per map: Mx, My, theta_x, theta_y (radians), tx, ty (Eq. 5)
+
+/// Eq. 5 with signed scales (a negative one is the reflection F), the linear part shrunk onto
+/// s = max_contraction when it would exceed it; returns the excess (a penalty keeps the search
+/// inside the feasible set instead of piling up on its border).
+double decode_map(const double* p, double max_contraction, AffineMap& out) {
+  MapParams mp;
+  mp.scale = {std::abs(p[0]), std::abs(p[1]), 1};
+  mp.reflect = {p[0] < 0, p[1] < 0, false};
+  mp.rotation = {p[2] * 180 / M_PI, p[3] * 180 / M_PI, 0};
+  mp.translation = {p[4], p[5], 0};
+  out = map_from_params(mp);
+  const double s = out.contraction_factor(2);
+  if (s <= max_contraction) return 0;
+  const double k = max_contraction / s;
+  for (int r = 0; r < 2; ++r)
+    for (int c = 0; c < 2; ++c) out.a(r, c) *= k;
+  return s - max_contraction;
+}
+
+std::vector<AffineMap> decode(const std::vector<double>& x, double max_contraction, double* excess) {
+  std::vector<AffineMap> maps(x.size() / kParams);
+  double e = 0;
+  for (std::size_t i = 0; i < maps.size(); ++i) e += decode_map(&x[i * kParams], max_contraction, maps[i]);
+  if (excess) *excess = e;
+  return maps;
+}
+
+/// k-means of the target's pixels into n clusters (k-means++ start, seeded); each cluster's
+/// box gives a map from the whole target's box onto it, turned by `angle` about the box centre.
+std::vector<double> initial_collage(const PixelSet& t, const FitGrid& grid, int n, double angle, Rng& rng) {
+  std::vector<std::array<double, 2>> pts;
+  for (int y = 0; y < t.height; ++y)
+    for (int x = 0; x < t.width; ++x)
+      if (t.cells[std::size_t(y) * t.width + x]) pts.push_back(grid.to_plane(x + 0.5, y + 0.5));
+  std::vector<std::array<double, 2>> centres;
+  centres.push_back(pts[static_cast<std::size_t>(rng.uniform() * pts.size())]);
+  std::vector<double> d2(pts.size());
+  while (static_cast<int>(centres.size()) < n) {
+    double total = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& c : centres) best = std::min(best, std::hypot(pts[i][0] - c[0], pts[i][1] - c[1]));
+      d2[i] = best * best;
+      total += d2[i];
+    }
+    double pick = rng.uniform() * total;
+    std::size_t i = 0;
+    while (i + 1 < pts.size() && (pick -= d2[i]) > 0) ++i;
+    centres.push_back(pts[i]);
+  }
+  std::vector<int> label(pts.size());
+  for (int it = 0; it < 20; ++it) {
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      double best = std::numeric_limits<double>::infinity();
+      for (int c = 0; c < n; ++c) {
+        const double d = std::hypot(pts[i][0] - centres[c][0], pts[i][1] - centres[c][1]);
+        if (d < best) best = d, label[i] = c;
+      }
+    }
+    std::vector<std::array<double, 3>> sum(n, {0, 0, 0});
+    for (std::size_t i = 0; i < pts.size(); ++i) sum[label[i]][0] += pts[i][0], sum[label[i]][1] += pts[i][1], sum[label[i]][2] += 1;
+    for (int c = 0; c < n; ++c)
+      if (sum[c][2] > 0) centres[c] = {sum[c][0] / sum[c][2], sum[c][1] / sum[c][2]};
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  std::array<double, 4> whole{inf, inf, -inf, -inf};
+  std::vector<std::array<double, 4>> box(n, whole);
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    for (auto* b : {&whole, &box[label[i]]}) {
+      (*b)[0] = std::min((*b)[0], pts[i][0]);
+      (*b)[1] = std::min((*b)[1], pts[i][1]);
+      (*b)[2] = std::max((*b)[2], pts[i][0]);
+      (*b)[3] = std::max((*b)[3], pts[i][1]);
+    }
+  const double cell = 1.0 / grid.pixels_per_unit;
+  const double wx = whole[2] - whole[0] + cell, wy = whole[3] - whole[1] + cell;
+  std::vector<double> x(std::size_t(n) * kParams);
+  for (int c = 0; c < n; ++c) {
+    if (box[c][0] > box[c][2]) box[c] = {centres[c][0], centres[c][1], centres[c][0], centres[c][1]};
+    const double sx = std::clamp((box[c][2] - box[c][0] + cell) / wx, 0.05, 0.85);
+    const double sy = std::clamp((box[c][3] - box[c][1] + cell) / wy, 0.05, 0.85);
+    const double ca = std::cos(angle), sa = std::sin(angle);
+    // b = centre(C) - R S centre(B)
+    const double bx = 0.5 * (whole[0] + whole[2]) * sx, by = 0.5 * (whole[1] + whole[3]) * sy;
+    double* p = &x[std::size_t(c) * kParams];
+    p[0] = sx;
+    p[1] = sy;
+    p[2] = p[3] = angle;
+    p[4] = 0.5 * (box[c][0] + box[c][2]) - (ca * bx - sa * by);
+    p[5] = 0.5 * (box[c][1] + box[c][3]) - (sa * bx + ca * by);
+  }
+  return x;
+}
+
+}  // namespace
+
+FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
+  if (o.maps < 1 || o.maps > 64) throw InputError("--maps must be 1..64, got " + std::to_string(o.maps));
+  if (o.raster < 8 || o.raster > 1024) throw InputError("the fit raster must be 8..1024 cells, got " + std::to_string(o.raster));
+  if (!(o.max_contraction > 0 && o.max_contraction < 1))
+    throw InputError("the largest contraction must lie in (0, 1), got " + std::to_string(o.max_contraction));
+  if (full.count() == 0) throw InputError("the target has no pixels");
+  const auto start_time = std::chrono::steady_clock::now();
+  const FitGrid grid = FitGrid::for_target(full, o.raster);
+  const PixelSet target = grid.downsample(full);
+  const int threads = resolve_threads(o.threads);
+  std::vector<CollageProxy::Scratch> scratch(threads);
+  const CollageProxy proxy(target, o.overlap_weight);
+  auto to_pixels = [&](const std::vector<AffineMap>& maps) {
+    std::vector<PixelMap> out;
+    for (const AffineMap& m : maps) out.push_back(grid.pixel_map(m));
+    return out;
+  };
+  auto collage_value = [&](const std::vector<double>& x, int worker) {
+    double excess = 0;
+    const auto maps = decode(x, o.max_contraction, &excess);
+    return proxy(to_pixels(maps), scratch[worker]) + 10.0 * excess;
+  };
+  // The attractor's overlap with the target on a grid (the search's, or the finer one of the
+  // refinement, where one cell of the search's grid would hide misplaced detail).
+  auto attractor_on = [&](const FitGrid& g, const PixelSet& t) {
+    return [&, g, t](const std::vector<double>& x, int worker) {
+      double excess = 0;
+      const auto maps = decode(x, o.max_contraction, &excess);
+      std::vector<PixelMap> pm;
+      for (const AffineMap& m : maps) pm.push_back(g.pixel_map(m));
+      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), t, o.seed, scratch[worker]) + 10.0 * excess;
+    };
+  };
+  const auto attractor_value = attractor_on(grid, target);
+  bool timed_out = false;
+  auto stop = [&] {
+    if (o.time_limit > 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count() > o.time_limit)
+      timed_out = true;
+    return timed_out;
+  };
+  FitResult result;
+  std::vector<double> best;
+  double best_value = std::numeric_limits<double>::infinity();
+  const int n = o.maps * kParams;
+  for (int r = 0; r < o.restarts && !stop(); ++r) {
+    Rng rng(o.seed, 1000 + r);
+    // Even runs start from the k-means collage as it is; odd runs turn every copy by a random
+    // angle (rotated copies, as in dragons, are far from an axis-aligned start).
+    const double angle = r % 2 ? (rng.uniform() * 2 - 1) * M_PI : 0.0;
+    const auto x0 = initial_collage(target, grid, o.maps, angle, rng);
+    std::vector<double> sigma(n);
+    for (int i = 0; i < n; ++i) {
+      const int k = i % kParams;
+      sigma[i] = k < 2 ? 0.1 : k < 4 ? (r % 2 ? 0.6 : 0.3) : 0.08 * grid.extent;
+    }
+    CmaOptions co;
+    co.population = 2 * (4 + static_cast<int>(3 * std::log(double(n))));
+    co.max_generations = o.generations;
+    co.seed = o.seed * 7919 + r;
+    co.threads = threads;
+    const CmaResult run = minimize_cma(collage_value, x0, sigma, co, stop);
+    // The collage's optimum is near, not at, the attractor's (Eq. 42 only bounds the gap): a
+    // short run on the attractor itself, on the same grid, closes it; restarts compete on it.
+    for (double& v : sigma) v *= 0.25;
+    co.max_generations = o.attractor_generations;
+    const CmaResult polish = minimize_cma(attractor_value, run.best, sigma, co, stop);
+    result.evaluations += run.evaluations + polish.evaluations;
+    ++result.restarts;
+    if (polish.value < best_value) best_value = polish.value, best = polish.best;
+    if (o.progress && !o.progress(0.8 * (r + 1) / o.restarts)) throw Cancelled();
+  }
+  // Local refinement on the attractor: small steps about the best collage.
+  if (o.refine_generations > 0 && !stop()) {
+    std::vector<double> sigma(n);
+    for (int i = 0; i < n; ++i) {
+      const int k = i % kParams;
+      sigma[i] = k < 2 ? 0.02 : k < 4 ? 0.03 : 0.01 * grid.extent;
+    }
+    CmaOptions co;
+    co.population = 2 * (4 + static_cast<int>(3 * std::log(double(n))));
+    co.max_generations = o.refine_generations;
+    co.seed = o.seed * 7919 + 999;
+    co.threads = threads;
+    // On the collage, at the picture's resolution (capped): a collage exact to a pixel puts the
+    // attractor within eps / (1 - s) pixels of the target (Eq. 42), which the coarse grids cannot.
+    const FitGrid fine = FitGrid::for_target(full, std::max(o.raster, std::min(o.refine_raster, int(grid.side))));
+    const CollageProxy fine_proxy(fine.downsample(full), o.overlap_weight);
+    auto fine_value = [&](const std::vector<double>& x, int worker) {
+      double excess = 0;
+      const auto maps = decode(x, o.max_contraction, &excess);
+      std::vector<PixelMap> pm;
+      for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
+      return fine_proxy(pm, scratch[worker]) + 10.0 * excess;
+    };
+    const CmaResult run = minimize_cma(fine_value, best, sigma, co, stop);
+    result.evaluations += run.evaluations;
+    // Keep the refinement only if the attractor agrees, judged on the fine grid.
+    const auto judge = attractor_on(fine, fine.downsample(full));
+    const double before = judge(best, 0), after = judge(run.best, 0);
+    if (after <= before) best = run.best;
+    best_value = std::min(before, after);
+  }
+  if (o.progress && !o.progress(1.0)) throw Cancelled();
+  const auto maps = decode(best, o.max_contraction, nullptr);
+  Ifs system("fit", ChannelLayout("xy"), maps);
+  RenderDefaults d;
+  d.window = {0.0, 0.0, double(full.width) / grid.side, double(full.height) / grid.side};
+  d.width = full.width;
+  d.height = full.height;
+  system.set_render_defaults(d);
+  result.system = std::move(system);
+  result.iou = 1.0 - best_value;
+  result.proxy = proxy(to_pixels(maps), scratch[0]);
+  result.time_limited = timed_out;
+  return result;
+}
+
+double attractor_iou(const Ifs& ifs, const PixelSet& target, std::uint64_t seed) {
+  if (ifs.spatial_dims() != 2) throw InputError("attractor_iou needs a planar system");
+  ifs.require_attractor();
+  const FitGrid grid = FitGrid::for_target(target, std::max(target.width, target.height));
+  std::vector<PixelMap> pm;
+  for (const AffineMap& m : ifs.maps()) pm.push_back(grid.pixel_map(m));
+  CollageProxy::Scratch scratch;
+  return chaos_iou(pm, ifs.probabilities(), target, seed, scratch);
+}
+
+}  // namespace ifsforge

@@ -1,0 +1,146 @@
+"""The inverse problem from Python and the CLI: collage distance (Eq. 41-42) and fitting."""
+import json
+import os
+
+import numpy as np
+import pytest
+
+import ifsforge
+
+from conftest import SAMPLES
+
+SQUARE = """{"format": "ifsforge/1", "name": "square", "layout": "xy", "maps": [
+ {"scale": 0.5, "translation": [0, 0]}, {"scale": 0.5, "translation": [0.5, 0]},
+ {"scale": 0.5, "translation": [0, 0.5]}, {"scale": 0.5, "translation": [0.5, 0.5]}],
+ "render": {"window": [0, 0, 1, 1]}}"""
+
+
+def test_collage_cli_of_an_exact_tiling(cli, tmp_path):
+    # A white square on black, laid on [0, 1]^2: its four half copies tile it exactly.
+    picture = np.zeros((40, 40), np.float32)
+    picture[8:32, 8:32] = 1
+    ifsforge.write_png(str(tmp_path / "t.png"), picture)
+    (tmp_path / "square.json").write_text(SQUARE)
+    report = json.loads(cli("collage", "square.json", "t.png", "--json", check=True).stdout)
+    # Target pixels 8..31 on both axes; the copies cover [4, 16) and [24, 36) on both axes. The
+    # farthest target pixels from the collage are (19, 19)-like, sqrt(4^2 + 4^2) from (15, 15);
+    # the farthest collage pixels from the target are the corners (4, 4) and (35, 35), as far.
+    assert report["distance_pixels"] == pytest.approx(32 ** 0.5)
+    collage = ifsforge.collage_mask(ifsforge.parse_json(SQUARE), picture > 0.5)
+    assert collage[4:16, 4:16].all() and collage[24:36, 24:36].all() and collage.sum() == 4 * 12 * 12
+    assert ifsforge.hausdorff_distance(picture > 0.5, collage) == pytest.approx(32 ** 0.5)
+    assert report["contraction"] == 0.5
+    assert report["bound_pixels"] == pytest.approx(2 * report["distance_pixels"])
+    assert report["target_pixels"] == 24 * 24
+
+
+def test_collage_cli_names_a_bad_target(cli, tmp_path):
+    (tmp_path / "square.json").write_text(SQUARE)
+    ifsforge.write_png(str(tmp_path / "blank.png"), np.zeros((8, 8), np.float32))
+    result = cli("collage", "square.json", "blank.png")
+    assert result.returncode != 0
+    assert "blank.png" in result.stderr and "no shape" in result.stderr
+
+
+def sierpinski_target(size):
+    system = ifsforge.load(str(SAMPLES / "sierpinski_triangle.json"))
+    return np.asarray(ifsforge.render(system, "chaos", size, size, binary=True).mask, bool)
+
+
+def test_fit_recovers_a_sierpinski_triangle(cli, tmp_path):
+    target = sierpinski_target(96)
+    ifsforge.write_png(str(tmp_path / "t.png"), target.astype(np.float32))
+    summary = json.loads(cli("fit", "t.png", "-o", "fit.json", "--maps", "3", "--restarts", "2", "--seed", "1",
+                             "--json", check=True).stdout)
+    system = ifsforge.read_json(str(tmp_path / "fit.json"))
+    assert len(system) == 3 and summary["maps"] == 3
+    assert max(system.contraction_factors()) < 0.9 + 1e-9
+    assert ifsforge.attractor_iou(system, target) >= 0.85
+    # render.window and the size frame the attractor exactly like the target.
+    cli("render", "fit.json", "-o", "fit.png", "--mode", "binary", check=True)
+    drawn = ifsforge.read_png(str(tmp_path / "fit.png"))
+    drawn = (drawn if drawn.ndim == 2 else drawn[..., :3].max(axis=2)) > 0.05
+    assert drawn.shape == target.shape
+    assert (drawn & target).sum() / (drawn | target).sum() >= 0.85
+
+
+def test_fit_is_identical_for_any_thread_count():
+    target = sierpinski_target(40)
+    runs = [ifsforge.fit(target, maps=2, restarts=1, generations=30, attractor_generations=5,
+                         refine_generations=5, seed=3, threads=t) for t in (1, 2)]
+    assert ifsforge.to_json(runs[0]["system"]) == ifsforge.to_json(runs[1]["system"])
+    other = ifsforge.fit(target, maps=2, restarts=1, generations=30, attractor_generations=5,
+                         refine_generations=5, seed=4, threads=2)
+    assert ifsforge.to_json(other["system"]) != ifsforge.to_json(runs[0]["system"])
+
+
+def test_fit_refuses_bad_options(cli, tmp_path):
+    ifsforge.write_png(str(tmp_path / "t.png"), sierpinski_target(32).astype(np.float32))
+    result = cli("fit", "t.png", "-o", "x.json", "--maps", "many")
+    assert result.returncode != 0 and "--maps" in result.stderr
+    result = cli("fit", "t.png", "-o", "x.json", "--max-contraction", "1.5")
+    assert result.returncode != 0 and "contraction" in result.stderr
+    assert not (tmp_path / "x.json").exists()
+
+
+def test_address_of_cantor_dust_points(cli, samples):
+    # A point of the dust w_a0(w_a1(...(corner))) has exactly that address: the pieces are apart.
+    dust = ifsforge.load(str(samples / "cantor_dust.json"))
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        address = [int(a) for a in rng.integers(0, 4, 6)]
+        x = y = 0.0  # the fixed point of map 0
+        for a in reversed(address):
+            x, y = x / 3 + (2 / 3) * (a % 2), y / 3 + (2 / 3) * (a // 2)
+        found, distance = dust.address_of([x, y], 6)
+        assert found == [address] and distance == pytest.approx(0, abs=1e-12)
+    result = json.loads(cli("address", str(samples / "cantor_dust.json"), "0.99", "0.01", "--depth", "3", "--json",
+                            check=True).stdout)
+    assert result["addresses"] == [[1, 1, 1]]  # the bottom-right piece of side 1/27
+    result = cli("address", str(samples / "cantor_dust.json"), "0.5", "--depth", "3")
+    assert result.returncode != 0 and "coordinates" in result.stderr
+
+
+def test_tops_address_of_a_pixel_is_its_analytic_address():
+    # The filled square of four half maps: pixel (x, y) of a 64^2 image of [0, 1]^2 lies in the
+    # depth-6 piece whose digit k is bit k of x plus twice bit k of y (top-left origin flipped).
+    square = ifsforge.parse_json(SQUARE)
+    digits, covered = ifsforge.tops(square, 64, 64, seed=2)
+    assert covered.all()
+    for row, col in [(0, 0), (63, 63), (10, 40), (33, 7), (50, 21)]:
+        x, y = col, 63 - row
+        expected = [((x >> (5 - k)) & 1) + 2 * ((y >> (5 - k)) & 1) for k in range(6)]
+        assert list(digits[row, col, :6]) == expected
+
+
+def test_warp_from_f_to_f_gives_the_picture_back(cli, tmp_path):
+    (tmp_path / "square.json").write_text(SQUARE)
+    yy, xx = np.mgrid[0:128, 0:128] / 127.0
+    picture = np.stack([xx, yy, 0.5 + 0.5 * np.sin(6 * xx) * np.cos(4 * yy)], axis=2).astype(np.float32)
+    ifsforge.write_png(str(tmp_path / "p.png"), picture)
+    cli("warp", "p.png", "--from", "square.json", "--to", "square.json", "-o", "w.png", "--size", "128", check=True)
+    warped = ifsforge.read_png(str(tmp_path / "w.png"))
+    assert warped.shape == (128, 128, 4) and (warped[..., 3] == 1).all()
+    mse = float(((warped[..., :3] - ifsforge.read_png(str(tmp_path / "p.png"))) ** 2).mean())
+    assert 10 * np.log10(1 / mse) > 30
+    cli("warp", "p.png", "--from", "square.json", "--to", "square.json", "-o", "frames", "--size", "32",
+        "--frames", "3", check=True)
+    assert sorted(os.listdir(tmp_path / "frames")) == [f"frame_{k:04d}.png" for k in range(3)]
+    result = cli("warp", "p.png", "--from", "square.json", "--to", str(SAMPLES / "sierpinski_triangle.json"),
+                 "-o", "x.png")
+    assert result.returncode != 0 and "same number of maps" in result.stderr and not (tmp_path / "x.png").exists()
+
+
+def test_render_tops_colours_by_top_address(cli, tmp_path):
+    # The default reference of 4 maps is the 2 x 2 grid, i.e. the square's own maps: each pixel's
+    # top address leads back to itself and the picture comes back.
+    (tmp_path / "square.json").write_text(SQUARE)
+    yy, xx = np.mgrid[0:64, 0:64] / 63.0
+    picture = np.stack([xx, yy, 1 - xx * yy], axis=2).astype(np.float32)
+    ifsforge.write_png(str(tmp_path / "p.png"), picture)
+    cli("render", "square.json", "-o", "t.png", "-a", "tops", "--reference", "p.png", "--size", "64", check=True)
+    drawn = ifsforge.read_png(str(tmp_path / "t.png"))[..., :3]
+    mse = float(((drawn - ifsforge.read_png(str(tmp_path / "p.png"))) ** 2).mean())
+    assert 10 * np.log10(1 / mse) > 30
+    result = cli("render", "square.json", "-o", "u.png", "-a", "tops")
+    assert result.returncode != 0 and "reference" in result.stderr
