@@ -124,20 +124,6 @@ bool invariant_box(const Ifs& ifs, std::vector<double>& lo, std::vector<double>&
 
 }  // namespace
 
-VoxelGrid grid_around(const std::array<double, 3>& lo, const std::array<double, 3>& hi, int resolution) {
-  double longest = 0.0;
-  for (int a = 0; a < 3; ++a) longest = std::max(longest, hi[a] - lo[a]);
-  if (!(longest > 0.0)) longest = std::max(1e-9, 1e-9 * std::abs(lo[0]));
-  VoxelGrid grid;
-  grid.voxel_size = resolution > 1 ? longest / (resolution - 1) : longest;
-  for (int a = 0; a < 3; ++a) {
-    const double extent = hi[a] - lo[a];
-    grid.dims[a] = std::clamp(static_cast<int>(std::lround(extent / grid.voxel_size)) + 1, 1, resolution);
-    grid.origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * grid.dims[a] * grid.voxel_size;
-  }
-  return grid;
-}
-
 Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes) {
   const int n = ifs.dim();
   // For hyperbolic systems these include W^d of the fixed points (model/attractor_points.h),
@@ -201,12 +187,20 @@ VolumeSetup prepare_volume(const Ifs& ifs, const VolumeOptions& options) {
   if (options.bounds) {
     setup.grid = fit_voxel_grid(*options.bounds, options.resolution);
   } else {
-    std::array<double, 3> lo{}, hi{};
+    // The attractor's box itself, cells aligned to its low corner: a grid-aligned fractal
+    // (Menger sponge at 3^k) fills exactly its cells. A point attractor gets a tiny cube.
+    Box3 box{};
     for (int a = 0; a < 3; ++a) {
-      lo[a] = setup.bounds.lo[a];
-      hi[a] = setup.bounds.hi[a];
+      box[a] = setup.bounds.lo[a];
+      box[a + 3] = setup.bounds.hi[a];
     }
-    setup.grid = grid_around(lo, hi, options.resolution);
+    double longest = 0.0;
+    for (int a = 0; a < 3; ++a) longest = std::max(longest, box[a + 3] - box[a]);
+    if (!(longest > 0.0)) {
+      const double pad = std::max(1e-9, 1e-9 * std::abs(box[0]));
+      for (int a = 0; a < 3; ++a) box[a + 3] = box[a] + pad;
+    }
+    setup.grid = fit_voxel_grid(box, options.resolution);
   }
   setup.quantizer = ChannelQuantizer(std::vector<double>(setup.bounds.lo.begin() + 3, setup.bounds.lo.end()),
                                      std::vector<double>(setup.bounds.hi.begin() + 3, setup.bounds.hi.end()));
