@@ -20,4 +20,19 @@ inline void covered_cells(double lo, double hi, std::int64_t& first, std::int64_
   if (last < first) first = last = static_cast<std::int64_t>(std::floor(0.5 * (lo + hi)));
 }
 
+/// @brief True when the box [lo, hi] (the first `axes` axes) has measure in the interior of
+/// one cell only (covered_cells gives one cell per axis).
+inline bool in_one_cell(const double* lo, const double* hi, int axes) {
+  for (int a = 0; a < axes; ++a) {
+    std::int64_t first, last;
+    covered_cells(lo[a], hi[a], first, last);
+    if (first != last) return false;
+  }
+  return true;
+}
+
+/// @brief True when the continuous cell coordinate `u` lies on a cell boundary, up to
+/// kCellTolerance: a point there may belong to either neighbour.
+inline bool on_cell_edge(double u) { return std::abs(u - std::round(u)) <= kCellTolerance; }
+
 }  // namespace ifsforge
