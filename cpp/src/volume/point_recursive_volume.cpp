@@ -218,6 +218,9 @@ struct PieceExpander {
       double u[3];
       locate(point, u);
       if (e == 0) std::copy(u, u + 3, marked);
+      // A point on a voxel face may belong to the neighbour (a shared corner of grid-aligned
+      // pieces): only points strictly inside a voxel mark it.
+      if (on_cell_edge(u[0]) || on_cell_edge(u[1]) || on_cell_edge(u[2])) continue;
       if (!acc.occupied_voxel(u)) plot(point, 0.0);
     }
     plotted += reps;

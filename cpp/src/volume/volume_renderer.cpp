@@ -178,11 +178,34 @@ VolumeSetup prepare_volume(const Ifs& ifs, const VolumeOptions& options) {
   // B: the invariant box when there is one (exact for axis-aligned maps, pieces nest),
   // else the bounds with a 1% margin for the tips a sample may miss.
   std::vector<double> lo = setup.bounds.lo, hi = setup.bounds.hi;
-  const bool invariant = ifs.classify() == Classification::Hyperbolic && invariant_box(ifs, lo, hi);
+  const bool hyperbolic = ifs.classify() == Classification::Hyperbolic;
+  const bool invariant = hyperbolic && invariant_box(ifs, lo, hi);
+  // Without one, the spatial rows alone may have one (a gray channel that reads x, y, z):
+  // exact spatial boxes keep a grid-aligned fractal's pieces on voxel faces.
+  int exact = invariant ? n : 0;
+  if (!invariant && hyperbolic && n > 3) {
+    std::vector<AffineMap> spatial;
+    bool independent = true;
+    for (const auto& m : ifs.maps()) {
+      AffineMap s(3);
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) s.a(r, c) = m.a(r, c);
+        for (int c = 3; c < n; ++c) independent = independent && m.a(r, c) == 0.0;
+        s.b(r) = m.b(r);
+      }
+      spatial.push_back(s);
+    }
+    std::vector<double> lo3(lo.begin(), lo.begin() + 3), hi3(hi.begin(), hi.begin() + 3);
+    if (independent && invariant_box(Ifs(ifs.name(), ChannelLayout("xyz"), spatial, ifs.probabilities()), lo3, hi3)) {
+      std::copy(lo3.begin(), lo3.end(), lo.begin());
+      std::copy(hi3.begin(), hi3.end(), hi.begin());
+      exact = 3;
+    }
+  }
   for (int c = 0; c < n; ++c) {
     const double extent = hi[c] - lo[c];
     setup.center.push_back(0.5 * (lo[c] + hi[c]));
-    setup.half.push_back(0.5 * extent + (invariant ? 0.0 : 0.01 * extent) + 1e-12 * std::abs(setup.center.back()));
+    setup.half.push_back(0.5 * extent + (c < exact ? 0.0 : 0.01 * extent) + 1e-12 * std::abs(setup.center.back()));
   }
   if (options.bounds) {
     setup.grid = fit_voxel_grid(*options.bounds, options.resolution);
