@@ -63,7 +63,8 @@ Frame Frame::fit(const Ifs& ifs, int width, int height, const std::optional<Wind
     const double extent = std::max({dx, dy, 1e-9 * (std::abs(w.xmin) + std::abs(w.ymin)), 1e-12});
     dx = std::max(dx, extent * 1e-3);
     dy = std::max(dy, extent * 1e-3);
-    w = {w.xmin - margin * dx, w.ymin - margin * dy, w.xmax + margin * dx, w.ymax + margin * dy};
+    const double pad = hyperbolic ? 0.0 : margin;
+    w = {w.xmin - pad * dx, w.ymin - pad * dy, w.xmax + pad * dx, w.ymax + pad * dy};
   }
   // Keep pixels square: grow the window's short side about its centre.
   const double scale = std::max((w.xmax - w.xmin) / width, (w.ymax - w.ymin) / height);

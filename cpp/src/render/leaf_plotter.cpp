@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "ifsforge/core/cells.h"
 #include "ifsforge/core/memory.h"
 #include "ifsforge/render/accumulator.h"
 
@@ -44,10 +45,28 @@ void LeafPlotter::spread(Batch& batch, Apply&& apply, const std::vector<Point>& 
   double weight[kMost], moments[kMost][kMaxDim];
   float depth[kMost];
   int count = 0;
-  const double share = mass / static_cast<double>(points.size());
-  for (const Point& point : points) {
-    const Point p = apply(point);
+  // An attractor point strictly inside a pixel puts positive measure there; one on a pixel's
+  // edge (a shared corner of grid-aligned pieces) may belong to the neighbour: such points
+  // count only when no point of the piece lies strictly inside a pixel.
+  constexpr std::size_t kCached = 64;
+  std::array<double, 2> cached[kCached];
+  Point images[kCached];
+  std::size_t inside = 0;
+  const std::size_t cached_count = std::min(points.size(), kCached);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Point p = apply(points[i]);
     const auto px = frame_.to_pixel(p);
+    if (i < kCached) {
+      images[i] = p;
+      cached[i] = px;
+    }
+    inside += !on_cell_edge(px[0]) && !on_cell_edge(px[1]);
+  }
+  const double share = mass / static_cast<double>(inside ? inside : points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Point p = i < cached_count ? images[i] : apply(points[i]);
+    const auto px = i < cached_count ? cached[i] : frame_.to_pixel(p);
+    if (inside && (on_cell_edge(px[0]) || on_cell_edge(px[1]))) continue;
     if (!(px[0] >= 0.0 && px[0] < frame_.width() && px[1] >= 0.0 && px[1] < frame_.height())) continue;
     const auto index = static_cast<std::uint32_t>(std::size_t(px[1]) * frame_.width() + std::size_t(px[0]));
     int k = 0;
@@ -219,11 +238,17 @@ void PieceBoxes::pixel_box(const double* m, double* lo, double* hi) const {
   }
 }
 
+Point PieceBoxes::center() const {
+  Point c{};
+  std::copy(center_.begin(), center_.end(), c.begin());
+  return c;
+}
+
 PieceFit PieceBoxes::fit(const double* m) const {
   double lo[2], hi[2];
   pixel_box(m, lo, hi);
   if (hi[0] < 0.0 || lo[0] >= frame_.width() || hi[1] < 0.0 || lo[1] >= frame_.height()) return PieceFit::Off;
-  if (std::floor(lo[0]) == std::floor(hi[0]) && std::floor(lo[1]) == std::floor(hi[1])) return PieceFit::OnePixel;
+  if (in_one_cell(lo, hi, 2)) return PieceFit::OnePixel;
   if (std::max(hi[0] - lo[0], hi[1] - lo[1]) < 1.0) return PieceFit::Small;
   return PieceFit::Split;
 }

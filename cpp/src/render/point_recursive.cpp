@@ -6,6 +6,7 @@
 #include <map>
 #include <mutex>
 
+#include "ifsforge/core/cells.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
@@ -77,6 +78,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   };
 
   const Point start = ifs.start_point();
+  const Point center = box_center(plan);  // leaves plot at the centre of their piece's box
   // Representatives of a piece too small to split further but straddling pixels: the images
   // of a few attractor points spread over it (W^d of the fixed points, at most 16 of them),
   // so the pixels it touches are all plotted (same as d more levels, without box tests).
@@ -109,7 +111,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     pixel_box(node.map, lo, hi);
     if (hi[0] < 0.0 || lo[0] >= w || hi[1] < 0.0 || lo[1] >= h) return true;  // misses the image
     if (!fit_pixels) return false;
-    if (std::floor(lo[0]) == std::floor(hi[0]) && std::floor(lo[1]) == std::floor(hi[1])) return true;
+    if (in_one_cell(lo, hi, 2)) return true;
     return std::max(hi[0] - lo[0], hi[1] - lo[1]) < cut;
   };
   parallel_jobs(
@@ -124,6 +126,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
           if (spatial == 3) list.depth.push_back(static_cast<float>(frame.depth(p)));
           for (int c = 0; c < channels; ++c) list.channels.push_back(static_cast<float>(p[spatial + c]));
         };
+        std::vector<Point> images(spread.size());
         std::uint64_t nodes = 0;
         auto counted_stop = [&](const RecursionNode& node) {
           if (budget && ++nodes > budget) throw over_budget();
@@ -132,12 +135,22 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
         walk_job(ifs, plan, job, counted_stop, [&](const RecursionNode& node) {
           double lo[2], hi[2];
           if (fit_pixels) pixel_box(node.map, lo, hi);
-          if (!fit_pixels || (std::floor(lo[0]) == std::floor(hi[0]) && std::floor(lo[1]) == std::floor(hi[1]))) {
-            plot(node.map(start), node.mass);
+          if (!fit_pixels || in_one_cell(lo, hi, 2)) {
+            plot(node.map(center), node.mass);
             return;
           }
-          const double share = node.mass / static_cast<double>(spread.size());
-          for (const Point& p : spread) plot(node.map(p), share);
+          // Only the images strictly inside a pixel, as LeafPlotter::plot_spread does.
+          std::size_t inside = 0;
+          for (std::size_t k = 0; k < spread.size(); ++k) {
+            images[k] = node.map(spread[k]);
+            const auto px = frame.to_pixel(images[k]);
+            inside += !on_cell_edge(px[0]) && !on_cell_edge(px[1]);
+          }
+          const double share = node.mass / static_cast<double>(inside ? inside : spread.size());
+          for (std::size_t k = 0; k < spread.size(); ++k) {
+            const auto px = frame.to_pixel(images[k]);
+            if (!inside || (!on_cell_edge(px[0]) && !on_cell_edge(px[1]))) plot(images[k], share);
+          }
         });
         std::lock_guard<std::mutex> lock(mutex);
         if (job != next_job) {

@@ -55,7 +55,7 @@ Raster StringRewriting::render(const Ifs& ifs, const RenderOptions& options) con
   const int n = ifs.dim(), stride = composed::size(n);
   const std::size_t maps = ifs.size();
   const PieceBoxes boxes(ifs, frame);
-  const Point start = ifs.start_point();
+  const Point center = boxes.center();  // leaves plot at the centre of their piece's box
   const std::vector<Point> spread = spread_points(ifs);
   const int fixed = options.depth > 0 ? std::min(options.depth, 64) : 0;
   // At a fixed depth every string of the level before the last may be kept: maps^(depth-1)
@@ -83,7 +83,7 @@ Raster StringRewriting::render(const Ifs& ifs, const RenderOptions& options) con
           b.maps.insert(b.maps.end(), child, child + stride);
           b.mass.push_back(mass);
         } else if (fixed || fit != PieceFit::Small) {
-          plotter.plot(batch, composed::apply(child, n, start), mass);
+          plotter.plot(batch, composed::apply(child, n, center), mass);
         } else {
           // Smaller than a pixel but maybe straddling: points spread over the piece.
           plotter.plot_spread(batch, child, spread, mass);

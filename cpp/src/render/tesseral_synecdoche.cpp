@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ifsforge/core/cells.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/render/leaf_plotter.h"
 #include "ifsforge/render/parameters.h"
@@ -30,11 +31,11 @@ Raster TesseralSynecdoche::render(const Ifs& ifs, const RenderOptions& options) 
     pixel_box(node.map, lo, hi);
     if (hi[0] < 0.0 || lo[0] >= w || hi[1] < 0.0 || lo[1] >= h) return Why::Off;
     if (node.mass < pv) return Why::Probability;
-    if (fit_pixels && std::floor(lo[0]) == std::floor(hi[0]) && std::floor(lo[1]) == std::floor(hi[1])) return Why::OnePixel;
+    if (fit_pixels && in_one_cell(lo, hi, 2)) return Why::OnePixel;
     if (fit_pixels && std::max(hi[0] - lo[0], hi[1] - lo[1]) < 1.0) return Why::Small;
     return Why::Depth;
   };
-  const Point start = ifs.start_point();
+  const Point center = box_center(plan);  // leaves plot at the centre of their piece's box
   const std::vector<Point> spread = spread_points(ifs);
   LeafPlotter plotter(ifs, frame);
   std::vector<std::uint64_t> nodes(plan.jobs, 0);
@@ -47,7 +48,7 @@ Raster TesseralSynecdoche::render(const Ifs& ifs, const RenderOptions& options) 
                switch (why(node)) {
                  case Why::Off: return;
                  case Why::Small: plotter.plot_spread(batch, node.map, spread, node.mass); return;
-                 default: plotter.plot(batch, node.map(start), node.mass);
+                 default: plotter.plot(batch, node.map(center), node.mass);
                }
              });
     plotter.submit(job, std::move(batch));

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 
+#include "ifsforge/core/cells.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/parallel.h"
 
@@ -55,9 +56,13 @@ struct VoxelSearch {
   int witness = -1;     // the attractor point found in the voxel, if any
   std::uint64_t steps = 0;
 
+  /// In the voxel's interior: an attractor point there puts positive measure in it (every
+  /// neighbourhood of an attractor point has some), one on a face may belong to the neighbour.
   bool inside_voxel(const double* p) const {
-    for (int a = 0; a < 3; ++a)
-      if (!(p[a] >= lo[a] && p[a] < hi[a])) return false;
+    for (int a = 0; a < 3; ++a) {
+      const double margin = kCellTolerance * (hi[a] - lo[a]);
+      if (!(p[a] > lo[a] + margin && p[a] < hi[a] - margin)) return false;
+    }
     return true;
   }
 
@@ -89,14 +94,16 @@ struct VoxelSearch {
     int count = 0;
     for (std::uint32_t i = 0; i < inverse.size(); ++i) {
       const Affine3 next = inverse[i].after(inv);
-      // The orbit of the voxel under f_i o f_b: escaped when its box misses the region.
+      // The orbit of the voxel under f_i o f_b: escaped when its box misses the region's
+      // interior (a voxel that only touches a face of a piece holds none of its measure).
       bool kept = true;
       double qi[3], delta = 0.0;
       next.apply(center, qi);
       for (int r = 0; r < 3 && kept; ++r) {
         const double h = std::abs(next.m[r][0]) * half[0] + std::abs(next.m[r][1]) * half[1] +
                          std::abs(next.m[r][2]) * half[2];
-        kept = qi[r] + h >= box_lo[r] && qi[r] - h <= box_hi[r];
+        const double margin = kCellTolerance * h;
+        kept = qi[r] + h > box_lo[r] + margin && qi[r] - h < box_hi[r] - margin;
         delta += linear ? std::abs(qi[r] - q[r]) : (qi[r] - q[r]) * (qi[r] - q[r]);  // Eq. 55
       }
       if (!kept) continue;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 
+#include "ifsforge/core/cells.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
@@ -182,11 +183,10 @@ struct PieceExpander {
   void expand(std::uint32_t k, double mass, int length) {
     double l[3], h[3];
     box(k, l, h);
-    std::int64_t first[3], last[3];  // the voxels the box meets
+    std::int64_t first[3], last[3];  // the voxels whose interior the box meets
     for (int r = 0; r < 3; ++r) {
       if (h[r] < 0.0 || l[r] >= grid.dims[r]) return;
-      first[r] = static_cast<std::int64_t>(std::floor(l[r]));
-      last[r] = static_cast<std::int64_t>(std::floor(h[r]));
+      covered_cells(l[r], h[r], first[r], last[r]);
     }
     const double piece = mass * mass_of[k];
     const bool one_voxel = first[0] == last[0] && first[1] == last[1] && first[2] == last[2];
@@ -218,6 +218,9 @@ struct PieceExpander {
       double u[3];
       locate(point, u);
       if (e == 0) std::copy(u, u + 3, marked);
+      // A point on a voxel face may belong to the neighbour (a shared corner of grid-aligned
+      // pieces): only points strictly inside a voxel mark it.
+      if (on_cell_edge(u[0]) || on_cell_edge(u[1]) || on_cell_edge(u[2])) continue;
       if (!acc.occupied_voxel(u)) plot(point, 0.0);
     }
     plotted += reps;

@@ -124,20 +124,6 @@ bool invariant_box(const Ifs& ifs, std::vector<double>& lo, std::vector<double>&
 
 }  // namespace
 
-VoxelGrid grid_around(const std::array<double, 3>& lo, const std::array<double, 3>& hi, int resolution) {
-  double longest = 0.0;
-  for (int a = 0; a < 3; ++a) longest = std::max(longest, hi[a] - lo[a]);
-  if (!(longest > 0.0)) longest = std::max(1e-9, 1e-9 * std::abs(lo[0]));
-  VoxelGrid grid;
-  grid.voxel_size = resolution > 1 ? longest / (resolution - 1) : longest;
-  for (int a = 0; a < 3; ++a) {
-    const double extent = hi[a] - lo[a];
-    grid.dims[a] = std::clamp(static_cast<int>(std::lround(extent / grid.voxel_size)) + 1, 1, resolution);
-    grid.origin[a] = 0.5 * (lo[a] + hi[a]) - 0.5 * grid.dims[a] * grid.voxel_size;
-  }
-  return grid;
-}
-
 Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes) {
   const int n = ifs.dim();
   // For hyperbolic systems these include W^d of the fixed points (model/attractor_points.h),
@@ -192,21 +178,52 @@ VolumeSetup prepare_volume(const Ifs& ifs, const VolumeOptions& options) {
   // B: the invariant box when there is one (exact for axis-aligned maps, pieces nest),
   // else the bounds with a 1% margin for the tips a sample may miss.
   std::vector<double> lo = setup.bounds.lo, hi = setup.bounds.hi;
-  const bool invariant = ifs.classify() == Classification::Hyperbolic && invariant_box(ifs, lo, hi);
+  const bool hyperbolic = ifs.classify() == Classification::Hyperbolic;
+  const bool invariant = hyperbolic && invariant_box(ifs, lo, hi);
+  // Without one, the spatial rows alone may have one (a gray channel that reads x, y, z):
+  // exact spatial boxes keep a grid-aligned fractal's pieces on voxel faces.
+  int exact = invariant ? n : 0;
+  if (!invariant && hyperbolic && n > 3) {
+    std::vector<AffineMap> spatial;
+    bool independent = true;
+    for (const auto& m : ifs.maps()) {
+      AffineMap s(3);
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) s.a(r, c) = m.a(r, c);
+        for (int c = 3; c < n; ++c) independent = independent && m.a(r, c) == 0.0;
+        s.b(r) = m.b(r);
+      }
+      spatial.push_back(s);
+    }
+    std::vector<double> lo3(lo.begin(), lo.begin() + 3), hi3(hi.begin(), hi.begin() + 3);
+    if (independent && invariant_box(Ifs(ifs.name(), ChannelLayout("xyz"), spatial, ifs.probabilities()), lo3, hi3)) {
+      std::copy(lo3.begin(), lo3.end(), lo.begin());
+      std::copy(hi3.begin(), hi3.end(), hi.begin());
+      exact = 3;
+    }
+  }
   for (int c = 0; c < n; ++c) {
     const double extent = hi[c] - lo[c];
     setup.center.push_back(0.5 * (lo[c] + hi[c]));
-    setup.half.push_back(0.5 * extent + (invariant ? 0.0 : 0.01 * extent) + 1e-12 * std::abs(setup.center.back()));
+    setup.half.push_back(0.5 * extent + (c < exact ? 0.0 : 0.01 * extent) + 1e-12 * std::abs(setup.center.back()));
   }
   if (options.bounds) {
     setup.grid = fit_voxel_grid(*options.bounds, options.resolution);
   } else {
-    std::array<double, 3> lo{}, hi{};
+    // The attractor's box itself, cells aligned to its low corner: a grid-aligned fractal
+    // (Menger sponge at 3^k) fills exactly its cells. A point attractor gets a tiny cube.
+    Box3 box{};
     for (int a = 0; a < 3; ++a) {
-      lo[a] = setup.bounds.lo[a];
-      hi[a] = setup.bounds.hi[a];
+      box[a] = setup.bounds.lo[a];
+      box[a + 3] = setup.bounds.hi[a];
     }
-    setup.grid = grid_around(lo, hi, options.resolution);
+    double longest = 0.0;
+    for (int a = 0; a < 3; ++a) longest = std::max(longest, box[a + 3] - box[a]);
+    if (!(longest > 0.0)) {
+      const double pad = std::max(1e-9, 1e-9 * std::abs(box[0]));
+      for (int a = 0; a < 3; ++a) box[a + 3] = box[a] + pad;
+    }
+    setup.grid = fit_voxel_grid(box, options.resolution);
   }
   setup.quantizer = ChannelQuantizer(std::vector<double>(setup.bounds.lo.begin() + 3, setup.bounds.lo.end()),
                                      std::vector<double>(setup.bounds.hi.begin() + 3, setup.bounds.hi.end()));

@@ -52,7 +52,9 @@ class Frame {
   double pixel_size() const { return 1.0 / sx_; }
 
   /// @brief A frame for `ifs`: the given window (stretched to the image's aspect ratio) or,
-  /// without one, the attractor's projected bounds with a relative `margin` on each side.
+  /// without one, the attractor's projected bounds: exact for a hyperbolic system (no margin,
+  /// so a grid-aligned attractor such as a carpet at 3^k pixels fills exactly its pixels),
+  /// else sampled quantiles with a relative `margin` on each side.
   static Frame fit(const Ifs& ifs, int width, int height, const std::optional<Window>& window,
                    const View& view = {}, double margin = 0.03);
 

@@ -81,6 +81,8 @@ class PieceBoxes {
   /// @brief M(B) in continuous pixel coordinates: [lo, hi) per axis (m flat).
   void pixel_box(const double* m, double* lo, double* hi) const;
   PieceFit fit(const double* m) const;
+  /// @brief B's centre: a leaf plots at its image, the centre of its piece's box.
+  Point center() const;
 
  private:
   Frame frame_;

@@ -46,6 +46,14 @@ RecursionPlan plan_recursion(const Ifs& ifs, int depth, int auto_depth);
 /// `fallback` when some map does not contract.
 int depth_for_size(const Ifs& ifs, const RecursionPlan& plan, double size, int extra, int fallback);
 
+/// @brief The centre of B as a point: a leaf plots at its image M(centre), the centre of its
+/// piece's box, so a grid-aligned piece lands inside its own cell, never on a boundary.
+inline Point box_center(const RecursionPlan& plan) {
+  Point c{};
+  for (std::size_t k = 0; k < plan.center.size(); ++k) c[k] = plan.center[k];
+  return c;
+}
+
 /// @brief Axis-aligned box of M(B) on rows [0, rows): centre and half-extent.
 inline void image_box(const AffineMap& m, const RecursionPlan& plan, int rows, double* center, double* half) {
   const int n = m.dim();

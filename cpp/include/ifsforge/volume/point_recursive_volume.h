@@ -12,7 +12,8 @@ namespace ifsforge {
 /// centre, so a leaf of a grid-aligned system (Menger sponge at 3^L voxels a side) lands inside
 /// its own cell, never on a cell boundary.
 /// options.depth = 0 picks the depth from the resolution and stops each branch when its
-/// occupancy stops changing: a piece whose box lies inside one voxel is plotted there (deeper
+/// occupancy stops changing: a piece whose box covers the interior of one voxel only (its sides
+/// may lie on voxel faces, up to core/cells.h's rounding) is plotted there, at its centre (deeper
 /// levels would land in the same voxel); a piece smaller than a voxel that straddles voxels
 /// marks the images of a few attractor points at its corners, and is split further only while
 /// a voxel its box meets is still empty (down to 1/4 voxel). Pieces up to 2 voxels stop as soon

@@ -19,7 +19,7 @@ EscapeNorm escape_norm_from_string(const std::string& name);
 
 struct VolumeOptions {
   int resolution = 256;       ///< voxels along the longest side of the grid's box
-  std::optional<Box3> bounds; ///< the grid's world box; default: around the attractor (grid_around)
+  std::optional<Box3> bounds; ///< the grid's world box; default: the attractor's box, cells aligned to its low corner
   VolumeDensity density = VolumeDensity::Binary;
   /// PRR: recursion depth, every leaf at exactly this depth (0: from the resolution, deepened
   /// while occupancy still changes). DIA: levels of volume rewriting (0: until occupancy
@@ -72,11 +72,6 @@ struct VolumeSetup {
 /// @brief Checks the input (3 spatial dimensions, resolution, an attractor) and fits the grid.
 /// InputError / DivergentSystemError name what is wrong.
 VolumeSetup prepare_volume(const Ifs& ifs, const VolumeOptions& options);
-
-/// @brief The default grid: `resolution` voxels along the longest side of the box [lo, hi],
-/// the box's corners on voxel centres (about half a voxel of margin), so that flat faces of an
-/// attractor, such as a pyramid's base, lie mid-voxel rather than on a plane between voxels.
-VoxelGrid grid_around(const std::array<double, 3>& lo, const std::array<double, 3>& hi, int resolution);
 
 /// @brief The attractor's bounds per channel (Ifs::attractor_bounds). `extremes` (optional)
 /// receives a few attractor points at its corners (see VolumeSetup).
