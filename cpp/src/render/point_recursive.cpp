@@ -23,6 +23,9 @@ struct LeafList {
   std::vector<float> depth;     // 3D systems
 };
 
+/// Thrown by a job that exceeds its node budget: render() falls back to the Eq. 59 depth.
+struct OverBudget {};
+
 }  // namespace
 
 Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) const {
@@ -99,11 +102,6 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   // 128 nodes per pixel (at least 2^24 in all) is several times what a hyperbolic system needs.
   const std::uint64_t total = std::max<std::uint64_t>(std::uint64_t(1) << 24, 128 * std::uint64_t(pixels));
   const std::uint64_t budget = fit_pixels ? std::max<std::uint64_t>(1u << 12, total / plan.jobs) : 0;
-  auto over_budget = [&] {
-    return InputError("point recursive rendering of '" + ifs.name() + "' at this size needs more than " +
-                      std::to_string(budget * plan.jobs) + " nodes (its pieces shrink too slowly in some "
-                      "direction); use the chaos renderer or a fixed depth");
-  };
   auto stop = [&](const RecursionNode& node) {
     double lo[2], hi[2];
     pixel_box(node.map, lo, hi);
@@ -112,47 +110,55 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     if (std::floor(lo[0]) == std::floor(hi[0]) && std::floor(lo[1]) == std::floor(hi[1])) return true;
     return std::max(hi[0] - lo[0], hi[1] - lo[1]) < cut;
   };
-  parallel_jobs(
-      plan.jobs, options.threads,
-      [&](std::size_t job, int) {
-        LeafList list;
-        auto plot = [&](const Point& p, double mass) {
-          const auto px = frame.to_pixel(p);
-          if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) return;
-          list.pixel.push_back(static_cast<std::uint32_t>(std::size_t(px[1]) * frame.width() + std::size_t(px[0])));
-          list.mass.push_back(mass);
-          if (spatial == 3) list.depth.push_back(static_cast<float>(frame.depth(p)));
-          for (int c = 0; c < channels; ++c) list.channels.push_back(static_cast<float>(p[spatial + c]));
-        };
-        std::uint64_t nodes = 0;
-        auto counted_stop = [&](const RecursionNode& node) {
-          if (budget && ++nodes > budget) throw over_budget();
-          return stop(node);
-        };
-        walk_job(ifs, plan, job, counted_stop, [&](const RecursionNode& node) {
-          double lo[2], hi[2];
-          if (fit_pixels) pixel_box(node.map, lo, hi);
-          if (!fit_pixels || (std::floor(lo[0]) == std::floor(hi[0]) && std::floor(lo[1]) == std::floor(hi[1]))) {
-            plot(node.map(start), node.mass);
+  try {
+    parallel_jobs(
+        plan.jobs, options.threads,
+        [&](std::size_t job, int) {
+          LeafList list;
+          auto plot = [&](const Point& p, double mass) {
+            const auto px = frame.to_pixel(p);
+            if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) return;
+            list.pixel.push_back(static_cast<std::uint32_t>(std::size_t(px[1]) * frame.width() + std::size_t(px[0])));
+            list.mass.push_back(mass);
+            if (spatial == 3) list.depth.push_back(static_cast<float>(frame.depth(p)));
+            for (int c = 0; c < channels; ++c) list.channels.push_back(static_cast<float>(p[spatial + c]));
+          };
+          std::uint64_t nodes = 0;
+          auto counted_stop = [&](const RecursionNode& node) {
+            if (budget && ++nodes > budget) throw OverBudget{};
+            return stop(node);
+          };
+          walk_job(ifs, plan, job, counted_stop, [&](const RecursionNode& node) {
+            double lo[2], hi[2];
+            if (fit_pixels) pixel_box(node.map, lo, hi);
+            if (!fit_pixels || (std::floor(lo[0]) == std::floor(hi[0]) && std::floor(lo[1]) == std::floor(hi[1]))) {
+              plot(node.map(start), node.mass);
+              return;
+            }
+            const double share = node.mass / static_cast<double>(spread.size());
+            for (const Point& p : spread) plot(node.map(p), share);
+          });
+          std::lock_guard<std::mutex> lock(mutex);
+          if (job != next_job) {
+            waiting.emplace(job, std::move(list));
             return;
           }
-          const double share = node.mass / static_cast<double>(spread.size());
-          for (const Point& p : spread) plot(node.map(p), share);
-        });
-        std::lock_guard<std::mutex> lock(mutex);
-        if (job != next_job) {
-          waiting.emplace(job, std::move(list));
-          return;
-        }
-        apply(list);
-        ++next_job;
-        for (auto it = waiting.find(next_job); it != waiting.end(); it = waiting.find(next_job)) {
-          apply(it->second);
-          waiting.erase(it);
+          apply(list);
           ++next_job;
-        }
-      },
-      options.progress);
+          for (auto it = waiting.find(next_job); it != waiting.end(); it = waiting.find(next_job)) {
+            apply(it->second);
+            waiting.erase(it);
+            ++next_job;
+          }
+        },
+        options.progress);
+  } catch (const OverBudget&) {
+    // The pixel-size stop would split for ever (or nearly): the seed's PRR at Eq. 59's depth
+    // (N^L >= H V leaves) ends every branch, whatever the system.
+    RenderOptions fixed = options;
+    fixed.depth = eq59;
+    return render(ifs, fixed);
+  }
 
   raster.channels.assign(pixels * channels, 0.0f);
   for (std::size_t i = 0; channels && i < pixels; ++i)
