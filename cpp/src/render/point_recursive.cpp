@@ -1,7 +1,6 @@
 #include "ifsforge/render/point_recursive.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -121,13 +120,11 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   const double w = frame.width(), h = frame.height();
   auto pixel_box = [&](const AffineMap& m, double* lo, double* hi) { piece_pixel_box(frame, plan, m, lo, hi); };
   // Pieces that stay wider than a pixel in one direction while thinning in the other (a rough
-  // fractal interpolation graph) would split for ever: the nodes of all jobs share a budget.
-  // Jobs add their counts in fixed blocks, so whether the budget is exceeded (the total the
-  // jobs would reach) does not depend on the thread count or the order of the jobs.
+  // fractal interpolation graph) would split for ever: each job has a node budget, checked per
+  // job so that the outcome does not depend on the thread count.
   // 128 nodes per pixel (at least 2^24 in all) is several times what a hyperbolic system needs.
-  const std::uint64_t budget = fit_pixels ? std::max<std::uint64_t>(std::uint64_t(1) << 24, 128 * std::uint64_t(pixels)) : 0;
-  constexpr std::uint64_t kBlock = 4096;
-  std::atomic<std::uint64_t> spent{0};
+  const std::uint64_t total = std::max<std::uint64_t>(std::uint64_t(1) << 24, 128 * std::uint64_t(pixels));
+  const std::uint64_t budget = fit_pixels ? std::max<std::uint64_t>(1u << 12, total / plan.jobs) : 0;
   auto stop = [&](const RecursionNode& node) {
     double lo[2], hi[2];
     pixel_box(node.map, lo, hi);
@@ -151,7 +148,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
           };
           std::uint64_t nodes = 0;
           auto counted_stop = [&](const RecursionNode& node) {
-            if (budget && ++nodes % kBlock == 0 && spent.fetch_add(kBlock) + kBlock > budget) throw OverBudget{};
+            if (budget && ++nodes > budget) throw OverBudget{};
             return stop(node);
           };
           walk_job(ifs, plan, job, counted_stop, [&](const RecursionNode& node) {
