@@ -545,7 +545,8 @@ TEST(Algorithms, ImageBasedIterationsAndMass) {
   EXPECT_EQ(image_based_iterations(sample("sierpinski_triangle"), 1024, 1024), 11);
   // Measure weights p_i / D_i (Eq. 64) keep the total mass of the image.
   const Ifs ifs = sample("sierpinski_triangle");
-  RenderOptions o = on_window(ifs, 128, {{"weights", "measure"}});
+  // On one grid (supersample 1): the mass is counted in cells of that grid.
+  RenderOptions o = on_window(ifs, 128, {{"weights", "measure"}, {"supersample", "1"}});
   o.window = Window{-0.5, -0.5, 1.5, 1.5};  // room around the attractor: nothing leaves
   const Raster r = renderer("ibr").render(ifs, o);
   double total = 0;

@@ -152,7 +152,7 @@ def test_cli_render_takes_parameters(run_cli, tmp_path):
     assert bad.returncode == 2 and "norm" in bad.stderr
     assert not (tmp_path / "bad.png").exists()
     listing = run_cli("algorithms")
-    assert "--param supersample=1" in listing.stdout and "escape time" in listing.stdout
+    assert "--param supersample=2" in listing.stdout and "escape time" in listing.stdout
 
 
 def test_cli_compare_writes_the_report(run_cli, tmp_path):
@@ -167,7 +167,7 @@ def test_cli_compare_writes_the_report(run_cli, tmp_path):
     assert list(rows) == ["dia", "mpa", "eta", "prr", "afra"]  # chapter-5 order
     assert rows["prr"]["iou"] == pytest.approx(1.0)
     assert rows["eta"]["iou"] > 0.85 and rows["mpa"]["operations"] == 3 * rows["mpa"]["covered"]
-    assert rows["dia"]["note"] == "iterations=200" and "iou_supersample_2" in rows["dia"]
+    assert rows["dia"]["note"] == "iterations=200" and "iou_supersample_1" in rows["dia"]
     assert "| eta | 5.5 |" in (report / "comparison.md").read_text()
     sheet = ifsforge.read_png(str(report / "contact_sheet.png"))
     assert sheet.shape[2] == 3 and sheet.shape[1] == 5 * 256

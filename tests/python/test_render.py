@@ -64,11 +64,12 @@ def test_density_image_is_log_scaled(sierpinski):
     assert raster.density.sum() == pytest.approx(1.0, abs=1e-5)
 
 
-def test_prr_refuses_pieces_that_never_fit_a_pixel():
+def test_prr_falls_back_to_eq59_when_pieces_never_fit_a_pixel():
     # A fractal interpolation graph with vertical factors 0.97: pieces thin to 1/5^k wide but
-    # stay tall; automatic PRR would split for ever. It stops with a clear error instead.
+    # stay tall; the pixel-size stop would split for ever. PRR renders at Eq. 59's depth instead.
     maps = [ifsforge.AffineMap([[0.2, 0], [0.1 * (i % 2) - 0.05, 0.97]], [0.2 * i, 0.05 * (i % 2)]) for i in range(5)]
     rough = ifsforge.Ifs(maps, name="rough")
-    with pytest.raises(ifsforge.InputError, match="chaos"):
-        ifsforge.render(rough, "prr", 256)
+    fallback = ifsforge.render(rough, "prr", 256)
+    fixed = ifsforge.render(rough, "prr", 256, depth=ifsforge.default_depth(5, 256, 256))
+    np.testing.assert_array_equal(fallback.density, fixed.density)
     assert ifsforge.render(rough, "chaos", 256, binary=True).covered() > 256

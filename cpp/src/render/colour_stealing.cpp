@@ -1,5 +1,6 @@
 #include "ifsforge/render/colour_stealing.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "ifsforge/core/error.h"
@@ -12,16 +13,18 @@
 namespace ifsforge {
 
 Ifs grid_reference_system(std::size_t n) {
-  const std::size_t columns = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(n))));
-  const std::size_t rows = (n + columns - 1) / columns;
+  // The rectangle R = [0, 1] x [0, r], r = 1/sqrt(N), cut into N vertical strips of width 1/N:
+  // each strip is R turned a quarter and scaled by r, so map i (a similarity, factor r < 1 for
+  // any N >= 2) sends R onto strip i and the attractor is all of R.
+  const double count = static_cast<double>(std::max<std::size_t>(n, 1));
+  const double r = n > 1 ? 1.0 / std::sqrt(count) : 0.5;
   std::vector<AffineMap> maps;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double sx = 1.0 / columns, sy = 1.0 / rows;
-    maps.emplace_back(2, std::vector<double>{sx, 0, 0, sy},
-                      std::vector<double>{sx * (i % columns), sy * (i / columns)});
-  }
+  for (std::size_t i = 0; i < n; ++i)
+    maps.emplace_back(2, std::vector<double>{0, r, r, 0}, std::vector<double>{static_cast<double>(i) / count, 0});
   return Ifs("grid reference", ChannelLayout("xy"), maps, std::vector<double>(n, 1.0));
 }
+
+double grid_reference_height(std::size_t n) { return n > 1 ? 1.0 / std::sqrt(static_cast<double>(n)) : 0.5; }
 
 Raster ColourStealing::render(const Ifs& ifs, const RenderOptions& options) const {
   if (!options.reference_image || options.reference_image->width < 1)
@@ -29,6 +32,8 @@ Raster ColourStealing::render(const Ifs& ifs, const RenderOptions& options) cons
   const Image& picture = *options.reference_image;
   const Ifs reference = options.reference_system ? *options.reference_system
                                                  : grid_reference_system(ifs.size());
+  // The picture covers the reference's unit square, or the default's rectangle.
+  const double picture_height = options.reference_system ? 1.0 : grid_reference_height(ifs.size());
   if (reference.size() != ifs.size())
     throw InputError("the reference system has " + std::to_string(reference.size()) +
                      " maps but the system has " + std::to_string(ifs.size()) +
@@ -68,7 +73,7 @@ Raster ColourStealing::render(const Ifs& ifs, const RenderOptions& options) cons
           if (i < options.skip) continue;
           const auto px = frame.to_pixel(q);
           const bool inside = px[0] >= 0 && px[0] < frame.width() && px[1] >= 0 && px[1] < frame.height();
-          picture.sample(r[0] * picture.width, (1.0 - r[1]) * picture.height, colour);
+          picture.sample(r[0] * picture.width, (1.0 - r[1] / picture_height) * picture.height, colour);
           for (int c = 0; c < 3; ++c) rgb[c] = colour[picture.channels >= 3 ? c : 0];
           acc[worker].add(inside ? std::size_t(px[1]) * frame.width() + std::size_t(px[0]) : trash, rgb);
         }

@@ -54,7 +54,7 @@ void channel_ranges_of(const Ifs& ifs, std::vector<double>& lo, std::vector<doub
 }  // namespace
 
 RendererParameter supersample_parameter() {
-  return {"supersample", "1",
+  return {"supersample", "2",
           "a pixel grid k times finer than the image (k x k cells per pixel): rounding errors (Eq. 53's delta) "
           "shrink k-fold for k^2 the work"};
 }

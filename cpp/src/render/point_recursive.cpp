@@ -11,6 +11,7 @@
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/render/accumulator.h"
+#include "ifsforge/render/parameters.h"
 #include "ifsforge/render/recursion.h"
 
 namespace ifsforge {
@@ -23,6 +24,9 @@ struct LeafList {
   std::vector<float> channels;  // pixel-major
   std::vector<float> depth;     // 3D systems
 };
+
+/// Thrown by a job that exceeds its node budget: render() falls back to the Eq. 59 depth.
+struct OverBudget {};
 
 }  // namespace
 
@@ -40,7 +44,13 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   RecursionPlan plan = plan_recursion(ifs, options.depth, eq59);
   if (options.depth <= 0) plan.max_depth = depth_for_size(ifs, plan, frame.pixel_size(), 2, eq59);
   const bool fit_pixels = options.depth <= 0;
-  constexpr double cut = 1.0;  // pixels: pieces smaller than this are not split further
+  // Pixels: a piece smaller than this is not split further. Coverage needs only the pixels a
+  // piece touches; the measure needs the share of each, so straddling pieces split to an
+  // eighth of a pixel (L1 error about 0.02 against a long chaos game, the README says).
+  // Pixels: a piece smaller than this is not split further (straddling pieces spread their
+  // mass, see below). 1 is enough for coverage; the measure's share of each pixel sharpens
+  // as the cut shrinks (1/8: L1 about 0.02 from a long chaos game, for several times the work).
+  const double cut = ParameterValues(*this, options).number("cut", 1.0 / 64.0, 1.0);
   const std::size_t pixels = std::size_t(frame.width()) * frame.height();
   const int channels = ifs.dim() - ifs.spatial_dims();
   check_memory(pixels * (4.0 + 12.0 * channels + (channels ? 4.0 : 0.0)),
@@ -80,17 +90,33 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   const Point start = ifs.start_point();
   const Point center = box_center(plan);  // leaves plot at the centre of their piece's box
   // Representatives of a piece too small to split further but straddling pixels: the images
-  // of a few attractor points spread over it (W^d of the fixed points, at most 16 of them),
-  // so the pixels it touches are all plotted (same as d more levels, without box tests).
+  // under the words u of length d of a few points (at most 16 images, same as d more levels
+  // without box tests), each carrying the share p_u of the piece's mass. For coverage
+  // (binary) the points are the fixed points, so every image lies on the attractor and the
+  // pixels the piece touches are all plotted. For the measure they are the centre of the box
+  // B, so each image is the centre of the sub-piece's box w_u(B): never a point on a pixel
+  // edge that the sub-piece only touches.
   std::vector<Point> spread;
-  for (const Point& p : ifs.fixed_points())
-    if (std::isfinite(p[0])) spread.push_back(p);
+  if (options.binary) {
+    for (const Point& p : ifs.fixed_points())
+      if (std::isfinite(p[0])) spread.push_back(p);
+  } else {
+    Point centre{};
+    std::copy(plan.center.begin(), plan.center.end(), centre.begin());
+    spread.push_back(centre);
+  }
   if (spread.empty()) spread.push_back(start);
+  std::vector<double> spread_share(spread.size(), 1.0 / static_cast<double>(spread.size()));
   while (spread.size() * ifs.size() <= 16) {
     std::vector<Point> next;
-    for (const Point& p : spread)
-      for (const auto& m : ifs.maps()) next.push_back(m(p));
+    std::vector<double> next_share;
+    for (std::size_t k = 0; k < spread.size(); ++k)
+      for (std::size_t i = 0; i < ifs.size(); ++i) {
+        next.push_back(ifs.map(i)(spread[k]));
+        next_share.push_back(spread_share[k] * ifs.probabilities()[i]);
+      }
     spread.swap(next);
+    spread_share.swap(next_share);
   }
   const int spatial = ifs.spatial_dims();
   const double w = frame.width(), h = frame.height();
@@ -101,11 +127,6 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   // 128 nodes per pixel (at least 2^24 in all) is several times what a hyperbolic system needs.
   const std::uint64_t total = std::max<std::uint64_t>(std::uint64_t(1) << 24, 128 * std::uint64_t(pixels));
   const std::uint64_t budget = fit_pixels ? std::max<std::uint64_t>(1u << 12, total / plan.jobs) : 0;
-  auto over_budget = [&] {
-    return InputError("point recursive rendering of '" + ifs.name() + "' at this size needs more than " +
-                      std::to_string(budget * plan.jobs) + " nodes (its pieces shrink too slowly in some "
-                      "direction); use the chaos renderer or a fixed depth");
-  };
   auto stop = [&](const RecursionNode& node) {
     double lo[2], hi[2];
     pixel_box(node.map, lo, hi);
@@ -114,58 +135,67 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     if (in_one_cell(lo, hi, 2)) return true;
     return std::max(hi[0] - lo[0], hi[1] - lo[1]) < cut;
   };
-  parallel_jobs(
-      plan.jobs, options.threads,
-      [&](std::size_t job, int) {
-        LeafList list;
-        auto plot = [&](const Point& p, double mass) {
-          const auto px = frame.to_pixel(p);
-          if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) return;
-          list.pixel.push_back(static_cast<std::uint32_t>(std::size_t(px[1]) * frame.width() + std::size_t(px[0])));
-          list.mass.push_back(mass);
-          if (spatial == 3) list.depth.push_back(static_cast<float>(frame.depth(p)));
-          for (int c = 0; c < channels; ++c) list.channels.push_back(static_cast<float>(p[spatial + c]));
-        };
-        std::vector<Point> images(spread.size());
-        std::uint64_t nodes = 0;
-        auto counted_stop = [&](const RecursionNode& node) {
-          if (budget && ++nodes > budget) throw over_budget();
-          return stop(node);
-        };
-        walk_job(ifs, plan, job, counted_stop, [&](const RecursionNode& node) {
-          double lo[2], hi[2];
-          if (fit_pixels) pixel_box(node.map, lo, hi);
-          if (!fit_pixels || in_one_cell(lo, hi, 2)) {
-            plot(node.map(center), node.mass);
+  try {
+    parallel_jobs(
+        plan.jobs, options.threads,
+        [&](std::size_t job, int) {
+          LeafList list;
+          auto plot = [&](const Point& p, double mass) {
+            const auto px = frame.to_pixel(p);
+            if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) return;
+            list.pixel.push_back(static_cast<std::uint32_t>(std::size_t(px[1]) * frame.width() + std::size_t(px[0])));
+            list.mass.push_back(mass);
+            if (spatial == 3) list.depth.push_back(static_cast<float>(frame.depth(p)));
+            for (int c = 0; c < channels; ++c) list.channels.push_back(static_cast<float>(p[spatial + c]));
+          };
+          std::vector<Point> images(spread.size());
+          std::vector<char> strictly(spread.size());
+          std::uint64_t nodes = 0;
+          auto counted_stop = [&](const RecursionNode& node) {
+            if (budget && ++nodes > budget) throw OverBudget{};
+            return stop(node);
+          };
+          walk_job(ifs, plan, job, counted_stop, [&](const RecursionNode& node) {
+            double lo[2], hi[2];
+            if (fit_pixels) pixel_box(node.map, lo, hi);
+            if (!fit_pixels || in_one_cell(lo, hi, 2)) {
+              plot(node.map(center), node.mass);
+              return;
+            }
+            // Only the images strictly inside a pixel (a point on a pixel edge belongs to
+            // neither side), as LeafPlotter::plot_spread does; their shares carry all the mass.
+            double inside = 0.0;
+            for (std::size_t k = 0; k < spread.size(); ++k) {
+              images[k] = node.map(spread[k]);
+              const auto px = frame.to_pixel(images[k]);
+              strictly[k] = !on_cell_edge(px[0]) && !on_cell_edge(px[1]);
+              if (strictly[k]) inside += spread_share[k];
+            }
+            for (std::size_t k = 0; k < spread.size(); ++k)
+              if (inside == 0.0 || strictly[k])
+                plot(images[k], node.mass * spread_share[k] / (inside == 0.0 ? 1.0 : inside));
+          });
+          std::lock_guard<std::mutex> lock(mutex);
+          if (job != next_job) {
+            waiting.emplace(job, std::move(list));
             return;
           }
-          // Only the images strictly inside a pixel, as LeafPlotter::plot_spread does.
-          std::size_t inside = 0;
-          for (std::size_t k = 0; k < spread.size(); ++k) {
-            images[k] = node.map(spread[k]);
-            const auto px = frame.to_pixel(images[k]);
-            inside += !on_cell_edge(px[0]) && !on_cell_edge(px[1]);
-          }
-          const double share = node.mass / static_cast<double>(inside ? inside : spread.size());
-          for (std::size_t k = 0; k < spread.size(); ++k) {
-            const auto px = frame.to_pixel(images[k]);
-            if (!inside || (!on_cell_edge(px[0]) && !on_cell_edge(px[1]))) plot(images[k], share);
-          }
-        });
-        std::lock_guard<std::mutex> lock(mutex);
-        if (job != next_job) {
-          waiting.emplace(job, std::move(list));
-          return;
-        }
-        apply(list);
-        ++next_job;
-        for (auto it = waiting.find(next_job); it != waiting.end(); it = waiting.find(next_job)) {
-          apply(it->second);
-          waiting.erase(it);
+          apply(list);
           ++next_job;
-        }
-      },
-      options.progress);
+          for (auto it = waiting.find(next_job); it != waiting.end(); it = waiting.find(next_job)) {
+            apply(it->second);
+            waiting.erase(it);
+            ++next_job;
+          }
+        },
+        options.progress);
+  } catch (const OverBudget&) {
+    // The pixel-size stop would split for ever (or nearly): the seed's PRR at Eq. 59's depth
+    // (N^L >= H V leaves) ends every branch, whatever the system.
+    RenderOptions fixed = options;
+    fixed.depth = eq59;
+    return render(ifs, fixed);
+  }
 
   raster.channels.assign(pixels * channels, 0.0f);
   for (std::size_t i = 0; channels && i < pixels; ++i)

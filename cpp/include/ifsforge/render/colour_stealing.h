@@ -6,7 +6,7 @@ namespace ifsforge {
 
 /// Two systems with the same number of maps iterate with one random sequence: the target
 /// system draws the attractor, the reference system walks a reference picture (its unit
-/// square stretched over the picture), and each plotted point takes the picture's colour
+/// square, or the default system's rectangle, stretched over the picture), and each plotted point takes the picture's colour
 /// (bilinear) under the reference point. Pixels show the mean stolen colour.
 class ColourStealing : public Renderer {
  public:
@@ -17,8 +17,11 @@ class ColourStealing : public Renderer {
   Raster render(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
-/// @brief The default reference system: map i sends the unit square onto cell i of a
-/// ceil(sqrt N) x ceil(N / ceil(sqrt N)) grid.
+/// @brief The default reference system, contractive for any map count: its attractor is the
+/// rectangle [0, 1] x [0, 1/sqrt N] (stretched over the picture) and map i sends it, turned a
+/// quarter, onto the i-th of N vertical strips (a similarity with factor 1/sqrt N).
 Ifs grid_reference_system(std::size_t maps);
+/// @brief The height of grid_reference_system(maps)'s rectangle (its width is 1).
+double grid_reference_height(std::size_t maps);
 
 }  // namespace ifsforge

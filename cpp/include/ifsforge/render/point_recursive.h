@@ -21,6 +21,12 @@ class PointRecursive : public Renderer {
     return "point recursive rendering (5.8.1): deterministic, measure per pixel";
   }
   Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  std::vector<RendererParameter> parameters() const override {
+    return {{"cut", "1",
+             "pixels: a piece smaller than this that straddles pixel edges is not split further but "
+             "spread over its sub-pieces (1/8 brings the measure within about 0.02 in L1 of a long chaos "
+             "game, for several times the work)"}};
+  }
 };
 
 }  // namespace ifsforge
