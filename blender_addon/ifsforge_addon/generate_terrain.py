@@ -55,7 +55,11 @@ class TerrainGenerator(Generator):
             columns = rows = settings["terrain_resolution"]
             palette = palettes.make(settings["palette_recipe"], settings["palette_entries"])[1]
         terrain = ifsforge.make_terrain(controls, columns, rows, progress=progress)
-        mesh = mesh_data.prepare(terrain.mesh(palette=palette, up="z"))
+        mesh = terrain.mesh(palette=palette, up="z")
+        if terrain.grid == "circular":  # a fan at the centre: the generic pairing and edge search
+            mesh = mesh_data.prepare(mesh)
+        else:  # a lattice: quads and edges known in advance (the triangles pair up along a-c)
+            mesh["faces"], mesh["edges"] = mesh_data.grid_faces(terrain.columns, terrain.rows)
         ifsforge.write_png(path, palette.to_image(1), 16)
         return {"path": path, "mesh": mesh, "custom_normals": settings["custom_normals"],
                 "summary": f"{terrain.grid} terrain, {terrain.columns}x{terrain.rows} samples, heights "
