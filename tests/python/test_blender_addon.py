@@ -156,6 +156,11 @@ def test_povray_scene_export_matches_blender(tmp_path):
 
 
 @needs_blender
+def test_baked_instances_play_without_the_addon(tmp_path):
+    run_blender("addon_bake_instances.py", tmp_path, timeout=300)
+
+
+@needs_blender
 def test_blender_conventions(tmp_path):
     run_blender("addon_conventions.py", tmp_path)
 
