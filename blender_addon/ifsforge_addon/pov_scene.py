@@ -1,7 +1,9 @@
 """The scene's ifsforge objects as one POV-Ray 3.7 scene, seen through Blender's active camera and
 lit by its sun and point lights. Terrains and iso-surfaces become mesh2 with their per-vertex
 colours (the palette or the iso-surface's colours); an instances object becomes one union of its
-prototypes, each declared once as a mesh2 and placed by its instance matrix.
+prototypes, each declared once as a mesh2 and placed by its instance matrix; a volume becomes
+absorbing and emitting media in a box, reading its density from a .df3 beside the scene
+(ifsforge.write_df3, rendered again from the object's stored values).
 
 Axes: Blender is right-handed with z up; POV-Ray is left-handed with y up. Swapping y and z maps
 one onto the other (a reflection, which is exactly the change of handedness), so every point,
@@ -14,7 +16,6 @@ import numpy as np
 
 import ifsforge
 
-EXPORTED = ('TERRAIN', 'MESH', 'INSTANCES')
 SWAP = np.array([[1, 0, 0], [0, 0, 1], [0, 1, 0]], np.float64)  # Blender (x, y, z) -> POV-Ray (x, z, y)
 
 
@@ -102,8 +103,29 @@ def mesh2(name, positions, triangles, colors=None, color=(0.8, 0.8, 0.8)):
     return "".join(text)
 
 
+def volume_media(obj, path):
+    """A box over the volume's grid holding media whose density is the .df3 written beside `path`;
+    the unit cube POV-Ray maps the file onto goes to the grid's box, then to the object's place."""
+    from . import generators, properties, state
+    from .generate_volume import render_volume
+    values = properties.snapshot(obj.ifsforge.system, obj.ifsforge.settings)["settings"]
+    volume = render_volume(state.system_of(obj.ifsforge.system), generators.get('VOLUME').resolve(dict(values)), None)
+    df3 = f"{os.path.splitext(path)[0]}_{ifsforge.pov_identifier(obj.name)}.df3"
+    ifsforge.write_df3(df3, volume, bits=8)
+    grid = np.diag([*(np.array(volume.dims, np.float64) * volume.voxel_size), 1.0])
+    grid[:3, 3] = volume.origin
+    m = np.array(obj.matrix_world, np.float64) @ grid
+    p, t = SWAP @ m[:3, :3], swap_yz(m[:3, 3])  # file axes are the volume's own x, y, z
+    values = ", ".join("%.7g" % v for v in [*p[:, 0], *p[:, 1], *p[:, 2], *t])
+    strength = obj.ifsforge.settings.volume_strength
+    return (f"box {{ 0, 1 // {ifsforge.pov_comment(obj.name)}\n  pigment {{ rgbt 1 }} hollow\n"
+            f"  interior {{ media {{ absorption {2 * strength:.6g} emission 0.3 method 3 intervals 1 samples 8\n"
+            f"    density {{ density_file df3 {ifsforge.pov_string(os.path.basename(df3))} interpolate 1 }} }} }}\n"
+            f"  matrix <{values}>\n}}\n")
+
+
 def write_scene(path, context, width, height):
-    """Writes the scene; returns {kind: count} of the objects written (volumes are not exported)."""
+    """Writes the scene; returns {kind: count} of the objects written."""
     scene = context.scene
     if scene.camera is None:
         raise ifsforge.InputError("the scene has no active camera to export")
@@ -134,6 +156,9 @@ def write_scene(path, context, width, height):
             inst.object.to_mesh_clear()
             parts.append(mesh2(obj.name, positions, triangles, colors))
             counts[obj.ifsforge.kind] = counts.get(obj.ifsforge.kind, 0) + 1
+        elif obj.type == 'VOLUME' and obj.ifsforge.kind == 'VOLUME':
+            parts.append(volume_media(obj, path))
+            counts['VOLUME'] = counts.get('VOLUME', 0) + 1
     names = {name: ifsforge.pov_identifier("ifs_proto_" + name) for name in prototypes}
     for name, (positions, triangles, colors) in prototypes.items():
         parts.append(f"#declare {names[name]} = " + mesh2(name, positions, triangles, colors))
@@ -148,7 +173,7 @@ def write_scene(path, context, width, height):
         parts.append("}\n")
         counts['INSTANCES'] = counts.get('INSTANCES', 0) + 1
     if not counts:
-        raise ifsforge.InputError("the scene has no terrain, iso-surface or instances object to export")
+        raise ifsforge.InputError("the scene has no terrain, iso-surface, instances or volume object to export")
     text = "".join(parts)
     tmp = f"{path}.tmp"
     with open(tmp, "w", encoding="utf-8") as handle:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import bpy
 import numpy as np
-from mathutils import Euler
+from mathutils import Euler, Vector
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from addon_harness import Checks, arguments, enable_addon, expect_report  # noqa: E402
@@ -85,5 +85,28 @@ def load(path):
     return pixels
 
 
+def volume_media():
+    """A volume becomes media reading a .df3 of its grid; POV-Ray darkens the background there."""
+    for obj in list(context.scene.objects):
+        if obj.type in ('MESH', 'VOLUME'):
+            bpy.data.objects.remove(obj)
+    volume = generate("volume", "sierpinski_tetrahedron.json", volume_resolution=16)
+    volume.location = (0.0, 0.0, 0.0)
+    camera = context.scene.camera
+    camera.location = (0.5, -3.5, 2.0)
+    camera.rotation_euler = (Vector((0.5, 0.5, 0.4)) - camera.location).to_track_quat('-Z', 'Y').to_euler()
+    assert bpy.ops.ifsforge.export_povray_scene(filepath=str(OUT / "volume.pov"), render=True) == {'FINISHED'}
+    df3 = sorted(OUT.glob("volume_*.df3"))
+    assert len(df3) == 1, df3
+    sizes = np.frombuffer(df3[0].read_bytes()[:6], ">u2")
+    assert "x".join(str(n) for n in sizes) in volume.ifsforge.summary, (sizes, volume.ifsforge.summary)
+    assert "density_file df3" in (OUT / "volume.pov").read_text()
+    pov = load(OUT / "volume.png")[:, :, :3]
+    covered = (np.abs(pov - np.array([1.0, 0.0, 1.0])).max(axis=2) > 0.1).mean()
+    checks.values["volume_coverage"] = float(covered)
+    assert 0.02 < covered < 0.9, covered
+
+
 checks.run("silhouettes", silhouettes)
+checks.run("volume_media", volume_media)
 checks.finish()
