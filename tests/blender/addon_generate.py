@@ -169,6 +169,11 @@ def terrain_and_palette():
     ends = np.zeros(len(me.edges) * 2, np.int64)
     me.edges.foreach_get("vertices", ends)
     assert len({tuple(sorted(e)) for e in ends.reshape(-1, 2).tolist()}) == len(me.edges)
+    # The palette coordinate the material reads: the core's u (normalised height) per vertex.
+    level = np.zeros(33 * 33, np.float32)
+    me.attributes["ifs_level"].data.foreach_get("value", level)
+    close(level, mesh["uvs"][:, 0], 1e-7)
+    assert obj.data.materials[0].node_tree.nodes["Attribute"].attribute_name == "ifs_level"
     texture = obj.data.materials[0].node_tree.nodes["Image Texture"]
     assert tuple(texture.image.size) == (128, 1)
     pixels = render_alpha(obj, OUT / "terrain.png", samples=4)
