@@ -136,7 +136,8 @@ class IFSFORGE_OT_bake_animation(bpy.types.Operator):
         owners = [o for o in scene.objects if state.generated(o) and o.ifsforge.kind in BAKEABLE
                   and o.ifsforge.regenerate_on_frame and not o.ifsforge.baked]
         if not owners:
-            self.report({'WARNING'}, "no unbaked ifsforge volume, terrain, iso-surface or instances object in the scene")
+            self.report({'WARNING'},
+                        "no unbaked ifsforge volume, terrain, iso-surface or instances object in the scene")
             return {'CANCELLED'}
         frames = list(range(self.frame_start, self.frame_end + 1))
         current = scene.frame_current

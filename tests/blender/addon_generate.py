@@ -163,9 +163,10 @@ def terrain_and_palette():
     me.calc_loop_triangles()
     tris = np.zeros(len(me.loop_triangles) * 3, np.int64)
     me.loop_triangles.foreach_get("vertices", tris)
-    assert np.array_equal(np.sort(tris.reshape(-1, 3), axis=1)[np.lexsort(np.sort(tris.reshape(-1, 3), axis=1).T)],
-                          np.sort(mesh["triangles"].astype(np.int64), axis=1)[
-                              np.lexsort(np.sort(mesh["triangles"].astype(np.int64), axis=1).T)])
+    def as_set(triangles):  # each triangle's corners sorted, then the triangles sorted
+        triangles = np.sort(np.asarray(triangles, np.int64).reshape(-1, 3), axis=1)
+        return triangles[np.lexsort(triangles.T[::-1])]
+    assert np.array_equal(as_set(tris), as_set(mesh["triangles"]))
     ends = np.zeros(len(me.edges) * 2, np.int64)
     me.edges.foreach_get("vertices", ends)
     assert len({tuple(sorted(e)) for e in ends.reshape(-1, 2).tolist()}) == len(me.edges)
