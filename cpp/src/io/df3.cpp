@@ -32,7 +32,8 @@ void write_df3(const std::string& path, const Volume& volume, int bits) {
     const auto c = VoxelGrid::coord(volume.keys[v]);
     const double level = top > 0 ? std::clamp(double(volume.density[v]) / top, 0.0, 1.0) : 0.0;
     std::uint64_t value = static_cast<std::uint64_t>(std::llround(level * full));
-    unsigned char* out = data.data() + 6 + ((std::size_t(c[2]) * ny + std::size_t(c[1])) * nx + std::size_t(c[0])) * bytes;
+    const std::size_t cell = (std::size_t(c[2]) * ny + std::size_t(c[1])) * nx + std::size_t(c[0]);  // x fastest
+    unsigned char* out = data.data() + 6 + cell * bytes;
     for (std::size_t b = bytes; b-- > 0; value >>= 8) out[b] = static_cast<unsigned char>(value & 0xFF);
   }
   check_writable(path);
