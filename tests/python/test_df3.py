@@ -1,7 +1,9 @@
-"""ifsforge.write_df3: POV-Ray's density file read back byte by byte (header, big-endian voxels,
-x fastest), every bit depth, bad input, and the real POV-Ray rendering media from it."""
+"""ifsforge.write_df3 and `ifsforge volume --df3`: POV-Ray's density file read back byte by byte
+(header, big-endian voxels, x fastest), every bit depth, bad input, and the real POV-Ray
+rendering media from it."""
 import shutil
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -53,3 +55,16 @@ def test_povray_renders_media_from_the_df3(tmp_path, volume):
     pixels = np.asarray(Image.open(tmp_path / "v.png").convert("L"), float) / 255
     # Dark where the tetrahedron absorbs, the white background elsewhere.
     assert (pixels < 0.5).mean() > 0.05 and (pixels > 0.95).mean() > 0.3
+
+
+def test_volume_command_writes_the_df3(tmp_path, samples):
+    out = tmp_path / "t.df3"
+    subprocess.run([sys.executable, "-m", "ifsforge", "volume", str(samples / "sierpinski_tetrahedron.json"),
+                    "--res", "16", "--df3", str(out), "--df3-bits", "16"], check=True, capture_output=True)
+    system = ifsforge.load(str(samples / "sierpinski_tetrahedron.json"))
+    volume = ifsforge.render_volume(system, "prr", 16)
+    ifsforge.write_df3(str(tmp_path / "same.df3"), volume, bits=16)
+    assert out.read_bytes() == (tmp_path / "same.df3").read_bytes()
+    bad = subprocess.run([sys.executable, "-m", "ifsforge", "volume", str(samples / "sierpinski_tetrahedron.json"),
+                          "--df3", str(tmp_path / "t.vdb")], capture_output=True, text=True)
+    assert bad.returncode != 0 and "--df3 expects a .df3 file" in bad.stderr
