@@ -33,12 +33,12 @@ if not hasattr(ifsforge, "preview_cloud"):
 import bpy  # noqa: E402
 
 from . import (animation, bake, files, fractal_texture, menus, operators_design, operators_export,  # noqa: E402
-               operators_generate, panels, preferences, preview, properties)
+               operators_export_scene, operators_generate, panels, preferences, preview, properties)
 
 # Every class the add-on registers, in order (a new module adds its `classes` here).
 classes = (*preferences.classes, *properties.classes, *operators_generate.classes, *operators_design.classes,
-           *operators_export.classes, *bake.classes, *files.classes, *menus.classes, *panels.classes,
-           *fractal_texture.classes)
+           *operators_export.classes, *operators_export_scene.classes, *bake.classes, *files.classes, *menus.classes,
+           *panels.classes, *fractal_texture.classes)
 
 
 def register():

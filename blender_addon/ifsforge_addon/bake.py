@@ -1,7 +1,9 @@
 """Bake Animation: the frames of animated generated objects become data Blender plays by itself,
 so a render node without ifsforge renders them. Volumes: a frame-numbered .vdb sequence (the
 Volume datablock in sequence mode). Terrains and iso-surfaces: one mesh per frame in the .blend
-and a geometry-node modifier picking the current frame's (built-in nodes only). Baked objects
+and a geometry-node modifier picking the current frame's (built-in nodes only). Instances: the
+same for their point cloud (positions and per-instance attributes), picked before the instancing
+node group, which places the prototypes as it does live. Baked objects
 stop rebuilding on frame changes (Free Bake turns them back)."""
 import os
 import shutil
@@ -13,7 +15,7 @@ from bpy.props import IntProperty
 from . import outputs, state
 from .operators_generate import report_error
 
-BAKEABLE = {'VOLUME', 'TERRAIN', 'MESH'}
+BAKEABLE = {'VOLUME', 'TERRAIN', 'MESH', 'INSTANCES'}
 BAKE_MODIFIER = "ifsforge bake"
 
 
@@ -66,6 +68,9 @@ def bake_meshes(scene, owners, frames):
     for owner in owners:
         modifier = owner.modifiers.get(BAKE_MODIFIER) or owner.modifiers.new(BAKE_MODIFIER, 'NODES')
         modifier.node_group = frame_switch(f"{owner.name} baked", collections[owner.name], frames[0], len(frames))
+        if owner.modifiers[0] != modifier:  # instances: the frame's points first, then the instancing
+            with bpy.context.temp_override(object=owner):
+                bpy.ops.object.modifier_move_to_index(modifier=modifier.name, index=0)
         owner.ifsforge.baked = True
 
 
@@ -131,7 +136,8 @@ class IFSFORGE_OT_bake_animation(bpy.types.Operator):
         owners = [o for o in scene.objects if state.generated(o) and o.ifsforge.kind in BAKEABLE
                   and o.ifsforge.regenerate_on_frame and not o.ifsforge.baked]
         if not owners:
-            self.report({'WARNING'}, "no unbaked ifsforge volume, terrain or iso-surface in the scene")
+            self.report({'WARNING'},
+                        "no unbaked ifsforge volume, terrain, iso-surface or instances object in the scene")
             return {'CANCELLED'}
         frames = list(range(self.frame_start, self.frame_end + 1))
         current = scene.frame_current

@@ -10,6 +10,7 @@ from . import mesh_data, outputs, palettes
 from .generators import Generator, link_object, node_material, register_generator
 
 ATTRACTOR_IMAGE = 256  # pixels of the density image the control heights are sampled from
+LEVEL = "ifs_level"  # the point attribute holding each vertex's normalised height
 
 
 class TerrainGenerator(Generator):
@@ -55,7 +56,11 @@ class TerrainGenerator(Generator):
             columns = rows = settings["terrain_resolution"]
             palette = palettes.make(settings["palette_recipe"], settings["palette_entries"])[1]
         terrain = ifsforge.make_terrain(controls, columns, rows, progress=progress)
-        mesh = mesh_data.prepare(terrain.mesh(palette=palette, up="z"))
+        mesh = terrain.mesh(palette=palette, up="z")
+        if terrain.grid == "circular":  # a fan at the centre: the generic pairing and edge search
+            mesh = mesh_data.prepare(mesh)
+        else:  # a lattice: quads and edges known in advance (the triangles pair up along a-c)
+            mesh["faces"], mesh["edges"] = mesh_data.grid_faces(terrain.columns, terrain.rows)
         ifsforge.write_png(path, palette.to_image(1), 16)
         return {"path": path, "mesh": mesh, "custom_normals": settings["custom_normals"],
                 "summary": f"{terrain.grid} terrain, {terrain.columns}x{terrain.rows} samples, heights "
@@ -90,9 +95,12 @@ class TerrainGenerator(Generator):
             owner = bpy.data.objects.new(name, bpy.data.meshes.new(name))
             link_object(context, owner)
         mesh, data = owner.data, result["mesh"]
-        mesh_data.fill_mesh(mesh, data["positions"], data["faces"], normals=data["normals"], uvs=data["uvs"],
+        mesh_data.fill_mesh(mesh, data["positions"], data["faces"], normals=data["normals"],
                             colors=data.get("colors"), color_name="ifs_palette", edges=data["edges"],
                             custom_normals=result["custom_normals"])
+        # The palette coordinate (normalised height, the core's u) per vertex: a UV layer would copy it
+        # to every corner, element by element (Blender 3.4's loop uv struct is not contiguous).
+        mesh_data.set_attribute(mesh, LEVEL, 'FLOAT', np.asarray(data["uvs"])[:, 0])
         mat = material(name, palette_image(f"{name} palette", result["path"]))
         mesh.materials.clear()
         mesh.materials.append(mat)
@@ -110,19 +118,24 @@ def palette_image(name, path):
 
 
 def material(name, image):
-    """The palette strip looked up by the mesh's uv (u = normalised height)."""
+    """The palette strip looked up at (normalised height, 0.5), the height read from the mesh's
+    point attribute LEVEL."""
     mat, nodes, links = node_material(name)
-    uv = nodes.new('ShaderNodeUVMap')
-    uv.uv_map = "UVMap"
+    level = nodes.new('ShaderNodeAttribute')
+    level.attribute_type, level.attribute_name = 'GEOMETRY', LEVEL
+    uv = nodes.new('ShaderNodeCombineXYZ')
+    uv.inputs["Y"].default_value = 0.5
+    links.new(level.outputs["Fac"], uv.inputs["X"])
     texture = nodes.new('ShaderNodeTexImage')
     texture.image, texture.extension, texture.interpolation = image, 'EXTEND', 'Linear'
     shader = nodes.new('ShaderNodeBsdfPrincipled')
     shader.inputs["Roughness"].default_value = 0.9
     output = nodes.new('ShaderNodeOutputMaterial')
-    links.new(uv.outputs["UV"], texture.inputs["Vector"])
+    links.new(uv.outputs["Vector"], texture.inputs["Vector"])
     links.new(texture.outputs["Color"], shader.inputs["Base Color"])
     links.new(shader.outputs["BSDF"], output.inputs["Surface"])
-    uv.location, texture.location, shader.location, output.location = (-600, 0), (-350, 0), (0, 0), (300, 0)
+    level.location, uv.location = (-800, 0), (-600, 0)
+    texture.location, shader.location, output.location = (-350, 0), (0, 0), (300, 0)
     return mat
 
 

@@ -38,7 +38,7 @@ def draw_import(self, context):
 
 
 def draw_export(self, context):
-    self.layout.operator("ifsforge.export_povray", text="POV-Ray scene (.pov)")
+    self.layout.operator("ifsforge.export_povray_scene", text="POV-Ray scene (.pov)")
 
 
 def install_presets():

@@ -20,6 +20,43 @@ def prepare(data):
     return data
 
 
+def grid_faces(columns, rows):
+    """Faces and edges of a columns x rows lattice (vertex r * columns + c), known without a
+    search: one quad (a, b, c, d) per cell, corners (r, c), (r, c+1), (r+1, c+1), (r+1, c), which
+    Blender splits along a-c, the diagonal of the core's two triangles (a, b, c), (a, c, d).
+    Edges: the rows' horizontal edges first (index r * (columns - 1) + c), then the vertical ones
+    (after them, index r * columns + c). Returns (faces (n, 4), (edges (E, 2), corner_edges))
+    as uint32, the format fill_mesh takes."""
+    w, h = columns, rows
+    if w < 2 or h < 2:
+        raise ifsforge.InputError(f"a grid of {w}x{h} samples has no cells")
+    if w * h >= 2 ** 32:
+        raise ifsforge.InputError(f"a grid of {w}x{h} samples is too big for 32-bit indices")
+    u32 = np.uint32
+    cell = (np.arange(h - 1, dtype=u32)[:, None] * u32(w) + np.arange(w - 1, dtype=u32)).ravel()
+    faces = np.empty((len(cell), 4), u32)
+    faces[:, 0] = cell
+    faces[:, 1] = cell + u32(1)
+    faces[:, 2] = cell + u32(w + 1)
+    faces[:, 3] = cell + u32(w)
+    horizontal = h * (w - 1)
+    edges = np.empty((horizontal + (h - 1) * w, 2), u32)
+    start = (np.arange(h, dtype=u32)[:, None] * u32(w) + np.arange(w - 1, dtype=u32)).ravel()
+    edges[:horizontal, 0] = start
+    edges[:horizontal, 1] = start + u32(1)
+    edges[horizontal:, 0] = np.arange((h - 1) * w, dtype=u32)
+    edges[horizontal:, 1] = edges[horizontal:, 0] + u32(w)
+    # The edge of each corner j (from corner j to j + 1), cell (r, c) = cell index r * (w - 1) + c.
+    rows_of = np.repeat(np.arange(h - 1, dtype=u32), w - 1)
+    below = cell - rows_of  # r * (w - 1) + c: the horizontal edge under the cell
+    corner_edges = np.empty((len(cell), 4), u32)
+    corner_edges[:, 0] = below
+    corner_edges[:, 1] = u32(horizontal) + cell + u32(1)
+    corner_edges[:, 2] = below + u32(w - 1)
+    corner_edges[:, 3] = u32(horizontal) + cell
+    return faces, (edges, corner_edges.ravel())
+
+
 def fill_mesh(mesh, positions, faces, normals=None, uvs=None, colors=None, color_name="ifs_color",
               smooth=True, custom_normals=False, edges=None):
     """Replaces `mesh`'s geometry by faces (n, 3 or 4) over positions; optional uvs (per vertex,

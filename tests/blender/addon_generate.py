@@ -157,6 +157,24 @@ def terrain_and_palette():
     obj.data.vertices.foreach_get("co", co)
     close(co.reshape(-1, 3), mesh["positions"], 1e-6)
     close([co[2::3].max()], [terrain.max_height], 1e-6)
+    # One quad per cell, split by Blender into exactly the core's triangles; every lattice edge once.
+    me = obj.data
+    assert len(me.polygons) == 32 * 32 and len(me.edges) == 2 * 32 * 33, (len(me.polygons), len(me.edges))
+    me.calc_loop_triangles()
+    tris = np.zeros(len(me.loop_triangles) * 3, np.int64)
+    me.loop_triangles.foreach_get("vertices", tris)
+    def as_set(triangles):  # each triangle's corners sorted, then the triangles sorted
+        triangles = np.sort(np.asarray(triangles, np.int64).reshape(-1, 3), axis=1)
+        return triangles[np.lexsort(triangles.T[::-1])]
+    assert np.array_equal(as_set(tris), as_set(mesh["triangles"]))
+    ends = np.zeros(len(me.edges) * 2, np.int64)
+    me.edges.foreach_get("vertices", ends)
+    assert len({tuple(sorted(e)) for e in ends.reshape(-1, 2).tolist()}) == len(me.edges)
+    # The palette coordinate the material reads: the core's u (normalised height) per vertex.
+    level = np.zeros(33 * 33, np.float32)
+    me.attributes["ifs_level"].data.foreach_get("value", level)
+    close(level, mesh["uvs"][:, 0], 1e-7)
+    assert obj.data.materials[0].node_tree.nodes["Attribute"].attribute_name == "ifs_level"
     texture = obj.data.materials[0].node_tree.nodes["Image Texture"]
     assert tuple(texture.image.size) == (128, 1)
     pixels = render_alpha(obj, OUT / "terrain.png", samples=4)

@@ -149,6 +149,18 @@ def test_animation_and_bake_in_blender(tmp_path):
 
 
 @needs_blender
+@pytest.mark.skipif(shutil.which("povray") is None, reason="povray is not installed")
+def test_povray_scene_export_matches_blender(tmp_path):
+    report = run_blender("addon_povray.py", tmp_path, timeout=300)
+    assert report["values"]["silhouette_iou"] >= 0.85
+
+
+@needs_blender
+def test_baked_instances_play_without_the_addon(tmp_path):
+    run_blender("addon_bake_instances.py", tmp_path, timeout=300)
+
+
+@needs_blender
 def test_blender_conventions(tmp_path):
     run_blender("addon_conventions.py", tmp_path)
 

@@ -51,8 +51,8 @@ from ifsforge._core import (  # noqa: F401  (vector: instance lists, addresses, 
     render_povray, string_rewriting, tesseral_synecdoche, write_address_csv, write_gltf_instances, write_pov_scene,
     write_povray_include, write_svg,
 )
-from ifsforge._core import (  # noqa: F401  (volume: Table 2 renderers, OpenVDB, iso-surfaces)
-    Volume, read_vdb_info, render_volume, volume_renderers, volume_to_mesh, write_vdb,
+from ifsforge._core import (  # noqa: F401  (volume: Table 2 renderers, OpenVDB, POV-Ray df3, iso-surfaces)
+    Volume, read_vdb_info, render_volume, volume_renderers, volume_to_mesh, write_df3, write_vdb,
 )
 from ifsforge._core import (  # noqa: F401  (pifs: fractal image compression, seed 3.3.2)
     PifsCode, pifs_encode, pifs_from_bytes, read_pifs, write_pifs,

@@ -19,6 +19,8 @@ def register(subparsers):
     common.add_system_argument(p)
     p.add_argument("-o", "--output", help="the .vdb file to write")
     p.add_argument("--mesh", help="also write the iso-surface as .ply, .obj or .glb")
+    p.add_argument("--df3", help="also write the density as a POV-Ray density file (.df3, for media)")
+    p.add_argument("--df3-bits", type=int, default=8, choices=[8, 16, 32], help="bits per .df3 voxel (default 8)")
     p.add_argument("--res", type=int, default=256, help="voxels along the longest side of the grid (default 256)")
     p.add_argument("--bounds", type=float, nargs=6, metavar=("XMIN", "YMIN", "ZMIN", "XMAX", "YMAX", "ZMAX"),
                    help="the grid's world box (default: around the attractor, its box corners on voxel centres)")
@@ -47,8 +49,12 @@ def register(subparsers):
 
 
 def run(args):
-    if not args.output and not args.mesh:
-        raise ifsforge.InputError("nothing to write: give -o out.vdb and/or --mesh out.glb")
+    if not args.output and not args.mesh and not args.df3:
+        raise ifsforge.InputError("nothing to write: give -o out.vdb, --mesh out.glb and/or --df3 out.df3")
+    if args.df3:
+        if not args.df3.lower().endswith(".df3"):
+            raise ifsforge.InputError(f"--df3 expects a .df3 file, got '{args.df3}'")
+        common.ensure_output_folder(args.df3)
     if args.output:
         if not args.output.lower().endswith(".vdb"):
             raise ifsforge.InputError(f"-o expects a .vdb file, got '{args.output}'")
@@ -72,12 +78,12 @@ def run(args):
     mesh = None
     if args.mesh:
         mesh = ifsforge.volume_to_mesh(volume, iso=args.iso, adaptivity=args.adaptivity, color_scale=args.color_scale)
-    targets = [path for path in (args.output, args.mesh) if path]
+    targets = [path for path in (args.output, args.mesh, args.df3) if path]
     with common.all_or_none(targets) as staged:
         if args.output:
             # Only what shapes the volume: no thread count (the bytes never depend on it), no path.
             shown = {k: v for k, v in sorted(vars(args).items())
-                     if k not in ("run", "command", "threads", "output", "mesh")}
+                     if k not in ("run", "command", "threads", "output", "mesh", "df3")}
             parameters = {"ifsforge_resolution": str(args.res),
                           "ifsforge_command": "ifsforge volume " + " ".join(f"{k}={v}" for k, v in shown.items())}
             start = time.perf_counter()
@@ -88,3 +94,6 @@ def run(args):
             ifsforge.write_mesh(staged[args.mesh], mesh["positions"], mesh["triangles"], normals=mesh["normals"],
                                 colors=mesh["colors"], name=system.name, up=args.up)
             print(f"{args.mesh}: {len(mesh['positions']):,} vertices, {len(mesh['triangles']):,} triangles")
+        if args.df3:
+            ifsforge.write_df3(staged[args.df3], volume, bits=args.df3_bits)
+            print(f"{args.df3}: {os.path.getsize(staged[args.df3]):,} bytes")

@@ -1,0 +1,45 @@
+#include "ifsforge/io/df3.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/io/atomic_file.h"
+#include "ifsforge/io/povray.h"
+
+namespace ifsforge {
+
+void write_df3(const std::string& path, const Volume& volume, int bits) {
+  if (bits != 8 && bits != 16 && bits != 32)
+    throw InputError("df3 '" + path + "': bits is 8, 16 or 32 (not " + std::to_string(bits) + ")");
+  const auto& dims = volume.grid.dims;
+  for (int a = 0; a < 3; ++a)
+    if (dims[a] < 1 || dims[a] > 65535)
+      throw InputError("df3 '" + path + "': " + std::to_string(dims[a]) + " voxels along an axis (1 to 65535)");
+  const std::size_t bytes = std::size_t(bits / 8);
+  const std::size_t nx = dims[0], ny = dims[1], nz = dims[2];
+  std::vector<unsigned char> data(6 + nx * ny * nz * bytes, 0);
+  for (int a = 0; a < 3; ++a) {
+    data[2 * a] = static_cast<unsigned char>(dims[a] >> 8);
+    data[2 * a + 1] = static_cast<unsigned char>(dims[a] & 0xFF);
+  }
+  float top = 0.0f;
+  for (float d : volume.density) top = std::max(top, d);
+  const double full = bits == 32 ? 4294967295.0 : double((std::uint64_t(1) << bits) - 1);
+  for (std::size_t v = 0; v < volume.size(); ++v) {
+    const auto c = VoxelGrid::coord(volume.keys[v]);
+    const double level = top > 0 ? std::clamp(double(volume.density[v]) / top, 0.0, 1.0) : 0.0;
+    std::uint64_t value = static_cast<std::uint64_t>(std::llround(level * full));
+    const std::size_t cell = (std::size_t(c[2]) * ny + std::size_t(c[1])) * nx + std::size_t(c[0]);  // x fastest
+    unsigned char* out = data.data() + 6 + cell * bytes;
+    for (std::size_t b = bytes; b-- > 0; value >>= 8) out[b] = static_cast<unsigned char>(value & 0xFF);
+  }
+  check_writable(path);
+  AtomicFile file(path);
+  write_bytes(file.file(), reinterpret_cast<const char*>(data.data()), data.size(), path);
+  file.commit();
+}
+
+}  // namespace ifsforge
