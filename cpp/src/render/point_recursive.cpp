@@ -101,9 +101,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     for (const Point& p : ifs.fixed_points())
       if (std::isfinite(p[0])) spread.push_back(p);
   } else {
-    Point centre{};
-    std::copy(plan.center.begin(), plan.center.end(), centre.begin());
-    spread.push_back(centre);
+    spread.push_back(center);
   }
   if (spread.empty()) spread.push_back(start);
   std::vector<double> spread_share(spread.size(), 1.0 / static_cast<double>(spread.size()));
