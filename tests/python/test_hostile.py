@@ -108,6 +108,20 @@ def test_ply_declaring_four_billion_vertices(tmp_path):
         ifsforge.read_mesh(str(tmp_path / "huge.ply"))
 
 
+# Inputs libFuzzer found that crashed OpenMesh's readers (a SEGV in its PLY header check; a
+# 17 GB allocation from an OFF count that does not parse): refused by ifsforge's header check.
+@pytest.mark.parametrize("name,data,message", [
+    ("bad.ply", b"ply\nformat ascii 1.0zelement vertex 4000000000\nproperty float x\nproperty float y\n"
+                b"property float z\nend_header\n0 0 0\n", r"bad\.ply':2: not a PLY header line"),
+    ("bad.off", b"OFFJ0 \xc9\xc9\xc9\xc9\xba\xc9\xc9\n0-6", r"bad\.off': not an OFF header"),
+    ("noply.ply", b"plx\nformat ascii 1.0\nend_header\n", r"noply\.ply': a PLY file starts with the line 'ply'"),
+])
+def test_fuzzed_mesh_headers_are_refused(tmp_path, name, data, message):
+    (tmp_path / name).write_bytes(data)
+    with pytest.raises(ifsforge.InputError, match=message):
+        ifsforge.read_mesh(str(tmp_path / name))
+
+
 @pytest.mark.parametrize("args,option", [
     (["render", "--iterations", "-1"], "--iterations"),
     (["render", "--depth", "-3"], "--depth"),

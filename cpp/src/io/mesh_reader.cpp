@@ -10,7 +10,9 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
+#include <vector>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
@@ -26,6 +28,76 @@ struct ReadTraits : OpenMesh::DefaultTraits {
 };
 using ReadMesh = OpenMesh::PolyMesh_ArrayKernelT<ReadTraits>;
 
+/// The header lines of a PLY file, checked word by word: OpenMesh's PLY reader trusts its
+/// header and crashes on a malformed one (found by fuzzing). Returns the declared elements.
+double ply_header_elements(std::istream& in, const std::string& path) {
+  static const std::set<std::string> kTypes = {"char",  "uchar",  "short",  "ushort", "int",     "uint",
+                                               "float", "double", "int8",   "uint8",  "int16",   "uint16",
+                                               "int32", "uint32", "float32", "float64"};
+  double elements = 0;
+  bool format = false;
+  std::string line;
+  for (int number = 2; number <= 1000 && std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    if (key == "end_header") {
+      if (format) return elements;
+      break;
+    }
+    if (key == "comment" || key == "obj_info") continue;
+    std::vector<std::string> w;
+    for (std::string word; words >> word;) w.push_back(word);
+    bool ok = false;
+    if (key == "format") {
+      ok = format = w.size() == 2 && (w[0] == "ascii" || w[0] == "binary_little_endian" ||
+                                      w[0] == "binary_big_endian") && w[1] == "1.0";
+    } else if (key == "element") {
+      ok = w.size() == 2 && !w[1].empty() && w[1].size() <= 12 &&
+           w[1].find_first_not_of("0123456789") == std::string::npos;
+      if (ok) elements += std::stod(w[1]);
+    } else if (key == "property") {
+      ok = (w.size() == 2 && kTypes.count(w[0])) ||
+           (w.size() == 4 && w[0] == "list" && kTypes.count(w[1]) && kTypes.count(w[2]));
+    }
+    if (!ok) throw InputError("mesh '" + path + "':" + std::to_string(number) + ": not a PLY header line: '" + line + "'");
+  }
+  throw InputError("mesh '" + path + "': the PLY header has no format line or no end_header in its first 1000 lines");
+}
+
+/// An OFF header: its keyword ([ST][C][N][4][n]OFF, optionally BINARY) and two non-negative
+/// counts, on the keyword's line or the next line that is not a comment. OpenMesh reads a
+/// count that does not parse (or is negative) as a huge size (found by fuzzing).
+double off_header_elements(std::istream& in, const std::string& first, const std::string& path) {
+  std::istringstream words(first);
+  std::string keyword, rest;
+  words >> keyword;
+  const std::size_t off = keyword.rfind("OFF");
+  const bool keyword_ok = off != std::string::npos && off + 3 == keyword.size() &&
+                          keyword.substr(0, off).find_first_not_of("STCN4n") == std::string::npos;
+  std::getline(words, rest);
+  std::istringstream counts(rest);
+  std::string v, f;
+  if (!(counts >> v)) {
+    std::string line;
+    while (std::getline(in, line) && (line.empty() || line[0] == '#')) {
+    }
+    counts = std::istringstream(line);
+    counts >> v;
+  } else if (v == "BINARY") {
+    return 0.0;  // binary counts follow as integers; OpenMesh reads those itself
+  }
+  counts >> f;
+  auto count = [](const std::string& word) {
+    return !word.empty() && word.size() <= 12 && word.find_first_not_of("0123456789") == std::string::npos;
+  };
+  if (!keyword_ok || !count(v) || !count(f))
+    throw InputError("mesh '" + path + "': not an OFF header (a keyword such as OFF or COFF, then the vertex and "
+                     "face counts)");
+  return std::stod(v) + std::stod(f);
+}
+
 /// OpenMesh reserves what a PLY or OFF header declares before reading a vertex: a header
 /// claiming more elements than the file has bytes is refused here, and the declared counts are
 /// checked against the memory budget (~100 bytes a vertex or face once read).
@@ -34,26 +106,18 @@ void check_declared_counts(const std::string& path) {
   in.seekg(0, std::ios::end);
   const double bytes = static_cast<double>(in.tellg());
   in.seekg(0);
-  std::string line, word;
+  std::string line;
   double elements = 0;
   std::getline(in, line);
-  if (line.rfind("ply", 0) == 0) {
-    for (int n = 0; n < 1000 && std::getline(in, line) && line.rfind("end_header", 0) != 0; ++n) {
-      std::istringstream words(line);
-      std::string kind;
-      double count = 0;
-      if (words >> word >> kind >> count && word == "element") elements += count;
-    }
-  } else if (line.rfind("OFF", 0) == 0 || line.rfind("COFF", 0) == 0 || line.rfind("NOFF", 0) == 0) {
-    std::istringstream rest(line.substr(line.find("OFF") + 3));
-    double v = 0, f = 0;
-    if (!(rest >> v >> f)) {
-      while (std::getline(in, line) && (line.empty() || line[0] == '#')) {
-      }
-      std::istringstream counts(line);
-      counts >> v >> f;
-    }
-    elements = v + f;
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  const bool ply_name = path.size() >= 4 && (path.compare(path.size() - 4, 4, ".ply") == 0 ||
+                                             path.compare(path.size() - 4, 4, ".PLY") == 0);
+  if (line == "ply") {
+    elements = ply_header_elements(in, path);
+  } else if (ply_name) {
+    throw InputError("mesh '" + path + "': a PLY file starts with the line 'ply'");
+  } else if (line.find("OFF") != std::string::npos && line.find("OFF") < 8) {
+    elements = off_header_elements(in, line, path);
   }
   if (elements > bytes)
     throw InputError("mesh '" + path + "': the header declares " + std::to_string(static_cast<long long>(elements)) +
