@@ -109,12 +109,14 @@ def test_ply_declaring_four_billion_vertices(tmp_path):
 
 
 # Inputs libFuzzer found that crashed OpenMesh's readers (a SEGV in its PLY header check; a
-# 17 GB allocation from an OFF count that does not parse): refused by ifsforge's header check.
+# 17 GB allocation from an OFF count that does not parse, a 4 GB one from a face's corner count): refused by ifsforge's header check.
 @pytest.mark.parametrize("name,data,message", [
     ("bad.ply", b"ply\nformat ascii 1.0zelement vertex 4000000000\nproperty float x\nproperty float y\n"
                 b"property float z\nend_header\n0 0 0\n", r"bad\.ply':2: not a PLY header line"),
     ("bad.off", b"OFFJ0 \xc9\xc9\xc9\xc9\xba\xc9\xc9\n0-6", r"bad\.off': not an OFF header"),
     ("noply.ply", b"plx\nformat ascii 1.0\nend_header\n", r"noply\.ply': a PLY file starts with the line 'ply'"),
+    ("corners.off", b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3333333330 0 1 2\n",
+     r"corners\.off': face 0 does not start with a corner count"),
 ])
 def test_fuzzed_mesh_headers_are_refused(tmp_path, name, data, message):
     (tmp_path / name).write_bytes(data)

@@ -86,7 +86,8 @@ double off_header_elements(std::istream& in, const std::string& first, const std
     counts = std::istringstream(line);
     counts >> v;
   } else if (v == "BINARY") {
-    return 0.0;  // binary counts follow as integers; OpenMesh reads those itself
+    throw InputError("mesh '" + path + "': binary OFF is not read (its counts cannot be checked first); "
+                     "write the mesh as PLY or ASCII OFF");
   }
   counts >> f;
   auto count = [](const std::string& word) {
@@ -95,7 +96,27 @@ double off_header_elements(std::istream& in, const std::string& first, const std
   if (!keyword_ok || !count(v) || !count(f))
     throw InputError("mesh '" + path + "': not an OFF header (a keyword such as OFF or COFF, then the vertex and "
                      "face counts)");
-  return std::stod(v) + std::stod(f);
+  const double vertices = std::stod(v), faces = std::stod(f);
+  // Each face's corner count, which OpenMesh reserves before it reads the corners.
+  std::string line;
+  double seen_vertices = 0, seen_faces = 0;
+  while (seen_faces < faces && std::getline(in, line)) {
+    const std::size_t start = line.find_first_not_of(" \t\r");
+    if (start == std::string::npos || line[start] == '#') continue;
+    if (seen_vertices < vertices) {
+      ++seen_vertices;
+      continue;
+    }
+    std::istringstream corners(line);
+    double n = -1;
+    corners >> n;
+    if (!(n >= 1 && n <= vertices))
+      throw InputError("mesh '" + path + "': face " + std::to_string(static_cast<long long>(seen_faces)) +
+                       " does not start with a corner count between 1 and the " +
+                       std::to_string(static_cast<long long>(vertices)) + " vertices");
+    ++seen_faces;
+  }
+  return vertices + faces;
 }
 
 /// OpenMesh reserves what a PLY or OFF header declares before reading a vertex: a header
