@@ -110,7 +110,7 @@ def volume_media(obj, path):
     from .generate_volume import render_volume
     values = properties.snapshot(obj.ifsforge.system, obj.ifsforge.settings)["settings"]
     volume = render_volume(state.system_of(obj.ifsforge.system), generators.get('VOLUME').resolve(dict(values)), None)
-    df3 = f"{os.path.splitext(path)[0]}_{ifsforge.pov_identifier(obj.name)}.df3"
+    df3 = f"{os.path.splitext(path)[0]}_{ifsforge.pov_name(obj.name)}.df3"
     ifsforge.write_df3(df3, volume, bits=8)
     grid = np.diag([*(np.array(volume.dims, np.float64) * volume.voxel_size), 1.0])
     grid[:3, 3] = volume.origin
@@ -159,7 +159,7 @@ def write_scene(path, context, width, height):
         elif obj.type == 'VOLUME' and obj.ifsforge.kind == 'VOLUME':
             parts.append(volume_media(obj, path))
             counts['VOLUME'] = counts.get('VOLUME', 0) + 1
-    names = {name: ifsforge.pov_identifier("ifs_proto_" + name) for name in prototypes}
+    names = {name: ifsforge.pov_identifier("Prototype", name) for name in prototypes}
     for name, (positions, triangles, colors) in prototypes.items():
         parts.append(f"#declare {names[name]} = " + mesh2(name, positions, triangles, colors))
     for parent, placed in placements.items():
