@@ -101,9 +101,10 @@ def gltf_import_without_a_patch():
     bpy.ops.import_scene.gltf(filepath=str(path))
     new = [o for o in bpy.data.objects if o not in before]
     assert len(new) == 1 and len(new[0].data.vertices) == 4
-    # glTF is y-up: Blender's importer turns (x, y, z) into (x, -z, y).
+    # write_mesh turns ifsforge's z-up points to glTF's y up and Blender's importer turns them
+    # back: the square lies in Blender's xy plane as written.
     points = sorted(tuple(v.co) for v in new[0].data.vertices)
-    close(points, [(0, 0, 0), (0, 0, 1), (1, 0, 0), (1, 0, 1)], 1e-6)
+    close(points, [(0, 0, 0), (0, 1, 0), (1, 0, 0), (1, 1, 0)], 1e-6)
 
 
 checks.run("operator_settings_and_cursor", operator_settings_and_cursor)
