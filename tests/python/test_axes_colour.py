@@ -13,7 +13,6 @@ from conftest import ROOT
 from test_blender_addon import run_blender
 
 TERRAIN = ROOT / "samples" / "terrain" / "ridge_range.json"
-needs_blender = pytest.mark.skipif(shutil.which("blender") is None, reason="Blender is not installed")
 
 
 def read_glb(path):
@@ -55,7 +54,6 @@ def test_cli_up_turns_every_mesh_output(cli, tmp_path, samples):
     assert r.returncode == 2 and "--up" in r.stderr
 
 
-@needs_blender
 def test_every_mesh_stands_upright_in_blender(cli, tmp_path, samples):
     pyramid = samples / "sierpinski_pyramid.json"
     files = []

@@ -15,7 +15,6 @@ import ifsforge
 from conftest import BUILD_PYTHON, ROOT
 
 BLENDER = shutil.which("blender")
-needs_blender = pytest.mark.skipif(BLENDER is None, reason="Blender is not installed")
 
 
 def load_codec():
@@ -97,13 +96,11 @@ def test_codec_defaults_and_errors():
     assert codec.extensions(json.dumps({"name": "x", "maps": [], "transitions": [[1]]})) == ["transitions"]
 
 
-@needs_blender
 def test_design_in_blender(tmp_path):
     report = run_blender("addon_design.py", tmp_path)
     assert report["values"]["preview_update_ms_median"] < 1000  # measured by the benchmark, not here
 
 
-@needs_blender
 def test_install_script(tmp_path):
     env = dict(os.environ, BLENDER_USER_SCRIPTS=str(tmp_path / "scripts"), BLENDER_USER_CONFIG=str(tmp_path / "config"))
     env.pop("PYTHONPATH", None)
@@ -126,7 +123,6 @@ def test_install_script(tmp_path):
     assert f"MODULE {addon / 'vendor' / 'ifsforge' / '__init__.py'}" in out.stdout, out.stdout
 
 
-@needs_blender
 def test_generators_in_blender(tmp_path):
     report = run_blender("addon_generate.py", tmp_path)
     values = report["values"]
@@ -138,35 +134,27 @@ def test_generators_in_blender(tmp_path):
     assert values["volume_render_covered"] > 0.02 and values["instances_render_covered"] > 0.03
 
 
-@needs_blender
 def test_datablocks_and_files_in_blender(tmp_path):
     run_blender("addon_files.py", tmp_path)
 
 
-@needs_blender
 def test_animation_and_bake_in_blender(tmp_path):
     run_blender("addon_animation.py", tmp_path, timeout=300)
 
 
-@needs_blender
-@pytest.mark.skipif(shutil.which("povray") is None, reason="povray is not installed")
 def test_povray_scene_export_matches_blender(tmp_path):
     report = run_blender("addon_povray.py", tmp_path, timeout=300)
     assert report["values"]["silhouette_iou"] >= 0.85
 
 
-@needs_blender
 def test_baked_instances_play_without_the_addon(tmp_path):
     run_blender("addon_bake_instances.py", tmp_path, timeout=300)
 
 
-@needs_blender
 def test_blender_conventions(tmp_path):
     run_blender("addon_conventions.py", tmp_path)
 
 
-@needs_blender
-@pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is not installed (apt-get install xvfb)")
 def test_viewport_and_panels_with_a_window(tmp_path):
     # Drawing needs a GPU context: Blender gets a window on a virtual X display (Mesa's
     # software OpenGL). Any exception in a panel's or the draw handler's code prints a traceback.
@@ -174,7 +162,6 @@ def test_viewport_and_panels_with_a_window(tmp_path):
     assert report["values"]["highlighted_pixels"] > 500
 
 
-@needs_blender
 def test_fractal_texture_in_blender(tmp_path):
     report = run_blender("addon_fractal_texture.py", tmp_path)
     assert report["values"]["generated_psnr"] > 25

@@ -1,7 +1,6 @@
 """ifsforge.write_df3 and `ifsforge volume --df3`: POV-Ray's density file read back byte by byte
 (header, big-endian voxels, x fastest), every bit depth, bad input, and the real POV-Ray
 rendering media from it."""
-import shutil
 import subprocess
 import sys
 
@@ -41,7 +40,6 @@ def test_df3_bad_input_names_the_file(tmp_path, volume):
         ifsforge.write_df3(str(tmp_path / "missing" / "v.df3"), volume)
 
 
-@pytest.mark.skipif(shutil.which("povray") is None, reason="povray is not installed")
 def test_povray_renders_media_from_the_df3(tmp_path, volume):
     ifsforge.write_df3(str(tmp_path / "v.df3"), volume)
     (tmp_path / "v.pov").write_text(

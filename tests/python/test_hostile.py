@@ -1,7 +1,6 @@
 """Hostile input (issue 18): every case refuses with exit 2, no signal, no traceback, no output
 file, a message naming its file and place, and a peak memory within the budget."""
 import os
-import resource
 import stat
 import subprocess
 

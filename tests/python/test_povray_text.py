@@ -31,7 +31,6 @@ HOSTILE = [
 # Two names that reduce to the same identifier part (Creme_brulee).
 TWINS = ["Crème brûlée", "Creme-brulee"]
 
-needs_povray = pytest.mark.skipif(shutil.which("povray") is None, reason="POV-Ray is not installed")
 IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 
 
@@ -92,7 +91,6 @@ def test_identifiers_follow_one_scheme():
     assert ifsforge.pov_identifier("Palette", "1st palette") == "IFS_Palette_1st_palette"
 
 
-@needs_povray
 @pytest.mark.parametrize("name", HOSTILE)
 def test_palette_include_parses_without_assumed_gamma(cli, tmp_path, name):
     palette_recipe(tmp_path / "recipe.json", name)
@@ -116,7 +114,6 @@ def test_palette_include_parses_without_assumed_gamma(cli, tmp_path, name):
         assert np.abs(image[12, column] - np.asarray(expected)).max() < 0.03, (column, image[12, column], expected)
 
 
-@needs_povray
 def test_palette_include_after_assumed_gamma(cli, tmp_path):
     palette_recipe(tmp_path / "recipe.json", "Crème brûlée")
     cli("palette", "recipe.json", "--entries", "16", "-o", "pal.inc", check=True)
@@ -132,7 +129,6 @@ def mesh_file(path):
     return f"mesh:{path}"
 
 
-@needs_povray
 @pytest.mark.parametrize("name", HOSTILE)
 def test_instance_scene_with_hostile_names_renders(samples, tmp_path, name):
     system = ifsforge.read_json(str(samples / "sierpinski_tetrahedron.json"))
@@ -154,7 +150,6 @@ def test_instance_scene_with_hostile_names_renders(samples, tmp_path, name):
     assert f"#declare IFS_Title = {ifsforge.pov_string('IFS instances: ' + name)};" in text
 
 
-@needs_povray
 @pytest.mark.parametrize("view,orthographic", [((30, 25), False), ((-70, -30), False), ((10, 80), True)])
 def test_cameras_are_exactly_perpendicular(samples, tmp_path, view, orthographic):
     system = ifsforge.read_json(str(samples / "sierpinski_tetrahedron.json"))
@@ -164,7 +159,6 @@ def test_cameras_are_exactly_perpendicular(samples, tmp_path, view, orthographic
     povray(tmp_path, "scene.pov")  # no "Camera vectors are not perpendicular"
 
 
-@needs_povray
 @pytest.mark.parametrize("name", HOSTILE)
 def test_terrain_scene_with_hostile_names_renders(cli, tmp_path, name):
     palette = palette_recipe(tmp_path / "palette.json", name)
@@ -183,7 +177,6 @@ def test_terrain_scene_with_hostile_names_renders(cli, tmp_path, name):
     povray(tmp_path, "t.pov")
 
 
-@needs_povray
 @pytest.mark.parametrize("shape,camera", [("mesh2", "top"), ("height_field", "top"), ("mesh2", "perspective")])
 def test_terrain_cameras_and_shapes_parse_cleanly(cli, tmp_path, shape, camera):
     recipe = json.loads((TERRAIN / "ridge_range.json").read_text())

@@ -1,7 +1,6 @@
 """Fractal interpolation, palettes and terrains through the binding and the CLI, and their files
 read back by independent consumers: POV-Ray renders the scene, Blender imports the glTF."""
 import json
-import shutil
 import subprocess
 from pathlib import Path
 
@@ -195,7 +194,6 @@ def test_cli_palette_and_interpolate(cli, tmp_path):
 
 # --- real consumers ----------------------------------------------------------------------------
 
-@pytest.mark.skipif(shutil.which("povray") is None, reason="POV-Ray is not installed")
 @pytest.mark.parametrize("shape", ["height_field", "mesh2"])
 def test_povray_renders_the_palette_on_the_heights(tmp_path, shape):
     # Seen straight down without lights, every pixel must show the palette colour of its height:
@@ -219,7 +217,6 @@ def test_povray_renders_the_palette_on_the_heights(tmp_path, shape):
     assert mirrored > 3 * error  # the comparison can tell north from south
 
 
-@pytest.mark.skipif(shutil.which("blender") is None, reason="Blender is not installed")
 def test_blender_imports_the_glb(tmp_path):
     c = controls(grid="circular", rows=5, columns=8, roughness=0.35, seed=2)
     ifsforge.random_shifts(c, 0.3, 1)

@@ -2,7 +2,6 @@
 maps, the exporters against their consumers (xml.etree for SVG, real POV-Ray, Blender's glTF
 importer), and bad input."""
 import json
-import shutil
 import subprocess
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -167,7 +166,6 @@ def test_user_mesh_primitive_through_every_exporter(samples, tmp_path):
     assert (tmp_path / "m.png").exists()
 
 
-@pytest.mark.skipif(shutil.which("blender") is None, reason="Blender is not installed")
 def test_blender_imports_the_gltf_as_linked_duplicates(samples, tmp_path):
     system = ifsforge.read_json(str(samples / "menger_sponge.json"))
     inst = ifsforge.instances(system, depth=2, primitives="box")  # first-map colours: 10 palette entries

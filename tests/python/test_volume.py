@@ -2,7 +2,6 @@
 python3-openvdb (an independent reader), meshes, progress, bad input; and Blender importing the
 .vdb as a Volume object (skipped only when Blender is absent)."""
 import json
-import shutil
 import subprocess
 from pathlib import Path
 
@@ -167,7 +166,6 @@ def test_cli_refuses_bad_input(cli, tmp_path, samples):
     assert not list(tmp_path.glob("out*")) and not (tmp_path / "missing").exists()
 
 
-@pytest.mark.skipif(shutil.which("blender") is None, reason="Blender is not installed")
 def test_blender_imports_the_volume(tmp_path):
     """Blender 3.4 reads our .vdb as a Volume object with 'density' and 'color' grids, places it
     where the IFS puts it, and its Principled Volume renders it in the volume's colour."""
