@@ -13,8 +13,11 @@
 
 #include "ifsforge/render/renderer.h"
 #include "ifsforge/volume/volume_renderer.h"
+#include "test_systems.h"
 
 using namespace ifsforge;
+using test_systems::menger;
+using test_systems::tetrahedron;
 
 namespace {
 
@@ -25,22 +28,6 @@ AffineMap scaled(int dim, double s, const std::vector<double>& t) {
     m.b(a) = t[a];
   }
   return m;
-}
-
-Ifs menger() {
-  std::vector<AffineMap> maps;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k)
-        if ((i == 1) + (j == 1) + (k == 1) < 2) maps.push_back(scaled(3, 1.0 / 3, {i / 3.0, j / 3.0, k / 3.0}));
-  return Ifs("menger", ChannelLayout("xyz"), maps, std::vector<double>(20, 1.0));
-}
-
-Ifs tetrahedron() {
-  std::vector<AffineMap> maps;
-  for (const auto& t : std::vector<std::vector<double>>{{0, 0, 0}, {0.5, 0, 0}, {0, 0.5, 0}, {0, 0, 0.5}})
-    maps.push_back(scaled(3, 0.5, t));
-  return Ifs("tetrahedron", ChannelLayout("xyz"), maps, {1, 1, 1, 1});
 }
 
 /// The sponge's level-k cells: no two coordinates have a ternary 1 at the same digit.
@@ -60,7 +47,8 @@ struct Case {
   bool (*truth)(int, int, int);
 };
 
-const Case kCases[] = {{"sponge", menger, 3, in_sponge}, {"tetrahedron", tetrahedron, 2, in_tetrahedron}};
+const Case kCases[] = {{"sponge", menger, 3, in_sponge},
+                       {"tetrahedron", [] { return tetrahedron(); }, 2, in_tetrahedron}};
 
 std::vector<std::uint64_t> true_cells(const Case& c, int side) {
   std::vector<std::uint64_t> keys;

@@ -20,44 +20,12 @@
 #include "ifsforge/io/vdb.h"
 #include "ifsforge/render/tone_map.h"
 #include "ifsforge/volume/volume_renderer.h"
+#include "test_systems.h"
 
 using namespace ifsforge;
+using namespace ifsforge::test_systems;
 
 namespace {
-
-/// A map x -> s x + t on the spatial part; with colour, channels -> gain * channels + colour.
-AffineMap corner_map(int dim, double s, std::array<double, 3> t, double gain = 0.0,
-                     const std::vector<double>& colour = {}) {
-  AffineMap m(dim);
-  for (int a = 0; a < 3; ++a) {
-    m.a(a, a) = s;
-    m.b(a) = t[a];
-  }
-  for (int c = 3; c < dim; ++c) {
-    m.a(c, c) = gain;
-    m.b(c) = colour[c - 3];
-  }
-  return m;
-}
-
-Ifs menger() {
-  std::vector<AffineMap> maps;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k)
-        if ((i == 1) + (j == 1) + (k == 1) < 2) maps.push_back(corner_map(3, 1.0 / 3, {i / 3.0, j / 3.0, k / 3.0}));
-  return Ifs("menger", ChannelLayout("xyz"), maps, std::vector<double>(20, 1.0));
-}
-
-/// The tetrahedron's corners and, for the coloured version, one constant colour per map.
-const std::array<std::array<double, 3>, 4> kCorners = {{{0, 0, 0}, {0.5, 0, 0}, {0, 0.5, 0}, {0, 0, 0.5}}};
-const std::vector<std::vector<double>> kColours = {{0.9, 0.1, 0.2}, {0.1, 0.8, 0.3}, {0.2, 0.3, 0.95}, {0.7, 0.7, 0.1}};
-
-Ifs tetrahedron(bool colour = false) {
-  std::vector<AffineMap> maps;
-  for (int i = 0; i < 4; ++i) maps.push_back(corner_map(colour ? 6 : 3, 0.5, kCorners[i], 0.0, kColours[i]));
-  return Ifs("tetrahedron", ChannelLayout(colour ? "xyz+rgb" : "xyz"), maps, {1, 1, 1, 1});
-}
 
 Ifs pyramid_rgb() {
   return read_ifs_json(std::string(IFSFORGE_SOURCE_DIR) + "/samples/systems/volume_sierpinski_pyramid_rgb.json");
