@@ -1,9 +1,6 @@
 """Inside Blender: generated objects follow their stored values whatever animates them (driver,
 NLA strip, script), and Bake Animation turns the frames into files Blender reads natively: a
 second Blender without the add-on or the ifsforge module plays and renders the baked frames."""
-import json
-import os
-import subprocess
 import sys
 from pathlib import Path
 
@@ -11,7 +8,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from addon_harness import Checks, arguments, close, enable_addon, render_alpha  # noqa: E402
+from addon_harness import Checks, arguments, close, enable_addon, open_without_ifsforge, render_alpha  # noqa: E402
 
 args = arguments()
 OUT = Path(args.out) / "animation"
@@ -73,10 +70,9 @@ def driver_nla_and_script():
 
 
 PROBE = """
-import bpy, json, importlib.util, sys
+import bpy, sys
 scene = bpy.context.scene
-out = {"module": importlib.util.find_spec("ifsforge") is not None,
-       "addon": "ifsforge_addon" in bpy.context.preferences.addons, "frames": {}}
+out["frames"] = {}
 for frame in (1, 2):
     scene.frame_set(frame)
     depsgraph = bpy.context.evaluated_depsgraph_get()
@@ -88,7 +84,6 @@ for frame in (1, 2):
 scene.frame_set(2)
 scene.render.filepath = sys.argv[-3]
 bpy.ops.render.render(write_still=True)
-print("PROBE " + json.dumps(out))
 """
 
 
@@ -123,17 +118,9 @@ def bake_renders_without_the_addon():
     assert terrain.ifsforge.baked and volume.ifsforge.baked and volume.data.is_sequence
     assert volume.data.filepath.startswith("//scene_ifsforge/bake/"), volume.data.filepath
     bpy.ops.wm.save_mainfile()
-    # Another Blender: factory settings (no add-on), no ifsforge module on its path.
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    probe = OUT / "probe.py"
-    probe.write_text(PROBE)
-    result = subprocess.run([bpy.app.binary_path, "-b", "--factory-startup", str(folder / "scene.blend"),
-                             "--python", str(probe), "--", str(OUT / "baked_frame2.png"), terrain.name, volume.name],
-                            capture_output=True, text=True, timeout=300, env=env)
-    lines = [line for line in result.stdout.splitlines() if line.startswith("PROBE ")]
-    assert lines, result.stdout[-3000:] + result.stderr[-3000:]
-    seen = json.loads(lines[0][len("PROBE "):])
-    assert not seen["module"] and not seen["addon"], seen
+    # Another Blender: factory settings, the add-on and the ifsforge module hidden.
+    seen = open_without_ifsforge(folder / "scene.blend", PROBE,
+                                 [OUT / "baked_frame2.png", terrain.name, volume.name], OUT)
     for frame in (1, 2):
         close(seen["frames"][str(frame)]["z"], expected[frame], 1e-5)
         assert seen["frames"][str(frame)]["vdb"].endswith(f"_{frame:04d}.vdb"), seen["frames"][str(frame)]["vdb"]

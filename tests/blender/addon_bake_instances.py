@@ -1,9 +1,6 @@
 """Inside Blender: Bake Animation of an instances object whose system is keyframed keeps each
 frame's point cloud (positions and instance attributes) in the .blend; a second Blender without
 the add-on or the ifsforge module places the same instances at every baked frame."""
-import json
-import os
-import subprocess
 import sys
 from pathlib import Path
 
@@ -11,7 +8,7 @@ import bpy
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from addon_harness import Checks, arguments, close, enable_addon  # noqa: E402
+from addon_harness import Checks, arguments, close, enable_addon, open_without_ifsforge  # noqa: E402
 
 args = arguments()
 OUT = Path(args.out) / "bake_instances"
@@ -32,14 +29,12 @@ def placed(bpy, name):
 exec(PLACED)
 
 PROBE = PLACED + """
-import bpy, json, importlib.util, sys
+import bpy, sys
 scene = bpy.context.scene
-out = {"module": importlib.util.find_spec("ifsforge") is not None,
-       "addon": "ifsforge_addon" in bpy.context.preferences.addons, "frames": {}}
+out["frames"] = {}
 for frame in (1, 2):
     scene.frame_set(frame)
     out["frames"][frame] = placed(bpy, sys.argv[-1])
-print("PROBE " + json.dumps(out))
 """
 
 
@@ -70,16 +65,7 @@ def baked_instances_play_without_the_addon():
         scene.frame_set(frame)
         close(placed(bpy, owner.name), expected[frame], 1e-5)
     bpy.ops.wm.save_mainfile()
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    probe = OUT / "probe.py"
-    probe.write_text(PROBE)
-    result = subprocess.run([bpy.app.binary_path, "-b", "--factory-startup", str(OUT / "scene.blend"),
-                             "--python", str(probe), "--", owner.name],
-                            capture_output=True, text=True, timeout=300, env=env)
-    lines = [line for line in result.stdout.splitlines() if line.startswith("PROBE ")]
-    assert lines, result.stdout[-3000:] + result.stderr[-3000:]
-    seen = json.loads(lines[0][len("PROBE "):])
-    assert not seen["module"] and not seen["addon"], seen
+    seen = open_without_ifsforge(OUT / "scene.blend", PROBE, [owner.name], OUT)
     for frame in (1, 2):
         close(seen["frames"][str(frame)], expected[frame], 1e-5)
 

@@ -122,3 +122,45 @@ def render_alpha(obj, path, size=32, samples=8, box=None):
     pixels = np.array(image.pixels[:]).reshape(size, size, 4)
     bpy.data.images.remove(image)
     return pixels
+
+
+# Refuses every import of the module and the add-on, even when the set-up installed the module
+# system-wide: what a Blender without ifsforge sees. Runs before the .blend is loaded.
+_HIDE_IFSFORGE = """
+import sys
+class HideIfsforge:
+    attempts = []
+    def find_spec(self, name, path=None, target=None):
+        if name.split('.')[0] in ('ifsforge', 'ifsforge_addon'):
+            HideIfsforge.attempts.append(name)
+            raise ImportError(name + ' is hidden from this Blender')
+sys.meta_path.insert(0, HideIfsforge())
+sys.ifsforge_import_attempts = HideIfsforge.attempts
+"""
+
+
+def open_without_ifsforge(blend, probe, argv, folder):
+    """Runs `probe` (Python text that fills a dict `out`) in a second Blender with factory
+    settings that opens `blend` with ifsforge hidden; returns `out`, after checking that nothing
+    tried to import ifsforge and that the add-on was not enabled."""
+    import os
+    import subprocess
+    import bpy
+    script = Path(folder) / "probe.py"
+    script.write_text("out = {}\n" + probe + """
+import bpy, json, sys
+out["imports"] = sys.ifsforge_import_attempts
+out["addon"] = "ifsforge_addon" in bpy.context.preferences.addons
+print("PROBE " + json.dumps(out))
+""")
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    result = subprocess.run([bpy.app.binary_path, "-b", "--factory-startup", "--python-expr", _HIDE_IFSFORGE,
+                             str(blend), "--python", str(script), "--", *map(str, argv)],
+                            capture_output=True, text=True, timeout=300, env=env)
+    lines = [line for line in result.stdout.splitlines() if line.startswith("PROBE ")]
+    if not lines:
+        raise AssertionError(result.stdout[-3000:] + result.stderr[-3000:])
+    seen = json.loads(lines[0][len("PROBE "):])
+    if seen["imports"] or seen["addon"]:
+        raise AssertionError(f"ifsforge was needed: imports {seen['imports']}, add-on enabled {seen['addon']}")
+    return seen
