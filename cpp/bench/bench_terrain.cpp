@@ -8,12 +8,12 @@
 #include <filesystem>
 #include <string>
 
-#include "ifsforge/terrain/fractal_interpolation.h"
+#include "ifsforge/interpolation/fractal_interpolation.h"
 #include "ifsforge/terrain/height_image.h"
 #include "ifsforge/terrain/terrain.h"
 #include "ifsforge/terrain/terrain_controls.h"
-#include "ifsforge/terrain/terrain_mesh.h"
-#include "ifsforge/terrain/vertical_scaling.h"
+#include "ifsforge/io/terrain_mesh_file.h"
+#include "ifsforge/interpolation/vertical_scaling.h"
 #include "ifsforge/texture/palette.h"
 
 using namespace ifsforge;

@@ -12,6 +12,7 @@
 #include "ifsforge/io/pov_instances.h"
 #include "ifsforge/io/svg.h"
 #include "ifsforge/vector/addresses.h"
+#include "ifsforge/io/primitive_spec.h"
 #include "ifsforge/vector/instances.h"
 
 using namespace ifsforge;

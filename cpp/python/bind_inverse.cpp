@@ -4,7 +4,7 @@
 #include "ifsforge/inverse/address_of.h"
 #include "ifsforge/inverse/collage.h"
 #include "ifsforge/inverse/fit.h"
-#include "ifsforge/inverse/tops.h"
+#include "ifsforge/render/tops.h"
 
 namespace ifsforge::python {
 

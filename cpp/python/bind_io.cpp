@@ -2,6 +2,7 @@
 #include "bindings.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/fractint.h"
+#include "ifsforge/io/system_file.h"
 #include "ifsforge/io/ifs_json.h"
 #include "ifsforge/io/png.h"
 

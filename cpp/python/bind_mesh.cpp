@@ -6,7 +6,7 @@
 #include "ifsforge/core/colour.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/mesh.h"
-#include "ifsforge/io/mesh_edges.h"
+#include "ifsforge/geometry/mesh_edges.h"
 
 namespace ifsforge::python {
 

@@ -5,14 +5,14 @@
 
 #include "bindings.h"
 #include "ifsforge/core/error.h"
-#include "ifsforge/terrain/fractal_interpolation.h"
+#include "ifsforge/interpolation/fractal_interpolation.h"
 #include "ifsforge/terrain/height_image.h"
 #include "ifsforge/terrain/terrain.h"
 #include "ifsforge/terrain/terrain_controls.h"
-#include "ifsforge/terrain/terrain_mesh.h"
-#include "ifsforge/terrain/terrain_povray.h"
-#include "ifsforge/terrain/terrain_recipe.h"
-#include "ifsforge/terrain/vertical_scaling.h"
+#include "ifsforge/io/terrain_mesh_file.h"
+#include "ifsforge/io/terrain_povray.h"
+#include "ifsforge/io/terrain_recipe.h"
+#include "ifsforge/interpolation/vertical_scaling.h"
 
 namespace ifsforge::python {
 namespace {

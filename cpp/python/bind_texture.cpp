@@ -3,8 +3,9 @@
 
 #include "bindings.h"
 #include "ifsforge/core/error.h"
+#include "ifsforge/io/pov_palette.h"
 #include "ifsforge/texture/palette.h"
-#include "ifsforge/texture/palette_recipe.h"
+#include "ifsforge/io/palette_recipe.h"
 
 namespace ifsforge::python {
 namespace {

@@ -9,6 +9,8 @@
 #include "ifsforge/io/svg.h"
 #include "ifsforge/vector/addresses.h"
 #include "ifsforge/vector/draw.h"
+#include "ifsforge/io/primitive_spec.h"
+#include "ifsforge/io/address_csv.h"
 #include "ifsforge/vector/instances.h"
 
 namespace ifsforge::python {

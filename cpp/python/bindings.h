@@ -7,9 +7,9 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/progress.h"
-#include "ifsforge/io/axes.h"
+#include "ifsforge/geometry/axes.h"
 #include "ifsforge/model/ifs.h"
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 
 namespace ifsforge::python {
 

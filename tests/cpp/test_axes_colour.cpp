@@ -13,9 +13,10 @@
 
 #include "ifsforge/core/colour.h"
 #include "ifsforge/core/error.h"
-#include "ifsforge/io/axes.h"
+#include "ifsforge/geometry/axes.h"
 #include "ifsforge/io/gltf_instances.h"
 #include "ifsforge/io/mesh.h"
+#include "ifsforge/io/primitive_spec.h"
 #include "ifsforge/vector/instances.h"
 #include "ifsforge/vector/primitives.h"
 

@@ -10,7 +10,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/mesh.h"
-#include "ifsforge/io/mesh_edges.h"
+#include "ifsforge/geometry/mesh_edges.h"
 #include "ifsforge/io/png.h"
 
 using namespace ifsforge;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/io/pov_palette.h"
 #include "ifsforge/texture/palette.h"
 
 using namespace ifsforge;

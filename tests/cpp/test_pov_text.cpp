@@ -7,6 +7,7 @@
 #include <string>
 
 #include "ifsforge/io/pov_text.h"
+#include "ifsforge/io/pov_palette.h"
 #include "ifsforge/texture/palette.h"
 
 namespace ifsforge {

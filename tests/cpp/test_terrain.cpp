@@ -11,9 +11,9 @@
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/random.h"
 #include "ifsforge/render/box_counting.h"
-#include "ifsforge/terrain/fractal_interpolation.h"
-#include "ifsforge/terrain/grid_recursion.h"
-#include "ifsforge/terrain/vertical_scaling.h"
+#include "ifsforge/interpolation/fractal_interpolation.h"
+#include "ifsforge/interpolation/grid_recursion.h"
+#include "ifsforge/interpolation/vertical_scaling.h"
 
 using namespace ifsforge;
 

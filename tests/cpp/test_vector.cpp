@@ -23,6 +23,7 @@
 #include "ifsforge/render/renderer.h"
 #include "ifsforge/vector/addresses.h"
 #include "ifsforge/vector/draw.h"
+#include "ifsforge/io/primitive_spec.h"
 #include "ifsforge/vector/instances.h"
 
 using namespace ifsforge;

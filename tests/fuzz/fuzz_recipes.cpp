@@ -1,7 +1,7 @@
 // Terrain and palette recipes (one target: they share the recipe reader).
 #include "fuzz_common.h"
-#include "ifsforge/terrain/terrain_recipe.h"
-#include "ifsforge/texture/palette_recipe.h"
+#include "ifsforge/io/terrain_recipe.h"
+#include "ifsforge/io/palette_recipe.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   fuzz::with_text(data, size, [](const std::string& text) { ifsforge::parse_terrain_recipe(text, "fuzz.json"); });

@@ -1,18 +1,14 @@
 #include "ifsforge/io/fractint.h"
 
-#include <sys/stat.h>
-
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
-#include "ifsforge/io/ifs_json.h"
+#include "ifsforge/io/text_file.h"
 
 namespace ifsforge {
 namespace {
@@ -21,10 +17,6 @@ std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r\n");
   if (b == std::string::npos) return "";
   return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 struct Pending {
@@ -36,25 +28,6 @@ struct Pending {
 };
 
 }  // namespace
-
-std::string read_text_file(const std::string& path) {
-  struct stat info;
-  if (stat(path.c_str(), &info) != 0) throw FileError("cannot read '" + path + "': " + std::strerror(errno));
-  if (S_ISDIR(info.st_mode)) throw FileError("cannot read '" + path + "': it is a folder, not a file");
-  if (S_ISREG(info.st_mode)) {
-    const double bytes = static_cast<double>(info.st_size);
-    if (bytes > kMaxTextFileBytes)
-      throw InputError(path + ": the file holds " + std::to_string(info.st_size) + " bytes, more than the " +
-                       std::to_string(kMaxTextFileBytes >> 20) + " MiB an input file may have");
-    // A parsed document (JSON DOM, maps) takes up to ~40 bytes per byte of text.
-    check_memory(40.0 * bytes, "reading '" + path + "'");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError("cannot read '" + path + "': " + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 std::vector<Ifs> parse_fractint(const std::string& text, const std::string& source) {
   std::vector<Ifs> systems;
@@ -161,27 +134,5 @@ std::vector<Ifs> parse_fractint(const std::string& text, const std::string& sour
 }
 
 std::vector<Ifs> read_fractint(const std::string& path) { return parse_fractint(read_text_file(path), path); }
-
-Ifs load_system(const std::string& spec) {
-  // "file.ifs:entry" names an entry; a plain path names a file.
-  std::string path = spec, entry;
-  const std::size_t colon = spec.rfind(':');
-  if (colon != std::string::npos && !ends_with(spec, ".ifs") && !ends_with(spec, ".json") &&
-      (ends_with(spec.substr(0, colon), ".ifs") || ends_with(spec.substr(0, colon), ".IFS"))) {
-    path = spec.substr(0, colon);
-    entry = spec.substr(colon + 1);
-  }
-  if (ends_with(path, ".ifs") || ends_with(path, ".IFS")) {
-    std::vector<Ifs> systems = read_fractint(path);
-    if (entry.empty()) return systems.front();
-    std::string names;
-    for (auto& s : systems) {
-      if (s.name() == entry) return s;
-      names += (names.empty() ? "" : ", ") + s.name();
-    }
-    throw InputError("'" + path + "' has no entry '" + entry + "'; it has: " + names);
-  }
-  return read_ifs_json(path);
-}
 
 }  // namespace ifsforge

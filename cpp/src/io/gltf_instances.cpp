@@ -12,7 +12,7 @@
 #include "ifsforge/core/colour.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
-#include "ifsforge/io/axes.h"
+#include "ifsforge/geometry/axes.h"
 #include "ifsforge/io/povray.h"
 
 namespace ifsforge {

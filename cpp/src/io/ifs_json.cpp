@@ -6,7 +6,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
-#include "ifsforge/io/fractint.h"
+#include "ifsforge/io/text_file.h"
 #include "ifsforge/model/map_params.h"
 #include "ifsforge/model/recurrent.h"
 #include "ifsforge/model/super_ifs.h"

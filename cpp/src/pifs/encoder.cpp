@@ -4,7 +4,7 @@
 #include <string>
 
 #include "ifsforge/core/error.h"
-#include "ifsforge/io/pifs_file.h"
+#include "ifsforge/pifs/code_bytes.h"
 #include "ifsforge/pifs/partition.h"
 #include "ifsforge/pifs/planes.h"
 

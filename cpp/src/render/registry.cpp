@@ -6,7 +6,7 @@
 #include "ifsforge/render/accurate_fractal.h"
 #include "ifsforge/render/chaos_game.h"
 #include "ifsforge/render/colour_stealing.h"
-#include "ifsforge/inverse/tops_renderer.h"
+#include "ifsforge/render/tops_renderer.h"
 #include "ifsforge/render/constant_mass.h"
 #include "ifsforge/render/deterministic_iteration.h"
 #include "ifsforge/render/escape_time.h"

@@ -8,8 +8,8 @@
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
-#include "ifsforge/terrain/grid_recursion.h"
-#include "ifsforge/terrain/vertical_scaling.h"
+#include "ifsforge/interpolation/grid_recursion.h"
+#include "ifsforge/interpolation/vertical_scaling.h"
 
 namespace ifsforge {
 

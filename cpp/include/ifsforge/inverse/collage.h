@@ -9,7 +9,7 @@
 #include "ifsforge/inverse/distance_transform.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/render/frame.h"
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 
 namespace ifsforge {
 

@@ -13,15 +13,4 @@ namespace ifsforge {
 std::vector<Ifs> parse_fractint(const std::string& text, const std::string& source = "<ifs>");
 std::vector<Ifs> read_fractint(const std::string& path);
 
-/// @brief A system from "file.json", "file.ifs" (its first entry) or "file.ifs:entry".
-Ifs load_system(const std::string& spec);
-
-/// @brief The largest input file read_text_file accepts (bytes).
-constexpr long long kMaxTextFileBytes = 64ll << 20;
-
-/// @brief The whole text of a file; FileError when it cannot be read (or is a folder),
-/// InputError when it is larger than kMaxTextFileBytes, MemoryBudgetError when parsing it
-/// would not fit the memory budget.
-std::string read_text_file(const std::string& path);
-
 }  // namespace ifsforge

@@ -9,7 +9,7 @@
 /// glTF's y-up axes by default (see axes.h), which Blender's importer converts back.
 #include <string>
 
-#include "ifsforge/io/axes.h"
+#include "ifsforge/geometry/axes.h"
 #include "ifsforge/vector/instances.h"
 
 namespace ifsforge {

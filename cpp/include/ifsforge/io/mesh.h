@@ -1,24 +1,14 @@
 #pragma once
-/// @file Triangle meshes and their writers: PLY and OBJ through OpenMesh, glTF binary (.glb)
+/// @file Triangle mesh writers: PLY and OBJ through OpenMesh, glTF binary (.glb)
 /// through tinygltf. The libraries stay behind this header.
-#include <array>
-#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "ifsforge/io/axes.h"
+#include "ifsforge/geometry/axes.h"
+#include "ifsforge/geometry/triangle_mesh.h"
 
 namespace ifsforge {
-
-/// In ifsforge's axes (right-handed, z up); the writers turn them into the file's axes.
-struct TriangleMesh {
-  std::vector<std::array<float, 3>> positions;
-  std::vector<std::array<float, 3>> normals;   ///< empty, or one per vertex
-  std::vector<std::array<float, 4>> colors;    ///< empty, or one RGBA per vertex: display (sRGB) values in [0, 1]
-  std::vector<std::array<float, 2>> uvs;       ///< empty, or one per vertex
-  std::vector<std::array<std::uint32_t, 3>> triangles;  ///< counter-clockwise seen from outside
-};
 
 struct MeshWriteOptions {
   /// glTF only: a PNG to embed as the material's base colour texture (needs uvs).
@@ -35,8 +25,5 @@ struct MeshWriteOptions {
 /// Positions and normals are turned to the file's up axis (MeshWriteOptions::up). Atomic; InputError for an unknown
 /// extension or a malformed mesh (indices out of range, attribute counts that do not match).
 void write_mesh(const std::string& path, const TriangleMesh& mesh, const MeshWriteOptions& options = {});
-
-/// @brief Angle-weighted vertex normals from the triangles (independent of the triangulation).
-void compute_normals(TriangleMesh& mesh);
 
 }  // namespace ifsforge

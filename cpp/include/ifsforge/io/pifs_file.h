@@ -1,30 +1,14 @@
 #pragma once
-/// @file The .pifs file (the seed's Steps 5-6): magic "PIFS", version, image size, channels,
-/// colour handling, quadtree and quantisation parameters, each plane's byte count, the planes'
-/// range-coded transforms, and a CRC-32 of everything before it.
-#include <cstdint>
+/// @file Writing and reading .pifs files (their bytes: pifs/code_bytes.h).
 #include <string>
-#include <vector>
 
-#include "ifsforge/pifs/code.h"
+#include "ifsforge/pifs/code_bytes.h"
 
 namespace ifsforge {
-
-constexpr int kPifsVersion = 1;
-
-/// @brief The file's bytes.
-std::vector<std::uint8_t> pifs_to_bytes(const PifsCode& code);
-
-/// @brief A code from a file's bytes; InputError naming `where` for a wrong magic or version,
-/// a truncated or corrupted file (checksum, out-of-range field, stream not ending on time).
-PifsCode pifs_from_bytes(const std::uint8_t* data, std::size_t size, const std::string& where = "PIFS data");
 
 /// @brief Writes atomically (no partial file on failure).
 void write_pifs(const std::string& path, const PifsCode& code);
 /// @brief Reads a .pifs file; FileError when unreadable, InputError naming the file when invalid.
 PifsCode read_pifs(const std::string& path);
-
-/// @brief Bytes of the header (everything before the first plane's stream and the checksum).
-std::size_t pifs_header_size(const PifsCode& code);
 
 }  // namespace ifsforge

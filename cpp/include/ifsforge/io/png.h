@@ -2,7 +2,7 @@
 /// @file PNG in and out (libpng stays behind this header).
 #include <string>
 
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 
 namespace ifsforge {
 

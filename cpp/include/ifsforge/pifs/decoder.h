@@ -5,7 +5,7 @@
 #include "ifsforge/core/progress.h"
 #include "ifsforge/pifs/code.h"
 #include "ifsforge/pifs/domain_search.h"
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 
 namespace ifsforge {
 

@@ -11,7 +11,7 @@
 #include "ifsforge/core/progress.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/render/frame.h"
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 #include "ifsforge/render/raster.h"
 
 namespace ifsforge {

@@ -2,7 +2,7 @@
 /// @file From a raster to a displayable image.
 #include <string>
 
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 #include "ifsforge/render/raster.h"
 
 namespace ifsforge {

@@ -1,7 +1,7 @@
 #pragma once
 /// @file A terrain as a height-field image (the 16-bit PNG that POV-Ray's height_field, Blender's
 /// displacement and game engines read).
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 #include "ifsforge/terrain/terrain.h"
 
 namespace ifsforge {

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 #include "ifsforge/terrain/terrain.h"
 
 namespace ifsforge {

@@ -1,10 +1,10 @@
 #pragma once
-/// @file A terrain as a triangle mesh (normals, palette UVs and colours) and its files.
+/// @file A terrain as a triangle mesh (normals, palette UVs and colours); io/terrain_mesh_file.h writes it.
 #include <cmath>
 #include <optional>
-#include <string>
 
-#include "ifsforge/io/mesh.h"
+#include "ifsforge/geometry/axes.h"
+#include "ifsforge/geometry/triangle_mesh.h"
 #include "ifsforge/terrain/terrain.h"
 #include "ifsforge/texture/palette.h"
 
@@ -32,11 +32,5 @@ struct TerrainMeshOptions {
 /// Vertex count: columns x rows (circular: 1 + columns (rows - 1)); a solid adds one floor
 /// vertex per outline vertex and one at the floor's centre.
 TriangleMesh terrain_mesh(const Terrain& terrain, const TerrainMeshOptions& options = {}, int threads = 0);
-
-/// @brief terrain_mesh written by extension (.glb, .obj, .ply, see write_mesh). A .glb with a
-/// palette embeds the palette strip (PNG) as the material's base-colour texture and carries no
-/// vertex colours (glTF would multiply them into the texture); PLY keeps the vertex colours.
-void write_terrain_mesh(const std::string& path, const Terrain& terrain, const TerrainMeshOptions& options = {},
-                        int threads = 0);
 
 }  // namespace ifsforge

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "ifsforge/core/progress.h"
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 
 namespace ifsforge {
 
@@ -53,19 +53,6 @@ Image palette_image(const Palette& palette, int rows = 1);
 /// @brief Colours an image through the palette: its gray level (channel 0 of gray images;
 /// Rec. 709 luminance of RGB) picks the colour; an alpha channel is kept. Values in [0, 1].
 Image apply_palette(const Image& image, const Palette& palette, int threads = 0);
-
-/// @brief A POV-Ray `color_map { ... }` with at most 256 entries (POV-Ray's limit), colours
-/// given as `srgb` so that a render with assumed_gamma 1.0 shows the palette's values. With
-/// `linear`, as `rgb` of the sRGB-decoded values instead: the same colours under assumed_gamma
-/// 1.0 (POV-Ray 3.7's default), and parsed even before any assumed_gamma is set, which `srgb`
-/// refuses ("Cannot parse sRGB colors before assumed_gamma has been set").
-std::string pov_color_map(const Palette& palette, std::size_t entries = 256, bool linear = false);
-
-/// @brief A POV-Ray include declaring the palette: comment lines naming it (pov_comment) and
-/// `about`, then `#declare IFS_Palette_<name> = color_map {...}` (pov_identifier) with linear
-/// colours, so it parses wherever a scene includes it, with or without assumed_gamma.
-std::string pov_palette_include(const Palette& palette, const std::string& name, const std::string& about = "",
-                                std::size_t entries = 256);
 
 /// @brief HLS (hue in degrees, lightness and saturation in [0, 1]) to RGB in [0, 1].
 void hls_to_rgb(double hue, double lightness, double saturation, float* rgb);

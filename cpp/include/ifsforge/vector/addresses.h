@@ -68,9 +68,6 @@ Point apply_address(const Ifs& ifs, const std::uint16_t* address, int length, co
 /// @brief "a0.a1.....a_{L-1}" of `length` digits.
 std::string address_string(const std::uint16_t* address, int length);
 
-/// @brief CSV with a header: index,address,length,probability (one row per leaf), atomically.
-void write_address_csv(const std::string& path, const AddressTable& addresses);
-
 /// @brief Leaves an address tree of `depth` with pruning at `min_probability` has (counted
 /// without building it); InputError for a depth outside 1..kMaxAddressDepth or pv outside [0, 1).
 std::uint64_t count_leaves(const Ifs& ifs, int depth, double min_probability = 0.0);

@@ -6,7 +6,7 @@
 #include <optional>
 
 #include "ifsforge/render/frame.h"
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 #include "ifsforge/vector/instances.h"
 
 namespace ifsforge {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "ifsforge/io/mesh.h"
+#include "ifsforge/geometry/triangle_mesh.h"
 
 namespace ifsforge {
 
@@ -36,13 +36,6 @@ struct Primitive {
   double bounding_radius() const;
 };
 
-/// @brief "line", "circle", "triangle", "square" (each also "-outline" except line), "sphere",
-/// "box", "cone", "cylinder", "torus", or "mesh:PATH" (PLY, OBJ, OFF or STL, read through
-/// OpenMesh). InputError lists the choices; FileError names an unreadable mesh.
-Primitive parse_primitive(const std::string& spec);
-/// @brief A comma-separated list of specs ("sphere,box,cone"), in order: the primitive index
-/// of the 4D/7D models (Eq. 99, 107) selects from it.
-std::vector<Primitive> parse_primitives(const std::string& specs);
 /// @brief Names of the built-in primitives.
 const std::vector<std::string>& builtin_primitive_names();
 

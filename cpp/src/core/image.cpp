@@ -1,4 +1,4 @@
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,12 +1,12 @@
-#include "ifsforge/terrain/fractal_interpolation.h"
+#include "ifsforge/interpolation/fractal_interpolation.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "ifsforge/core/error.h"
-#include "ifsforge/terrain/grid_recursion.h"
-#include "ifsforge/terrain/vertical_scaling.h"
+#include "ifsforge/interpolation/grid_recursion.h"
+#include "ifsforge/interpolation/vertical_scaling.h"
 
 namespace ifsforge {
 

@@ -1,6 +1,6 @@
 // The POV-Ray writer of terrains: a height_field or mesh2 with its palette, framed for terrains
 // (POV-Ray's own y-up axes, which height_field uses natively).
-#include "ifsforge/terrain/terrain_povray.h"
+#include "ifsforge/io/terrain_povray.h"
 
 #include <algorithm>
 #include <cctype>
@@ -13,6 +13,7 @@
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/png.h"
+#include "ifsforge/io/pov_palette.h"
 #include "ifsforge/io/povray.h"
 #include "ifsforge/terrain/height_image.h"
 #include "ifsforge/terrain/terrain_mesh.h"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "../io/json_document.h"
+#include "json_document.h"
 #include "ifsforge/core/error.h"
 
 namespace ifsforge::detail {

@@ -7,7 +7,7 @@
 
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/render/frame.h"
-#include "ifsforge/render/image.h"
+#include "ifsforge/core/image.h"
 
 namespace ifsforge {
 

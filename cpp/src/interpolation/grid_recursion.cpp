@@ -1,4 +1,4 @@
-#include "ifsforge/terrain/grid_recursion.h"
+#include "ifsforge/interpolation/grid_recursion.h"
 
 #include <algorithm>
 #include <cmath>

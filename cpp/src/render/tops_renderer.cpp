@@ -1,7 +1,7 @@
-#include "ifsforge/inverse/tops_renderer.h"
+#include "ifsforge/render/tops_renderer.h"
 
 #include "ifsforge/core/error.h"
-#include "ifsforge/inverse/tops.h"
+#include "ifsforge/render/tops.h"
 #include "ifsforge/render/colour_stealing.h"
 
 namespace ifsforge {

@@ -1,4 +1,4 @@
-#include "ifsforge/terrain/vertical_scaling.h"
+#include "ifsforge/interpolation/vertical_scaling.h"
 
 #include <cmath>
 #include <sstream>

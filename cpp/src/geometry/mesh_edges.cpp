@@ -1,4 +1,4 @@
-#include "ifsforge/io/mesh_edges.h"
+#include "ifsforge/geometry/mesh_edges.h"
 
 #include <algorithm>
 #include <string>

@@ -1,10 +1,10 @@
-#include "ifsforge/io/axes.h"
+#include "ifsforge/geometry/axes.h"
 
 #include <algorithm>
 #include <filesystem>
 
 #include "ifsforge/core/error.h"
-#include "ifsforge/io/mesh.h"
+#include "ifsforge/geometry/triangle_mesh.h"
 
 namespace ifsforge {
 

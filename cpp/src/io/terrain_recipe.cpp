@@ -1,11 +1,11 @@
-#include "ifsforge/terrain/terrain_recipe.h"
+#include "ifsforge/io/terrain_recipe.h"
 
 #include <filesystem>
 
-#include "ifsforge/io/fractint.h"
+#include "ifsforge/io/text_file.h"
 #include "ifsforge/io/png.h"
 #include "ifsforge/terrain/terrain_controls.h"
-#include "ifsforge/terrain/vertical_scaling.h"
+#include "ifsforge/interpolation/vertical_scaling.h"
 #include "recipe_json.h"
 
 namespace ifsforge {

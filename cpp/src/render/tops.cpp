@@ -1,4 +1,4 @@
-#include "ifsforge/inverse/tops.h"
+#include "ifsforge/render/tops.h"
 
 #include <cmath>
 #include <string>

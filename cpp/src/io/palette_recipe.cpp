@@ -1,8 +1,8 @@
-#include "ifsforge/texture/palette_recipe.h"
+#include "ifsforge/io/palette_recipe.h"
 
-#include "../terrain/recipe_json.h"
-#include "ifsforge/io/fractint.h"
-#include "ifsforge/terrain/vertical_scaling.h"
+#include "recipe_json.h"
+#include "ifsforge/io/text_file.h"
+#include "ifsforge/interpolation/vertical_scaling.h"
 
 namespace ifsforge {
 

@@ -26,7 +26,7 @@
 #include <string>
 
 #include "ifsforge/terrain/terrain.h"
-#include "ifsforge/texture/palette_recipe.h"
+#include "ifsforge/io/palette_recipe.h"
 
 namespace ifsforge {
 
