@@ -5,6 +5,7 @@
 #include "ifsforge/io/gltf_instances.h"
 #include "ifsforge/io/mesh_reader.h"
 #include "ifsforge/io/pov_instances.h"
+#include "ifsforge/io/pov_scene.h"
 #include "ifsforge/io/povray.h"
 #include "ifsforge/io/svg.h"
 #include "ifsforge/vector/addresses.h"

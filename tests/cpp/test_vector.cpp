@@ -18,6 +18,7 @@
 #include "ifsforge/io/ifs_json.h"
 #include "ifsforge/io/png.h"
 #include "ifsforge/io/pov_instances.h"
+#include "ifsforge/io/pov_scene.h"
 #include "ifsforge/io/povray.h"
 #include "ifsforge/io/svg.h"
 #include "ifsforge/render/renderer.h"
@@ -446,7 +447,7 @@ TEST(VectorPovray, NumberFormats) {
 
 TEST(VectorPovray, IncludeIsTheRepositoryCopy) {
   EXPECT_EQ(povray_include(), read_all(std::string(IFSFORGE_SOURCE_DIR) + "/povray/ifsforge.inc"))
-      << "cpp/src/io/povray.cpp embeds povray/ifsforge.inc: copy the file's text into kIfsforgeInc";
+      << "cpp/embed_bytes.cmake embeds povray/ifsforge.inc at build time";
 }
 
 namespace {

@@ -67,4 +67,9 @@ void AtomicFile::commit() {
   committed_ = true;
 }
 
+void write_bytes(std::FILE* file, const char* data, std::size_t size, const std::string& path) {
+  if (size && std::fwrite(data, 1, size, file) != size)
+    throw FileError("cannot write '" + path + "': " + std::strerror(errno));
+}
+
 }  // namespace ifsforge

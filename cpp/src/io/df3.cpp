@@ -7,7 +7,6 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
-#include "ifsforge/io/povray.h"
 
 namespace ifsforge {
 

@@ -13,7 +13,6 @@
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/geometry/axes.h"
-#include "ifsforge/io/povray.h"
 
 namespace ifsforge {
 namespace {

@@ -1,10 +1,10 @@
-// Cameras, lights and floors framed for POV-Ray scenes (io/povray.h): frame_box, frame_balls.
+// Cameras, lights and floors framed for POV-Ray scenes (io/pov_camera.h).
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "ifsforge/core/error.h"
-#include "ifsforge/io/povray.h"
+#include "ifsforge/io/pov_camera.h"
 
 namespace ifsforge {
 namespace {
@@ -19,16 +19,6 @@ PovVector cross(const PovVector& a, const PovVector& b) {
 PovVector unit(const PovVector& a) { return (1.0 / std::sqrt(dot(a, a))) * a; }
 
 }  // namespace
-
-PovFraming frame_box(const PovVector& lo, const PovVector& hi, const PovView& view, int width, int height) {
-  for (int c = 0; c < 3; ++c)
-    if (!std::isfinite(lo[c]) || !std::isfinite(hi[c]) || lo[c] > hi[c])
-      throw InputError("cannot frame an empty or infinite box");
-  std::vector<PovBall> corners;
-  for (int k = 0; k < 8; ++k)
-    corners.push_back({{(k & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1], (k & 4) ? hi[2] : lo[2]}, 0.0});
-  return frame_balls(corners, view, width, height);
-}
 
 PovFraming frame_balls(const std::vector<PovBall>& balls, const PovView& view, int width, int height) {
   if (balls.empty()) throw InputError("nothing to frame");

@@ -8,7 +8,6 @@
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/pov_text.h"
-#include "ifsforge/io/povray.h"
 
 namespace ifsforge {
 namespace {

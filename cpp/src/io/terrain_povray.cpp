@@ -14,7 +14,7 @@
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/png.h"
 #include "ifsforge/io/pov_palette.h"
-#include "ifsforge/io/povray.h"
+#include "ifsforge/io/pov_text.h"
 #include "ifsforge/terrain/height_image.h"
 #include "ifsforge/terrain/terrain_mesh.h"
 

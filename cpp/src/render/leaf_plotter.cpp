@@ -280,16 +280,4 @@ std::vector<Point> spread_points(const Ifs& ifs) {
   return points;
 }
 
-double attractor_radius(const Ifs& ifs, const Point& center, bool spatial_only) {
-  const Bounds b = ifs.attractor_bounds(1u << 16);
-  const int n = spatial_only ? ifs.spatial_dims() : ifs.dim();
-  double r = 0.0;
-  for (int c = 0; c < n; ++c) {
-    const double margin = 0.02 * (b.hi[c] - b.lo[c]);
-    const double far = std::max(std::abs(b.hi[c] + margin - center[c]), std::abs(center[c] - b.lo[c] + margin));
-    r += far * far;
-  }
-  return std::sqrt(r);
-}
-
 }  // namespace ifsforge

@@ -31,4 +31,7 @@ std::string folder_of(const std::string& path);
 /// @brief FileError unless `path` can be created (its folder exists and is writable).
 void check_writable(const std::string& path);
 
+/// @brief Writes `size` bytes through `file`; FileError naming `path` when the disk refuses.
+void write_bytes(std::FILE* file, const char* data, std::size_t size, const std::string& path);
+
 }  // namespace ifsforge

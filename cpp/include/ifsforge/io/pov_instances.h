@@ -5,7 +5,7 @@
 #include <string>
 
 #include "ifsforge/core/progress.h"
-#include "ifsforge/io/povray.h"
+#include "ifsforge/io/pov_scene.h"
 #include "ifsforge/vector/instances.h"
 
 namespace ifsforge {

@@ -96,8 +96,4 @@ class PieceBoxes {
 /// a pixel that may straddle pixels plots the images of these, so no pixel it touches is missed.
 std::vector<Point> spread_points(const Ifs& ifs);
 
-/// @brief The radius of a ball around `center` holding the attractor's box (all channels or
-/// only the spatial ones), from attractor_bounds with a 2% margin.
-double attractor_radius(const Ifs& ifs, const Point& center, bool spatial_only);
-
 }  // namespace ifsforge
