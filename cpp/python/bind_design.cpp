@@ -15,6 +15,8 @@ py::array_t<T> view(const std::vector<T>& data, std::vector<py::ssize_t> shape, 
   return out;
 }
 
+}  // namespace
+
 void bind_design(py::module_& m) {
   py::class_<PreviewCloud>(m, "PreviewCloud",
                            "Points of the attractor with colours, and the collage frames, for a viewport preview.")
@@ -78,7 +80,4 @@ void bind_design(py::module_& m) {
         "The system with its last map repeated up to `maps` maps (same attractor and measure).");
 }
 
-const Binding registered(60, &bind_design);
-
-}  // namespace
 }  // namespace ifsforge::python

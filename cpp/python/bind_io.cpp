@@ -1,9 +1,22 @@
-// File formats: ifsforge/1 JSON, Fractint .ifs, PNG.
+// Every reader and writer: ifsforge/1 JSON, Fractint .ifs, PNG, meshes (PLY/OBJ/GLB, OpenMesh
+// readers), POV-Ray scenes, SVG, glTF instances, OpenVDB and DF3 volumes.
 #include "bindings.h"
+
+#include <cstring>
+
 #include "ifsforge/core/error.h"
+#include "ifsforge/io/df3.h"
 #include "ifsforge/io/fractint.h"
+#include "ifsforge/io/gltf_instances.h"
 #include "ifsforge/io/ifs_json.h"
+#include "ifsforge/io/mesh.h"
+#include "ifsforge/io/mesh_edges.h"
+#include "ifsforge/io/mesh_reader.h"
 #include "ifsforge/io/png.h"
+#include "ifsforge/io/pov_instances.h"
+#include "ifsforge/io/povray.h"
+#include "ifsforge/io/svg.h"
+#include "ifsforge/io/vdb.h"
 
 namespace ifsforge::python {
 
@@ -28,7 +41,42 @@ py::array_t<float> image_to_numpy(const Image& image) {
   return to_numpy(image.pixels, {image.height, image.width, image.channels});
 }
 
+std::optional<Up> up_argument(const py::object& up) {
+  if (up.is_none()) return std::nullopt;
+  if (py::isinstance<Up>(up)) return up.cast<Up>();
+  if (py::isinstance<py::str>(up)) return up_from_string(up.cast<std::string>());
+  throw InputError("up is 'y', 'z' or None, not " + py::repr(up).cast<std::string>());
+}
+
+py::dict mesh_dict(const TriangleMesh& mesh) {
+  py::dict out;
+  const auto n = static_cast<py::ssize_t>(mesh.positions.size()), t = static_cast<py::ssize_t>(mesh.triangles.size());
+  py::array_t<float> positions({n, py::ssize_t(3)}), normals({static_cast<py::ssize_t>(mesh.normals.size()), py::ssize_t(3)});
+  py::array_t<std::uint32_t> triangles({t, py::ssize_t(3)});
+  std::memcpy(positions.mutable_data(), mesh.positions.data(), n * 12);
+  std::memcpy(normals.mutable_data(), mesh.normals.data(), mesh.normals.size() * 12);
+  std::memcpy(triangles.mutable_data(), mesh.triangles.data(), t * 12);
+  out["positions"] = positions;
+  out["normals"] = normals;
+  out["triangles"] = triangles;
+  return out;
+}
+
 namespace {
+
+template <typename T, std::size_t N>
+std::vector<std::array<T, N>> rows(const std::optional<py::array>& array, const char* what) {
+  std::vector<std::array<T, N>> out;
+  if (!array) return out;
+  auto a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(*array);
+  if (!a || a.ndim() != 2 || a.shape(1) != static_cast<py::ssize_t>(N))
+    throw InputError(std::string(what) + " must be an array of shape (n, " + std::to_string(N) + ")");
+  out.resize(a.shape(0));
+  std::memcpy(out.data(), a.data(), out.size() * sizeof(out[0]));
+  return out;
+}
+
+}  // namespace
 
 void bind_io(py::module_& m) {
   m.attr("FORMAT_VERSION") = kFormatVersion;
@@ -48,9 +96,225 @@ void bind_io(py::module_& m) {
      "Write (h, w[, c]) floats in [0, 1] (or uint8/uint16) as an 8- or 16-bit PNG, atomically.");
   m.def("read_png", [](const std::string& path) { return image_to_numpy(read_png(path)); }, py::arg("path"),
         "A PNG as float32 in [0, 1], shape (h, w) or (h, w, c).");
+
+  py::enum_<Up>(m, "Up", "A mesh file's up axis. ifsforge's own axes are z up (x east, y north); a y-up file "
+                         "holds (x, z, -y): glTF and OBJ expect y, PLY z.")
+      .value("y", Up::y)
+      .value("z", Up::z);
+  m.def("default_up", &default_up, py::arg("path"),
+        "The up axis the reader of `path` expects by its extension: .glb/.gltf/.obj y, else (.ply) z.");
+  m.def("write_mesh",
+        [](const std::string& path, py::array positions, py::array triangles, std::optional<py::array> normals,
+           std::optional<py::array> colors, std::optional<py::array> uvs, const std::string& texture,
+           const std::string& name, bool compute, const py::object& up) {
+          TriangleMesh mesh;
+          mesh.positions = rows<float, 3>(positions, "positions");
+          mesh.triangles = rows<std::uint32_t, 3>(triangles, "triangles");
+          mesh.normals = rows<float, 3>(normals, "normals");
+          mesh.colors = rows<float, 4>(colors, "colors");
+          mesh.uvs = rows<float, 2>(uvs, "uvs");
+          MeshWriteOptions options;
+          options.base_color_texture = texture;
+          options.name = name;
+          const std::optional<Up> file_up = up_argument(up);
+          py::gil_scoped_release release;
+          if (compute && mesh.normals.empty()) compute_normals(mesh);
+          options.up = file_up;
+          write_mesh(path, mesh, options);
+        },
+        py::arg("path"), py::arg("positions"), py::arg("triangles"), py::arg("normals") = py::none(),
+        py::arg("colors") = py::none(), py::arg("uvs") = py::none(), py::arg("texture") = "",
+        py::arg("name") = "ifsforge", py::arg("compute_normals") = true, py::arg("up") = py::none(),
+        "Write a triangle mesh given in ifsforge's z-up axes as .ply, .obj or .glb (atomically), turned to "
+        "`up` ('y', 'z'; None: the format's, see default_up). colors are display RGBA in [0, 1] (the .glb "
+        "stores them linear); texture is a PNG embedded as the glTF base colour (needs uvs).");
+  m.def("mesh_edges",
+        [](py::array faces, std::size_t vertex_count) {
+          auto a = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(faces);
+          if (!a || a.ndim() != 2 || a.shape(1) < 3)
+            throw InputError("faces must be an array of shape (n, k) with k >= 3 corners per face");
+          const std::vector<std::uint32_t> corners(a.data(), a.data() + a.size());
+          const int k = static_cast<int>(a.shape(1));
+          MeshEdges e;
+          {
+            py::gil_scoped_release release;
+            e = mesh_edges(corners, k, vertex_count);
+          }
+          py::array_t<std::uint32_t> edges({static_cast<py::ssize_t>(e.edges.size()), py::ssize_t(2)});
+          py::array_t<std::uint32_t> corner_edges(static_cast<py::ssize_t>(e.corner_edges.size()));
+          std::memcpy(edges.mutable_data(), e.edges.data(), e.edges.size() * sizeof(e.edges[0]));
+          std::memcpy(corner_edges.mutable_data(), e.corner_edges.data(),
+                      e.corner_edges.size() * sizeof(std::uint32_t));
+          return py::make_tuple(edges, corner_edges);
+        },
+        py::arg("faces"), py::arg("vertex_count"),
+        "(edges (E, 2) uint32, corner_edges (n*k,) uint32) of faces (n, k): each undirected edge once, sorted, and "
+        "the edge of every corner j of a face (from its vertex j to j+1) -- what a mesh editor stores (Blender's "
+        "edges and loops).");
+  m.def("read_mesh", [](const std::string& path) { return mesh_dict(read_mesh(path)); }, py::arg("path"),
+        "A PLY/OBJ/OFF/STL mesh (OpenMesh), triangulated: {'positions', 'normals', 'triangles'}.");
+
+  m.def("write_pov_scene",
+        [](const std::string& path, const InstanceList& list, const std::string& title, int width, int height,
+           std::array<double, 2> view, bool orthographic, double fov, double margin, std::optional<bool> floor,
+           std::optional<bool> sky, std::array<float, 3> background, const std::string& quality, bool bounded_by,
+           int threads, const py::object& progress) {
+          PovSceneOptions o;
+          o.title = title;
+          o.width = width;
+          o.height = height;
+          o.view.yaw = view[0];
+          o.view.pitch = view[1];
+          o.view.orthographic = orthographic;
+          o.view.fov = fov;
+          o.view.margin = margin;
+          o.environment.floor = floor.value_or(list.spatial_dims == 3);
+          o.environment.sky = sky.value_or(list.spatial_dims == 3);
+          o.environment.background = background;
+          o.environment.quality = parse_pov_quality(quality);
+          o.bounded_by = bounded_by;
+          o.threads = threads;
+          o.progress = wrap_progress(progress);
+          py::gil_scoped_release release;
+          write_pov_scene(path, list, o);
+        },
+        py::arg("path"), py::arg("instances"), py::arg("title") = "", py::arg("width") = 800, py::arg("height") = 600,
+        py::arg("view") = std::array<double, 2>{30.0, 25.0}, py::arg("orthographic") = false, py::arg("fov") = 40.0,
+        py::arg("margin") = 0.05, py::arg("floor") = py::none(), py::arg("sky") = py::none(),
+        py::arg("background") = std::array<float, 3>{1, 1, 1}, py::arg("quality") = "normal",
+        py::arg("bounded_by") = false, py::arg("threads") = 0, py::arg("progress") = py::none(),
+        "A POV-Ray 3.7 scene (+ ifsforge.inc beside it): one union of the instances, camera and lights framed "
+        "for width x height from the instances' bounds. view = (yaw, pitch) as `render --view` (2D lists: from "
+        "above). floor/sky default to on for 3D lists. quality: draft, normal, high. bounded_by adds a manual "
+        "bound (slow to trace in POV-Ray 3.7).");
+  m.def("render_povray",
+        [](const std::string& scene, const std::string& image, int width, int height, double antialias, int threads,
+           const py::object& progress) {
+          PovRenderOptions o;
+          o.width = width;
+          o.height = height;
+          o.antialias = antialias;
+          o.threads = threads;
+          o.progress = wrap_progress(progress);
+          py::gil_scoped_release release;
+          render_povray(scene, image, o);
+        },
+        py::arg("scene"), py::arg("image"), py::arg("width") = 800, py::arg("height") = 600, py::arg("antialias") = 0.3,
+        py::arg("threads") = 0, py::arg("progress") = py::none(),
+        "Render a scene with the real POV-Ray 3.7 (headless) into a PNG, atomically.");
+  m.def("povray_include", &povray_include, "the text of ifsforge.inc");
+  m.def("write_povray_include", &write_povray_include, py::arg("folder"));
+  m.def("pov_string", &pov_string, py::arg("text"), "a POV-Ray string literal holding text (ASCII, escaped)");
+  m.def("pov_comment", &pov_comment, py::arg("text"), "text made safe inside a // comment (one ASCII line)");
+  m.def("pov_identifier", &pov_identifier, py::arg("kind"), py::arg("name"),
+        "the identifier IFS_<kind>_<name> (name reduced to ASCII letters, digits and '_')");
+  m.def("pov_name", &pov_name, py::arg("name"), "the name part of pov_identifier");
+  m.def("ascii_text", &ascii_text, py::arg("text"), py::arg("unknown") = '?',
+        "text in printable ASCII: accents dropped, other characters as `unknown`");
+  m.def("pov_reserved_words", [] {
+    std::vector<std::string> words;
+    for (const auto w : pov_reserved_words()) words.emplace_back(w);
+    return words;
+  }, "POV-Ray 3.7's reserved words, sorted");
+
+  m.def("write_svg",
+        [](const std::string& path, const InstanceList& list, int width, double margin,
+           std::optional<std::array<float, 3>> background, const std::string& title) {
+          SvgOptions o;
+          o.width = width;
+          o.margin = margin;
+          o.background = background;
+          o.title = title;
+          py::gil_scoped_release release;
+          write_svg(path, list, o);
+        },
+        py::arg("path"), py::arg("instances"), py::arg("width") = 1024, py::arg("margin") = 0.03,
+        py::arg("background") = py::none(), py::arg("title") = "", "SVG of a 2D instance list, one element per instance.");
+  m.def("write_gltf_instances",
+        [](const std::string& path, const InstanceList& list, int segments, int color_levels, bool extras,
+           const std::string& name, const py::object& up) {
+          GltfInstanceOptions o;
+          o.segments = segments;
+          o.color_levels = color_levels;
+          o.extras = extras;
+          o.name = name;
+          o.up = up_argument(up).value_or(o.up);
+          py::gil_scoped_release release;
+          write_gltf_instances(path, list, o);
+        },
+        py::arg("path"), py::arg("instances"), py::arg("segments") = 24, py::arg("color_levels") = 16,
+        py::arg("extras") = true, py::arg("name") = "", py::arg("up") = py::none(),
+        "Binary glTF: each primitive's mesh stored once, one node per instance (Blender: linked duplicates); "
+        "materials hold the display colours as linear baseColorFactor; up: 'y' (None: glTF's) or 'z'.");
+
+  m.def("write_vdb",
+        [](const std::string& path, const Volume& volume, std::optional<Ifs> system,
+           std::map<std::string, std::string> metadata, const std::string& color_scale, bool half, bool compress) {
+          VdbWriteOptions o;
+          o.color_scale = color_scale_from_string(color_scale);
+          o.half = half;
+          o.compress = compress;
+          o.metadata = std::move(metadata);
+          if (system) o.system = &*system;
+          py::gil_scoped_release release;
+          write_vdb(path, volume, o);
+        },
+        py::arg("path"), py::arg("volume"), py::arg("system") = py::none(),
+        py::arg("metadata") = std::map<std::string, std::string>{}, py::arg("color_scale") = "auto",
+        py::arg("half") = true, py::arg("compress") = false,
+        "Write an OpenVDB file (atomically): FloatGrid 'density', Vec3fGrid 'color' (RGB in [0, 1]) when the "
+        "layout has colour, FloatGrids 'gray', 'alpha', ...; the transform puts the voxels where the system "
+        "puts them; metadata describes the volume and, when given, the system (its JSON). half: store the "
+        "[0, 1] grids (and a binary density) as 16-bit halves (relative error <= 2^-11); compress: Blosc "
+        "(about a third smaller, slower to write).");
+
+  m.def("read_vdb_info", [](const std::string& path) {
+    const VdbFileInfo info = read_vdb_info(path);
+    py::list grids;
+    for (const auto& g : info.grids) {
+      py::dict d;
+      d["name"] = g.name;
+      d["type"] = g.type;
+      d["active_voxels"] = g.active_voxels;
+      d["voxel_size"] = g.voxel_size;
+      d["index_bounds"] = g.index_bounds;
+      grids.append(d);
+    }
+    py::dict out;
+    out["grids"] = grids;
+    out["metadata"] = info.metadata;
+    return out;
+  }, py::arg("path"), "The grids (name, type, active_voxels, voxel_size, index_bounds) and metadata of a .vdb.");
+
+  m.def("volume_to_mesh",
+        [](const Volume& volume, double iso, bool use_density, double adaptivity, const std::string& color_scale) {
+          IsoSurfaceOptions o{iso, use_density, adaptivity, color_scale_from_string(color_scale)};
+          TriangleMesh mesh;
+          {
+            py::gil_scoped_release release;
+            mesh = volume_to_mesh(volume, o);
+          }
+          py::dict out = mesh_dict(mesh);
+          out["colors"] = py::none();
+          if (!mesh.colors.empty()) {
+            py::array_t<float> colors({static_cast<py::ssize_t>(mesh.colors.size()), py::ssize_t(4)});
+            std::memcpy(colors.mutable_data(), mesh.colors.data(), mesh.colors.size() * 16);
+            out["colors"] = colors;
+          }
+          return out;
+        },
+        py::arg("volume"), py::arg("iso") = 0.5, py::arg("use_density") = false, py::arg("adaptivity") = 0.0,
+        py::arg("color_scale") = "auto",
+        "The iso-surface of the occupancy (or of the density) as a dict of arrays: positions, triangles, normals, "
+        "colors (RGBA from the colour grid, or None) -- ready for write_mesh(path, **mesh).");
+  m.def("write_df3",
+        [](const std::string& path, const Volume& volume, int bits) {
+          py::gil_scoped_release release;
+          write_df3(path, volume, bits);
+        },
+        py::arg("path"), py::arg("volume"), py::arg("bits") = 8,
+        "Write the volume's density as a POV-Ray .df3 (atomically): big-endian uint16 sizes x, y, z, then "
+        "8/16/32-bit big-endian voxels, x fastest, density / max density scaled to the full range.");
 }
 
-const Binding registered(20, &bind_io);
-
-}  // namespace
 }  // namespace ifsforge::python

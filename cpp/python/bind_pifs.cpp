@@ -54,6 +54,8 @@ py::dict cost(const PifsCode& code) {
   return d;
 }
 
+}  // namespace
+
 void bind_pifs(py::module_& m) {
   py::class_<PifsCode>(m, "PifsCode", "A partitioned IFS code of an image (seed 3.3.2); decodes at any size.")
       .def_readonly("width", &PifsCode::width)
@@ -146,7 +148,4 @@ void bind_pifs(py::module_& m) {
         "Atomic write of a .pifs file.");
 }
 
-const Binding registered(60, &bind_pifs);
-
-}  // namespace
 }  // namespace ifsforge::python

@@ -2,13 +2,24 @@
 #include "bindings.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/render/box_counting.h"
+#include "ifsforge/render/colour_bounds.h"
+#include "ifsforge/render/frame.h"
+#include "ifsforge/render/minimal_plotting.h"
 #include "ifsforge/render/parameters.h"
 #include "ifsforge/render/renderer.h"
+#include "ifsforge/render/self_congruent.h"
+#include "ifsforge/render/string_rewriting.h"
 #include "ifsforge/render/tone_map.h"
 
 namespace ifsforge::python {
-
 namespace {
+
+std::optional<Window> window_of(const std::optional<std::array<double, 4>>& w) {
+  if (!w) return std::nullopt;
+  return Window{(*w)[0], (*w)[1], (*w)[2], (*w)[3]};
+}
+
+}  // namespace
 
 void bind_render(py::module_& m) {
   py::class_<Raster>(m, "Raster", "Density (hits or measure) and mean channel values per pixel.")
@@ -104,9 +115,45 @@ void bind_render(py::module_& m) {
         return box_counting(v, static_cast<int>(mask.shape(1)), static_cast<int>(mask.shape(0)), min_box, max_box);
       }, py::arg("mask"), py::arg("min_box") = 2, py::arg("max_box") = 0,
       "Box-counting dimension: least-squares slope over boxes of 2^k pixels.");
+
+  m.def("renderer_parameters", [](const std::string& name) {
+    std::vector<std::tuple<std::string, std::string, std::string>> out;
+    for (const auto& p : renderer(name).parameters()) out.emplace_back(p.name, p.default_value, p.description);
+    return out;
+  }, py::arg("algorithm"), "(name, default, description) of every setting the algorithm reads from `parameters`");
+
+  m.def("rewrite_strings", &rewrite_strings, py::arg("ifs"), py::arg("length"),
+        "The seed's string rewriting (5.6): every address string of `length` maps, 'w2w1w3' ...");
+
+  m.def("proximity_bound", [](const Ifs& s, int width, std::optional<int> height, std::optional<std::array<double, 4>> window) {
+    const Frame frame = Frame::fit(s, width, height.value_or(width), window_of(window));
+    return proximity_bound(s, frame);
+  }, py::arg("ifs"), py::arg("width"), py::arg("height") = py::none(), py::arg("window") = py::none(),
+     "Eq. 53: delta / (1 - s), the largest distance from a pixel minimal plotting plots to the attractor");
+
+  m.def("colour_bounds", [](const Ifs& s, int levels) {
+    const Bounds b = colour_bounds(s, levels);
+    return py::make_tuple(py::array_t<double>(b.lo.size(), b.lo.data()), py::array_t<double>(b.hi.size(), b.hi.data()));
+  }, py::arg("ifs"), py::arg("levels") = 8,
+     "Eq. 101's minR/maxR (and the other channels): bounds of the extra channels from `levels` levels of point "
+     "recursion, (lo, hi)");
+
+  m.def("growth_frames", [](const Ifs& s, int width, std::optional<int> height, std::optional<std::array<double, 4>> window,
+                            int threads, std::optional<py::dict> parameters, const py::object& progress) {
+    RenderOptions o;
+    o.width = width;
+    o.height = height.value_or(width);
+    o.window = window_of(window);
+    o.threads = threads;
+    o.progress = wrap_progress(progress);
+    if (parameters)
+      for (const auto& item : *parameters) o.parameters[py::str(item.first)] = std::string(py::str(item.second));
+    py::gil_scoped_release release;
+    return growth_frames(s, o);
+  }, py::arg("ifs"), py::arg("width") = 512, py::arg("height") = py::none(), py::arg("window") = py::none(),
+     py::arg("threads") = 0, py::arg("parameters") = py::none(), py::arg("progress") = py::none(),
+     "Self-congruent growth (5.11): every frame, from the initiator to the grown structure (parameters as for "
+     "render(..., 'self-congruent'), except frame)");
 }
 
-const Binding registered(30, &bind_render);
-
-}  // namespace
 }  // namespace ifsforge::python

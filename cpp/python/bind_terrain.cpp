@@ -42,6 +42,8 @@ TerrainMeshOptions mesh_options(bool solid, std::optional<double> base, const st
   return o;
 }
 
+}  // namespace
+
 void bind_terrain(py::module_& m) {
   py::class_<FractalInterpolation>(m, "FractalInterpolation",
                                    "The continuous function through (x_i, F_i) whose graph is the attractor of the "
@@ -213,7 +215,4 @@ void bind_terrain(py::module_& m) {
      "POV-Ray scene (height_field + its 16-bit PNG, or mesh2) coloured by the palette; returns the files written");
 }
 
-const Binding registered(41, &bind_terrain);
-
-}  // namespace
 }  // namespace ifsforge::python

@@ -1,11 +1,10 @@
-// Volumes: the four volumetric renderers of Table 2, OpenVDB files and iso-surface meshes.
+// Volumes: the four volumetric renderers of Table 2 and the sparse volume they make.
 #include <algorithm>
 #include <cstring>
 
 #include "bindings.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
-#include "ifsforge/io/vdb.h"
 #include "ifsforge/volume/volume_renderer.h"
 
 namespace ifsforge::python {
@@ -39,12 +38,7 @@ py::array_t<float> attribute_array(const VolumeAttribute& a, std::size_t voxels)
   return to_numpy(a.values, {static_cast<py::ssize_t>(voxels), py::ssize_t(a.components)});
 }
 
-template <typename T, std::size_t N>
-py::array_t<T> rows_to_numpy(const std::vector<std::array<T, N>>& rows) {
-  py::array_t<T> out({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(N)});
-  if (!rows.empty()) std::memcpy(out.mutable_data(), rows.data(), rows.size() * sizeof(rows[0]));
-  return out;
-}
+}  // namespace
 
 void bind_volume(py::module_& m) {
   py::class_<Volume>(m, "Volume",
@@ -152,68 +146,6 @@ void bind_volume(py::module_& m) {
     for (const VolumeRenderer* r : volume_renderers()) out.emplace_back(r->name(), r->description());
     return out;
   }, "(name, description) of every volumetric renderer");
-
-  m.def("write_vdb",
-        [](const std::string& path, const Volume& volume, std::optional<Ifs> system,
-           std::map<std::string, std::string> metadata, const std::string& color_scale, bool half, bool compress) {
-          VdbWriteOptions o;
-          o.color_scale = color_scale_from_string(color_scale);
-          o.half = half;
-          o.compress = compress;
-          o.metadata = std::move(metadata);
-          if (system) o.system = &*system;
-          py::gil_scoped_release release;
-          write_vdb(path, volume, o);
-        },
-        py::arg("path"), py::arg("volume"), py::arg("system") = py::none(),
-        py::arg("metadata") = std::map<std::string, std::string>{}, py::arg("color_scale") = "auto",
-        py::arg("half") = true, py::arg("compress") = false,
-        "Write an OpenVDB file (atomically): FloatGrid 'density', Vec3fGrid 'color' (RGB in [0, 1]) when the "
-        "layout has colour, FloatGrids 'gray', 'alpha', ...; the transform puts the voxels where the system "
-        "puts them; metadata describes the volume and, when given, the system (its JSON). half: store the "
-        "[0, 1] grids (and a binary density) as 16-bit halves (relative error <= 2^-11); compress: Blosc "
-        "(about a third smaller, slower to write).");
-
-  m.def("read_vdb_info", [](const std::string& path) {
-    const VdbFileInfo info = read_vdb_info(path);
-    py::list grids;
-    for (const auto& g : info.grids) {
-      py::dict d;
-      d["name"] = g.name;
-      d["type"] = g.type;
-      d["active_voxels"] = g.active_voxels;
-      d["voxel_size"] = g.voxel_size;
-      d["index_bounds"] = g.index_bounds;
-      grids.append(d);
-    }
-    py::dict out;
-    out["grids"] = grids;
-    out["metadata"] = info.metadata;
-    return out;
-  }, py::arg("path"), "The grids (name, type, active_voxels, voxel_size, index_bounds) and metadata of a .vdb.");
-
-  m.def("volume_to_mesh",
-        [](const Volume& volume, double iso, bool use_density, double adaptivity, const std::string& color_scale) {
-          IsoSurfaceOptions o{iso, use_density, adaptivity, color_scale_from_string(color_scale)};
-          TriangleMesh mesh;
-          {
-            py::gil_scoped_release release;
-            mesh = volume_to_mesh(volume, o);
-          }
-          py::dict out;
-          out["positions"] = rows_to_numpy(mesh.positions);
-          out["triangles"] = rows_to_numpy(mesh.triangles);
-          out["normals"] = rows_to_numpy(mesh.normals);
-          out["colors"] = mesh.colors.empty() ? py::object(py::none()) : py::object(rows_to_numpy(mesh.colors));
-          return out;
-        },
-        py::arg("volume"), py::arg("iso") = 0.5, py::arg("use_density") = false, py::arg("adaptivity") = 0.0,
-        py::arg("color_scale") = "auto",
-        "The iso-surface of the occupancy (or of the density) as a dict of arrays: positions, triangles, normals, "
-        "colors (RGBA from the colour grid, or None) -- ready for write_mesh(path, **mesh).");
 }
 
-const Binding registered(45, &bind_volume);
-
-}  // namespace
 }  // namespace ifsforge::python

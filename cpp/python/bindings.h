@@ -15,13 +15,19 @@ namespace ifsforge::python {
 
 namespace py = pybind11;
 
-/// @brief Each bind_<area>.cpp registers its area with a static Binding, so adding an area
-/// touches no shared file. `order` sets the sequence (types before functions using them).
-struct Binding {
-  Binding(int order, void (*bind)(py::module_&));
-};
-/// @brief Runs every registered binding in order (called once by the module).
-void bind_all(py::module_& m);
+/// @brief One function per cpp/src area, in bind_<area>.cpp; module.cpp calls them in this
+/// order (types before the functions that take or return them).
+void bind_core(py::module_& m);
+void bind_model(py::module_& m);
+void bind_render(py::module_& m);
+void bind_texture(py::module_& m);
+void bind_vector(py::module_& m);
+void bind_volume(py::module_& m);
+void bind_io(py::module_& m);
+void bind_terrain(py::module_& m);
+void bind_pifs(py::module_& m);
+void bind_design(py::module_& m);
+void bind_inverse(py::module_& m);
 
 /// @brief A C++ progress callback around a Python callable f(fraction) -> bool | None
 /// (False cancels). Ctrl-C also cancels. Empty when `callback` is None.
@@ -29,6 +35,9 @@ ProgressCallback wrap_progress(const py::object& callback);
 
 /// @brief An `up` argument: None (the format's default: none), "y", "z" or ifsforge.Up.
 std::optional<Up> up_argument(const py::object& up);
+
+/// @brief {'positions', 'normals', 'triangles'} numpy arrays (copies) of a mesh.
+py::dict mesh_dict(const TriangleMesh& mesh);
 
 /// @brief A float32 numpy array (copy) of shape `shape` from contiguous data.
 py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssize_t> shape);

@@ -2,27 +2,11 @@
 #include "bindings.h"
 
 #include <algorithm>
-#include <utility>
 #include <vector>
 
 #include "ifsforge/core/error.h"
 
 namespace ifsforge::python {
-
-namespace {
-std::vector<std::pair<int, void (*)(py::module_&)>>& bindings() {
-  static std::vector<std::pair<int, void (*)(py::module_&)>> list;
-  return list;
-}
-}  // namespace
-
-Binding::Binding(int order, void (*bind)(py::module_&)) { bindings().emplace_back(order, bind); }
-
-void bind_all(py::module_& m) {
-  auto list = bindings();
-  std::stable_sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& entry : list) entry.second(m);
-}
 
 ProgressCallback wrap_progress(const py::object& callback) {
   // Ctrl-C must stop long work even without a callback.
@@ -46,5 +30,15 @@ py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssiz
 PYBIND11_MODULE(_core, m) {
   using namespace ifsforge::python;
   m.doc() = "ifsforge core: iterated function systems in n dimensions, their analysis and rendering";
-  bind_all(m);
+  bind_core(m);
+  bind_model(m);
+  bind_render(m);
+  bind_texture(m);
+  bind_vector(m);
+  bind_volume(m);
+  bind_io(m);
+  bind_terrain(m);
+  bind_pifs(m);
+  bind_design(m);
+  bind_inverse(m);
 }
