@@ -187,20 +187,25 @@ void bind_io(py::module_& m) {
         "for width x height from the instances' bounds. view = (yaw, pitch) as `render --view` (2D lists: from "
         "above). floor/sky default to on for 3D lists. quality: draft, normal, high. bounded_by adds a manual "
         "bound (slow to trace in POV-Ray 3.7).");
+  options_class<PovRenderOptions>(m, "PovRenderOptions", "The settings of render_povray() (keywords of the same names).")
+      .def_readwrite("width", &PovRenderOptions::width)
+      .def_readwrite("height", &PovRenderOptions::height)
+      .def_readwrite("antialias", &PovRenderOptions::antialias, "POV-Ray's +A threshold (0: off)")
+      .def_readwrite("threads", &PovRenderOptions::threads, "0: every core")
+      .def_property("progress", [](const PovRenderOptions&) { return py::none(); },
+                    [](PovRenderOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
+                    "progress(fraction) returning False cancels (write-only)");
   m.def("render_povray",
-        [](const std::string& scene, const std::string& image, int width, int height, double antialias, int threads,
-           const py::object& progress) {
-          PovRenderOptions o;
-          o.width = width;
-          o.height = height;
-          o.antialias = antialias;
-          o.threads = threads;
-          o.progress = wrap_progress(progress);
+        [](const std::string& scene, const std::string& image, const py::object& width, const py::object& height,
+           const py::kwargs& kwargs) {
+          py::dict given(kwargs);
+          add_option(given, "width", width);
+          add_option(given, "height", height);
+          const PovRenderOptions o = options_from<PovRenderOptions>("render_povray", given);
           py::gil_scoped_release release;
           render_povray(scene, image, o);
         },
-        py::arg("scene"), py::arg("image"), py::arg("width") = 800, py::arg("height") = 600, py::arg("antialias") = 0.3,
-        py::arg("threads") = 0, py::arg("progress") = py::none(),
+        py::arg("scene"), py::arg("image"), py::arg("width") = py::none(), py::arg("height") = py::none(),
         "Render a scene with the real POV-Ray 3.7 (headless) into a PNG, atomically.");
   m.def("povray_include", &povray_include, "the text of ifsforge.inc");
   m.def("write_povray_include", &write_povray_include, py::arg("folder"));
@@ -217,51 +222,52 @@ void bind_io(py::module_& m) {
     return words;
   }, "POV-Ray 3.7's reserved words, sorted");
 
+  options_class<SvgOptions>(m, "SvgOptions", "The settings of write_svg() (keywords of the same names).")
+      .def_readwrite("width", &SvgOptions::width, "pixels; the height follows the instances' aspect ratio")
+      .def_readwrite("margin", &SvgOptions::margin, "free border, fraction of the larger side")
+      .def_readwrite("background", &SvgOptions::background, "RGB; None: transparent")
+      .def_readwrite("title", &SvgOptions::title, "default: the list's name");
   m.def("write_svg",
-        [](const std::string& path, const InstanceList& list, int width, double margin,
-           std::optional<std::array<float, 3>> background, const std::string& title) {
-          SvgOptions o;
-          o.width = width;
-          o.margin = margin;
-          o.background = background;
-          o.title = title;
+        [](const std::string& path, const InstanceList& list, const py::kwargs& kwargs) {
+          const SvgOptions o = options_from<SvgOptions>("write_svg", kwargs);
           py::gil_scoped_release release;
           write_svg(path, list, o);
         },
-        py::arg("path"), py::arg("instances"), py::arg("width") = 1024, py::arg("margin") = 0.03,
-        py::arg("background") = py::none(), py::arg("title") = "", "SVG of a 2D instance list, one element per instance.");
+        py::arg("path"), py::arg("instances"), "SVG of a 2D instance list, one element per instance.");
+  options_class<GltfInstanceOptions>(m, "GltfInstanceOptions",
+                                     "The settings of write_gltf_instances() (keywords of the same names).")
+      .def_readwrite("segments", &GltfInstanceOptions::segments, "tessellation of the curved primitives")
+      .def_readwrite("color_levels", &GltfInstanceOptions::color_levels, "levels per channel of the colour classes")
+      .def_readwrite("extras", &GltfInstanceOptions::extras, "node extras: address, color, primitive")
+      .def_readwrite("name", &GltfInstanceOptions::name, "the root node; default: the list's name")
+      .def_property("up", [](const GltfInstanceOptions& o) { return o.up; },
+                    [](GltfInstanceOptions& o, const py::object& up) { o.up = up_argument(up).value_or(o.up); },
+                    "the file's up axis: 'y' (glTF's) or 'z'");
   m.def("write_gltf_instances",
-        [](const std::string& path, const InstanceList& list, int segments, int color_levels, bool extras,
-           const std::string& name, const py::object& up) {
-          GltfInstanceOptions o;
-          o.segments = segments;
-          o.color_levels = color_levels;
-          o.extras = extras;
-          o.name = name;
-          o.up = up_argument(up).value_or(o.up);
+        [](const std::string& path, const InstanceList& list, const py::kwargs& kwargs) {
+          const GltfInstanceOptions o = options_from<GltfInstanceOptions>("write_gltf_instances", kwargs);
           py::gil_scoped_release release;
           write_gltf_instances(path, list, o);
         },
-        py::arg("path"), py::arg("instances"), py::arg("segments") = 24, py::arg("color_levels") = 16,
-        py::arg("extras") = true, py::arg("name") = "", py::arg("up") = py::none(),
+        py::arg("path"), py::arg("instances"),
         "Binary glTF: each primitive's mesh stored once, one node per instance (Blender: linked duplicates); "
         "materials hold the display colours as linear baseColorFactor; up: 'y' (None: glTF's) or 'z'.");
 
+  options_class<VdbWriteOptions>(m, "VdbWriteOptions", "The settings of write_vdb() (keywords of the same names).")
+      .def_property("color_scale", [](const VdbWriteOptions& o) { return std::string(to_string(o.color_scale)); },
+                    [](VdbWriteOptions& o, const std::string& s) { o.color_scale = color_scale_from_string(s); },
+                    "auto, range or clamp")
+      .def_readwrite("metadata", &VdbWriteOptions::metadata, "extra file metadata (string values)")
+      .def_readwrite("half", &VdbWriteOptions::half, "16-bit halves for the [0, 1] grids")
+      .def_readwrite("compress", &VdbWriteOptions::compress, "Blosc-compress the leaf buffers");
   m.def("write_vdb",
-        [](const std::string& path, const Volume& volume, std::optional<Ifs> system,
-           std::map<std::string, std::string> metadata, const std::string& color_scale, bool half, bool compress) {
-          VdbWriteOptions o;
-          o.color_scale = color_scale_from_string(color_scale);
-          o.half = half;
-          o.compress = compress;
-          o.metadata = std::move(metadata);
+        [](const std::string& path, const Volume& volume, std::optional<Ifs> system, const py::kwargs& kwargs) {
+          VdbWriteOptions o = options_from<VdbWriteOptions>("write_vdb", kwargs);
           if (system) o.system = &*system;
           py::gil_scoped_release release;
           write_vdb(path, volume, o);
         },
         py::arg("path"), py::arg("volume"), py::arg("system") = py::none(),
-        py::arg("metadata") = std::map<std::string, std::string>{}, py::arg("color_scale") = "auto",
-        py::arg("half") = true, py::arg("compress") = false,
         "Write an OpenVDB file (atomically): FloatGrid 'density', Vec3fGrid 'color' (RGB in [0, 1]) when the "
         "layout has colour, FloatGrids 'gray', 'alpha', ...; the transform puts the voxels where the system "
         "puts them; metadata describes the volume and, when given, the system (its JSON). half: store the "
@@ -286,9 +292,16 @@ void bind_io(py::module_& m) {
     return out;
   }, py::arg("path"), "The grids (name, type, active_voxels, voxel_size, index_bounds) and metadata of a .vdb.");
 
+  options_class<IsoSurfaceOptions>(m, "IsoSurfaceOptions", "The settings of volume_to_mesh() (keywords of the same names).")
+      .def_readwrite("iso", &IsoSurfaceOptions::iso, "the surface's level of the occupancy (or density)")
+      .def_readwrite("use_density", &IsoSurfaceOptions::use_density, "the density grid's level instead of the occupancy")
+      .def_readwrite("adaptivity", &IsoSurfaceOptions::adaptivity, "0: every voxel-sized polygon; up to 1: merge flat areas")
+      .def_property("color_scale", [](const IsoSurfaceOptions& o) { return std::string(to_string(o.color_scale)); },
+                    [](IsoSurfaceOptions& o, const std::string& s) { o.color_scale = color_scale_from_string(s); },
+                    "auto, range or clamp");
   m.def("volume_to_mesh",
-        [](const Volume& volume, double iso, bool use_density, double adaptivity, const std::string& color_scale) {
-          IsoSurfaceOptions o{iso, use_density, adaptivity, color_scale_from_string(color_scale)};
+        [](const Volume& volume, const py::kwargs& kwargs) {
+          const IsoSurfaceOptions o = options_from<IsoSurfaceOptions>("volume_to_mesh", kwargs);
           TriangleMesh mesh;
           {
             py::gil_scoped_release release;
@@ -303,8 +316,7 @@ void bind_io(py::module_& m) {
           }
           return out;
         },
-        py::arg("volume"), py::arg("iso") = 0.5, py::arg("use_density") = false, py::arg("adaptivity") = 0.0,
-        py::arg("color_scale") = "auto",
+        py::arg("volume"),
         "The iso-surface of the occupancy (or of the density) as a dict of arrays: positions, triangles, normals, "
         "colors (RGBA from the colour grid, or None) -- ready for write_mesh(path, **mesh).");
   m.def("write_df3",

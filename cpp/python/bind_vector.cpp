@@ -164,34 +164,44 @@ void bind_vector(py::module_& m) {
                std::to_string(l.addresses.depth) + ">";
       });
 
+  options_class<InstanceOptions>(m, "InstanceOptions", "The settings of instances() (keywords of the same names).")
+      .def_readwrite("depth", &InstanceOptions::depth, "recursion depth L (0: default_instance_depth)")
+      .def_readwrite("min_probability", &InstanceOptions::min_probability, "pv of the TSA (5.7)")
+      .def_property("primitives", [](const InstanceOptions& o) {
+                      std::vector<std::string> names;
+                      for (const auto& p : o.primitives) names.push_back(p.name());
+                      return names;
+                    },
+                    [](InstanceOptions& o, const py::object& spec) { o.primitives = primitives_from(spec); },
+                    "'sphere', 'sphere,box,cone', a list of names or Primitives")
+      .def_property("normalisation", [](const InstanceOptions& o) { return std::string(to_string(o.normalisation)); },
+                    [](InstanceOptions& o, const std::string& n) { o.normalisation = parse_normalisation(n); },
+                    "proportional (Eq. 60) or constant")
+      .def_readwrite("scale_factor", &InstanceOptions::scale_factor, "sf of Eq. 60")
+      .def_readwrite("length", &InstanceOptions::length, "constant normalisation: the vector length (0: automatic)")
+      .def_readwrite("base_point", &InstanceOptions::base_point, "q0 (empty: the centre of the attractor's bounds)")
+      .def_readwrite("base_vector", &InstanceOptions::base_vector, "q1 - q0 (empty: (R, 0[, 0]))")
+      .def_readwrite("base_up", &InstanceOptions::base_up, "the frame's second axis before mapping (empty: y)")
+      .def_property("color_source", [](const InstanceOptions& o) { return std::string(to_string(o.color_source)); },
+                    [](InstanceOptions& o, const std::string& c) { o.color_source = parse_color_source(c); },
+                    "auto, channels, first-map, last-map or constant")
+      .def_readwrite("normalize_colors", &InstanceOptions::normalize_colors, "Eq. 101's stretch of each colour channel")
+      .def_readwrite("color", &InstanceOptions::color, "RGBA for color_source constant")
+      .def_readwrite("threads", &InstanceOptions::threads, "0: every core; the list never depends on it")
+      .def_property("progress", [](const InstanceOptions&) { return py::none(); },
+                    [](InstanceOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
+                    "progress(fraction) returning False cancels (write-only)");
+
   m.def("instances",
-        [](const Ifs& ifs, int depth, const py::object& primitives, const std::string& normalisation,
-           double scale_factor, double length, const py::object& base_point, const py::object& base_vector,
-           const py::object& base_up, double min_probability, const std::string& color_source,
-           std::array<float, 4> color, bool normalize_colors, int threads, const py::object& progress) {
-          InstanceOptions o;
-          o.depth = depth;
-          o.primitives = primitives_from(primitives);
-          o.normalisation = parse_normalisation(normalisation);
-          o.scale_factor = scale_factor;
-          o.length = length;
-          o.base_point = optional_vector(base_point).value_or(std::vector<double>{});
-          o.base_vector = optional_vector(base_vector).value_or(std::vector<double>{});
-          o.base_up = optional_vector(base_up).value_or(std::vector<double>{});
-          o.min_probability = min_probability;
-          o.color_source = parse_color_source(color_source);
-          o.color = color;
-          o.normalize_colors = normalize_colors;
-          o.threads = threads;
-          o.progress = wrap_progress(progress);
+        [](const Ifs& ifs, const py::object& depth, const py::kwargs& kwargs) {
+          py::dict given(kwargs);
+          add_option(given, "depth", depth);
+          const InstanceOptions o = options_from<InstanceOptions>("instances", given);
           py::gil_scoped_release release;
           return instances(ifs, o);
         },
-        py::arg("ifs"), py::arg("depth") = 0, py::arg("primitives") = "sphere", py::arg("normalisation") = "proportional",
-        py::arg("scale_factor") = 1.0, py::arg("length") = 0.0, py::arg("base_point") = py::none(),
-        py::arg("base_vector") = py::none(), py::arg("base_up") = py::none(), py::arg("min_probability") = 0.0,
-        py::arg("color_source") = "auto", py::arg("color") = std::array<float, 4>{0.8f, 0.8f, 0.8f, 1.0f},
-        py::arg("normalize_colors") = true, py::arg("threads") = 0, py::arg("progress") = py::none(),
+        py::arg("ifs"), py::arg("depth") = py::none(),
+        "The InstanceOptions given as keywords. "
         "Vector recursive rendering (5.8.2): the instance list of a system. depth=0 picks the largest L with "
         "N^L <= 50000. primitives: 'sphere', 'sphere,box,cone' or a list; the k channel (Eq. 99, 107) picks "
         "one (rounded, modulo the list). normalisation: 'proportional' (d = sf |q1 - q0|, Eq. 60) or "
@@ -226,17 +236,25 @@ void bind_vector(py::module_& m) {
           write_address_csv(path, t);
         }, py::arg("path"), py::arg("addresses"), "CSV: index,address,length,probability (atomic).");
 
+  options_class<DrawOptions>(m, "DrawOptions", "The settings of draw_instances() (keywords of the same names).")
+      .def_readwrite("width", &DrawOptions::width)
+      .def_readwrite("height", &DrawOptions::height, "draw_instances(): default the width")
+      .def_property("window", [](const DrawOptions& o) { return window_tuple(o.window); },
+                    [](DrawOptions& o, const std::optional<std::array<double, 4>>& w) { o.window = window_argument(w); },
+                    "(xmin, ymin, xmax, ymax); None: the instances' projected bounds")
+      .def_property("view", [](const DrawOptions& o) { return std::array<double, 2>{o.view.yaw, o.view.pitch}; },
+                    [](DrawOptions& o, const std::array<double, 2>& v) { o.view = View{v[0], v[1]}; },
+                    "(yaw, pitch) in degrees, for 3D lists")
+      .def_readwrite("background", &DrawOptions::background, "RGBA")
+      .def_readwrite("supersample", &DrawOptions::supersample, "samples per pixel along each axis (1..8)")
+      .def_readwrite("threads", &DrawOptions::threads, "0: every core; the image never depends on it");
   m.def("draw_instances",
-        [](const InstanceList& list, int width, std::optional<int> height, std::optional<std::array<double, 4>> window,
-           std::array<double, 2> view, std::array<float, 4> background, int supersample, int threads) {
-          DrawOptions o;
-          o.width = width;
-          o.height = height.value_or(width);
-          if (window) o.window = Window{(*window)[0], (*window)[1], (*window)[2], (*window)[3]};
-          o.view = View{view[0], view[1]};
-          o.background = background;
-          o.supersample = supersample;
-          o.threads = threads;
+        [](const InstanceList& list, const py::object& width, const py::object& height, const py::kwargs& kwargs) {
+          py::dict given(kwargs);
+          add_option(given, "width", width);
+          add_option(given, "height", height);
+          DrawOptions o = options_from<DrawOptions>("draw_instances", given);
+          if (!given.contains("height") || given["height"].is_none()) o.height = o.width;
           Image image;
           {
             py::gil_scoped_release release;
@@ -244,9 +262,7 @@ void bind_vector(py::module_& m) {
           }
           return image_to_numpy(image);
         },
-        py::arg("instances"), py::arg("width") = 1024, py::arg("height") = py::none(), py::arg("window") = py::none(),
-        py::arg("view") = std::array<double, 2>{30.0, 25.0},
-        py::arg("background") = std::array<float, 4>{1, 1, 1, 1}, py::arg("supersample") = 3, py::arg("threads") = 0,
+        py::arg("instances"), py::arg("width") = py::none(), py::arg("height") = py::none(),
         "RGBA (h, w, 4) float32 picture of the instances without POV-Ray (2D: list order; 3D: flat-shaded, far to near).");
 }
 

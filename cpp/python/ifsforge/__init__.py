@@ -60,6 +60,10 @@ from ifsforge._core import (  # noqa: F401  (pifs: fractal image compression, se
 from ifsforge._core import (  # noqa: F401  (inverse problem: collage theorem, fitting)
     attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance, tops, tops_warp,
 )
+from ifsforge._core import (  # noqa: F401  (the settings structs: every default lives in C++, once)
+    DrawOptions, GltfInstanceOptions, InstanceOptions, IsoSurfaceOptions, PovRenderOptions, RenderOptions,
+    SvgOptions, ToneOptions, VdbWriteOptions, VolumeOptions,
+)
 from ifsforge.errors import (  # noqa: F401
     Cancelled,
     DivergentSystemError,
