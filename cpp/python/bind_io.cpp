@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/df3.h"
 #include "ifsforge/io/fractint.h"
 #include "ifsforge/io/gltf_instances.h"
@@ -79,6 +80,17 @@ std::vector<std::array<T, N>> rows(const std::optional<py::array>& array, const 
 }  // namespace
 
 void bind_io(py::module_& m) {
+  m.def("write_bytes", [](const std::string& path, const py::object& data) {
+    if (!py::isinstance<py::bytes>(data) && !py::isinstance<py::str>(data))
+      throw InputError("write_bytes: " + path + ": the data must be bytes or str");
+    const std::string bytes = data.cast<std::string>();  // str: UTF-8
+    py::gil_scoped_release release;
+    AtomicFile file(path);
+    if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), file.file()) != bytes.size())
+      throw FileError("cannot write '" + path + "'");
+    file.commit();
+  }, py::arg("path"), py::arg("data"),
+     "Write bytes (or str, as UTF-8) to path atomically (AtomicFile): a failure leaves no partial file.");
   m.attr("FORMAT_VERSION") = kFormatVersion;
   m.def("load", &load_system, py::arg("spec"),
         "A system from 'file.json', 'file.ifs' (first entry) or 'file.ifs:entry'.");

@@ -31,12 +31,14 @@ from ifsforge._core import (  # noqa: F401
     mesh_edges,
     set_default_threads,
     write_mesh,
+    write_bytes,
     write_png,
 )
 from ifsforge._core import Up, default_up, linear_to_srgb, srgb_to_linear  # noqa: F401  (axes, colour rule)
 from ifsforge._core import PreviewCloud, morph, pad_maps, piece_color, preview_cloud  # noqa: F401  (design)
 from ifsforge._core import (  # noqa: F401  (terrain: fractal interpolation, terrains, palettes)
-    FractalInterpolation, Palette, PaletteRecipe, PaletteSpec, Terrain, TerrainControls, TerrainRecipe,
+    FractalInterpolation, Palette, PaletteRecipe, PaletteSpec, Terrain, TerrainControls, TerrainControlsOptions,
+    TerrainRecipe, make_terrain_controls, set_roughness,
     apply_palette, hls_to_rgb, make_palette, make_terrain, parse_palette_recipe, parse_terrain_recipe,
     pov_color_map, random_heights, random_shifts, read_palette_recipe, read_terrain_recipe,
     sample_heights, vertical_scaling, write_terrain_mesh, write_terrain_pov,

@@ -164,7 +164,7 @@ def run(args):
     for name, content in (("comparison.md", text),
                           ("comparison.json", json.dumps({"system": system.name, "size": list(size),
                                                           "reference": reference, "rows": rows}, indent=2))):
-        common.write_atomic(os.path.join(args.output, name), lambda f, content=content: f.write(content))
+        ifsforge.write_bytes(os.path.join(args.output, name), content)
     print(text, end="")
     print(f"{args.output}: contact_sheet.png, comparison.md, comparison.json and {len(images)} images")
     return 0

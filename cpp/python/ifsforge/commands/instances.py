@@ -1,6 +1,7 @@
 """ifsforge instances: vector recursive rendering (seed 5.8.2) of a system into an instance list,
 written as a POV-Ray scene (optionally rendered), SVG, glTF, numpy, address CSV or a PNG drawing."""
 import argparse
+import io
 import time
 
 import numpy as np
@@ -71,7 +72,9 @@ def register(subparsers):
 
 
 def atomic_save_npy(path, array):
-    common.write_atomic(path, lambda f: np.save(f, array), binary=True)
+    buffer = io.BytesIO()
+    np.save(buffer, array)
+    ifsforge.write_bytes(path, buffer.getvalue())
 
 
 def run(args):
