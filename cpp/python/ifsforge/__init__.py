@@ -25,6 +25,7 @@ from ifsforge._core import (  # noqa: F401
     read_png,
     render,
     renderers,
+    seed_reference,
     to_json,
     write_json,
     default_threads,
