@@ -63,8 +63,9 @@ void bind_design(py::module_& m) {
           py::gil_scoped_release release;
           return preview_cloud(ifs, o);
         },
-        py::arg("ifs"), py::arg("count") = 200000, py::arg("seed") = 0, py::arg("coloring") = "auto",
-        py::arg("highlight") = -1, py::arg("threads") = 0,
+        py::arg("ifs"), py::arg("count") = PreviewOptions{}.count, py::arg("seed") = PreviewOptions{}.seed,
+        py::arg("coloring") = "auto", py::arg("highlight") = PreviewOptions{}.highlight,
+        py::arg("threads") = PreviewOptions{}.threads,
         "A seeded cloud of points on the attractor coloured by piece (the collage of Eq. 41) or by the "
         "layout's colour channels (coloring 'auto', 'pieces', 'channels'), plus the collage frames. "
         "highlight: a map whose piece stays bright. Identical for any thread count.");

@@ -148,7 +148,7 @@ void bind_terrain(py::module_& m) {
           orient(mesh, axes);
         }
         return mesh_to_dict(mesh);
-      }, py::arg("solid") = false, py::arg("base") = py::none(), py::arg("up") = "z", py::arg("palette") = py::none(),
+      }, py::arg("solid") = TerrainMeshOptions{}.solid, py::arg("base") = py::none(), py::arg("up") = "z", py::arg("palette") = py::none(),
          py::arg("threads") = 0,
          "dict of numpy arrays (positions, normals, uvs, display colors with a palette, triangles) in `up` axes: "
          "'z' (default) is ifsforge's (x, y, height), what write_mesh expects; 'y' gives (x, height, -y)");
@@ -227,7 +227,7 @@ void bind_terrain(py::module_& m) {
     o.up = up_argument(up);
     py::gil_scoped_release release;
     write_terrain_mesh(path, t, o, threads);
-  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("solid") = false,
+  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("solid") = TerrainMeshOptions{}.solid,
      py::arg("base") = py::none(), py::arg("up") = py::none(), py::arg("threads") = 0,
      ".glb (palette strip embedded as base-colour texture), .obj or .ply; uv = (normalised height, 0.5); "
      "up: the file's up axis ('y', 'z'; None: the format's, glTF/OBJ y, PLY z)");
@@ -244,10 +244,11 @@ void bind_terrain(py::module_& m) {
     const Palette p = palette.value_or(Palette{});
     py::gil_scoped_release release;
     return write_terrain_pov(path, t, p, o, threads);
-  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("shape") = "height_field",
-     py::arg("camera") = "perspective", py::arg("flat") = false, py::arg("aspect") = 4.0 / 3.0,
-     py::arg("threads") = 0, py::arg("title") = TerrainPovOptions().title,
-     py::arg("palette_name") = TerrainPovOptions().palette_name,
+  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("shape") = TerrainPovOptions{}.shape,
+     py::arg("camera") = TerrainPovOptions{}.camera, py::arg("flat") = TerrainPovOptions{}.flat,
+     py::arg("aspect") = TerrainPovOptions{}.aspect,
+     py::arg("threads") = 0, py::arg("title") = TerrainPovOptions{}.title,
+     py::arg("palette_name") = TerrainPovOptions{}.palette_name,
      "POV-Ray scene (height_field + its 16-bit PNG, or mesh2) coloured by the palette; returns the files written");
 }
 
