@@ -1,5 +1,6 @@
 // Every reader and writer: ifsforge/1 JSON, Fractint .ifs, PNG, meshes (PLY/OBJ/GLB, OpenMesh
-// readers), POV-Ray scenes, SVG, glTF instances, OpenVDB and DF3 volumes.
+// readers), POV-Ray scenes, SVG, glTF instances and DF3 volumes. OpenVDB is in bind_io_vdb.cpp, a
+// module of its own (ifsforge._vdb) loaded on first use: libopenvdb alone takes ~60 ms to load.
 #include "bindings.h"
 
 #include <cstring>
@@ -17,7 +18,6 @@
 #include "ifsforge/io/pov_instances.h"
 #include "ifsforge/io/povray.h"
 #include "ifsforge/io/svg.h"
-#include "ifsforge/io/vdb.h"
 
 namespace ifsforge::python {
 
@@ -47,20 +47,6 @@ std::optional<Up> up_argument(const py::object& up) {
   if (py::isinstance<Up>(up)) return up.cast<Up>();
   if (py::isinstance<py::str>(up)) return up_from_string(up.cast<std::string>());
   throw InputError("up is 'y', 'z' or None, not " + py::repr(up).cast<std::string>());
-}
-
-py::dict mesh_dict(const TriangleMesh& mesh) {
-  py::dict out;
-  const auto n = static_cast<py::ssize_t>(mesh.positions.size()), t = static_cast<py::ssize_t>(mesh.triangles.size());
-  py::array_t<float> positions({n, py::ssize_t(3)}), normals({static_cast<py::ssize_t>(mesh.normals.size()), py::ssize_t(3)});
-  py::array_t<std::uint32_t> triangles({t, py::ssize_t(3)});
-  std::memcpy(positions.mutable_data(), mesh.positions.data(), n * 12);
-  std::memcpy(normals.mutable_data(), mesh.normals.data(), mesh.normals.size() * 12);
-  std::memcpy(triangles.mutable_data(), mesh.triangles.data(), t * 12);
-  out["positions"] = positions;
-  out["normals"] = normals;
-  out["triangles"] = triangles;
-  return out;
 }
 
 namespace {
@@ -265,72 +251,6 @@ void bind_io(py::module_& m) {
         "Binary glTF: each primitive's mesh stored once, one node per instance (Blender: linked duplicates); "
         "materials hold the display colours as linear baseColorFactor; up: 'y' (None: glTF's) or 'z'.");
 
-  options_class<VdbWriteOptions>(m, "VdbWriteOptions", "The settings of write_vdb() (keywords of the same names).")
-      .def_property("color_scale", [](const VdbWriteOptions& o) { return std::string(to_string(o.color_scale)); },
-                    [](VdbWriteOptions& o, const std::string& s) { o.color_scale = color_scale_from_string(s); },
-                    "auto, range or clamp")
-      .def_readwrite("metadata", &VdbWriteOptions::metadata, "extra file metadata (string values)")
-      .def_readwrite("half", &VdbWriteOptions::half, "16-bit halves for the [0, 1] grids")
-      .def_readwrite("compress", &VdbWriteOptions::compress, "Blosc-compress the leaf buffers");
-  m.def("write_vdb",
-        [](const std::string& path, const Volume& volume, std::optional<Ifs> system, const py::kwargs& kwargs) {
-          VdbWriteOptions o = options_from<VdbWriteOptions>("write_vdb", kwargs);
-          if (system) o.system = &*system;
-          py::gil_scoped_release release;
-          write_vdb(path, volume, o);
-        },
-        py::arg("path"), py::arg("volume"), py::arg("system") = py::none(),
-        "Write an OpenVDB file (atomically): FloatGrid 'density', Vec3fGrid 'color' (RGB in [0, 1]) when the "
-        "layout has colour, FloatGrids 'gray', 'alpha', ...; the transform puts the voxels where the system "
-        "puts them; metadata describes the volume and, when given, the system (its JSON). half: store the "
-        "[0, 1] grids (and a binary density) as 16-bit halves (relative error <= 2^-11); compress: Blosc "
-        "(about a third smaller, slower to write).");
-
-  m.def("read_vdb_info", [](const std::string& path) {
-    const VdbFileInfo info = read_vdb_info(path);
-    py::list grids;
-    for (const auto& g : info.grids) {
-      py::dict d;
-      d["name"] = g.name;
-      d["type"] = g.type;
-      d["active_voxels"] = g.active_voxels;
-      d["voxel_size"] = g.voxel_size;
-      d["index_bounds"] = g.index_bounds;
-      grids.append(d);
-    }
-    py::dict out;
-    out["grids"] = grids;
-    out["metadata"] = info.metadata;
-    return out;
-  }, py::arg("path"), "The grids (name, type, active_voxels, voxel_size, index_bounds) and metadata of a .vdb.");
-
-  options_class<IsoSurfaceOptions>(m, "IsoSurfaceOptions", "The settings of volume_to_mesh() (keywords of the same names).")
-      .def_readwrite("iso", &IsoSurfaceOptions::iso, "the surface's level of the occupancy (or density)")
-      .def_readwrite("use_density", &IsoSurfaceOptions::use_density, "the density grid's level instead of the occupancy")
-      .def_readwrite("adaptivity", &IsoSurfaceOptions::adaptivity, "0: every voxel-sized polygon; up to 1: merge flat areas")
-      .def_property("color_scale", [](const IsoSurfaceOptions& o) { return std::string(to_string(o.color_scale)); },
-                    [](IsoSurfaceOptions& o, const std::string& s) { o.color_scale = color_scale_from_string(s); },
-                    "auto, range or clamp");
-  m.def("volume_to_mesh",
-        [](const Volume& volume, const py::kwargs& kwargs) {
-          const IsoSurfaceOptions o = options_from<IsoSurfaceOptions>("volume_to_mesh", kwargs);
-          TriangleMesh mesh;
-          {
-            py::gil_scoped_release release;
-            mesh = volume_to_mesh(volume, o);
-          }
-          py::dict out = mesh_dict(mesh);
-          out["colors"] = py::none();
-          if (!mesh.colors.empty()) {
-            py::array_t<float> colors({static_cast<py::ssize_t>(mesh.colors.size()), py::ssize_t(4)});
-            std::memcpy(colors.mutable_data(), mesh.colors.data(), mesh.colors.size() * 16);
-            out["colors"] = colors;
-          }
-          return out;
-        },
-        py::arg("volume"),
-        "The iso-surface of the occupancy (or of the density) as a dict of arrays: positions, triangles, normals, "
-        "colors (RGBA from the colour grid, or None) -- ready for write_mesh(path, **mesh).");
   m.def("write_df3",
         [](const std::string& path, const Volume& volume, int bits) {
           py::gil_scoped_release release;

@@ -1,31 +1,5 @@
-// The compiled half of the `ifsforge` Python package.
+// The compiled half of the `ifsforge` Python package (OpenVDB aside: see bind_io_vdb.cpp).
 #include "bindings.h"
-
-#include <algorithm>
-#include <vector>
-
-#include "ifsforge/core/error.h"
-
-namespace ifsforge::python {
-
-ProgressCallback wrap_progress(const py::object& callback) {
-  // Ctrl-C must stop long work even without a callback.
-  return [callback](double fraction) {
-    py::gil_scoped_acquire gil;
-    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-    if (callback.is_none()) return true;
-    py::object answer = callback(fraction);
-    return answer.is_none() ? true : answer.cast<bool>();
-  };
-}
-
-py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssize_t> shape) {
-  py::array_t<float> out(shape);
-  std::copy(data.begin(), data.end(), out.mutable_data());
-  return out;
-}
-
-}  // namespace ifsforge::python
 
 PYBIND11_MODULE(_core, m) {
   using namespace ifsforge::python;

@@ -55,7 +55,7 @@ from ifsforge._core import (  # noqa: F401  (vector: instance lists, addresses, 
     write_povray_include, write_svg,
 )
 from ifsforge._core import (  # noqa: F401  (volume: Table 2 renderers, OpenVDB, POV-Ray df3, iso-surfaces)
-    Volume, read_vdb_info, render_volume, volume_renderers, volume_to_mesh, write_df3, write_vdb,
+    Volume, render_volume, volume_renderers, write_df3,
 )
 from ifsforge._core import (  # noqa: F401  (pifs: fractal image compression, seed 3.3.2)
     PifsCode, pifs_encode, pifs_from_bytes, read_pifs, write_pifs,
@@ -64,8 +64,8 @@ from ifsforge._core import (  # noqa: F401  (inverse problem: collage theorem, f
     attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance, tops, tops_warp,
 )
 from ifsforge._core import (  # noqa: F401  (the settings structs: every default lives in C++, once)
-    DrawOptions, GltfInstanceOptions, InstanceOptions, IsoSurfaceOptions, PovRenderOptions, RenderOptions,
-    SvgOptions, ToneOptions, VdbWriteOptions, VolumeOptions,
+    DrawOptions, GltfInstanceOptions, InstanceOptions, PovRenderOptions, RenderOptions, SvgOptions, ToneOptions,
+    VolumeOptions,
 )
 from ifsforge.errors import (  # noqa: F401
     Cancelled,
@@ -77,3 +77,18 @@ from ifsforge.errors import (  # noqa: F401
 )
 
 __version__ = "0.1.0"
+
+# OpenVDB files and iso-surfaces live in their own extension, imported on first use: loading
+# libopenvdb takes ~60 ms, which every command that writes no .vdb would otherwise pay.
+_VDB_NAMES = ("IsoSurfaceOptions", "VdbWriteOptions", "read_vdb_info", "volume_to_mesh", "write_vdb")
+
+
+def __getattr__(name):
+    if name in _VDB_NAMES:
+        from ifsforge import _vdb
+        return getattr(_vdb, name)
+    raise AttributeError(f"module 'ifsforge' has no attribute '{name}'")
+
+
+def __dir__():
+    return sorted(list(globals()) + list(_VDB_NAMES))
