@@ -26,7 +26,7 @@ try:
 except ImportError as error:  # nothing works without it: say how to get it
     raise ImportError("ifsforge add-on: the 'ifsforge' Python module is not importable in Blender "
                       f"({error}); run blender_addon/install.sh BUILD_DIR") from error
-if not hasattr(ifsforge, "preview_cloud"):
+if not hasattr(ifsforge, "RenderOptions"):
     raise ImportError(f"ifsforge add-on: the ifsforge module Blender imports ({ifsforge.__file__}) is older than "
                       "the add-on; reinstall it, or run blender_addon/install.sh BUILD_DIR")
 

@@ -10,6 +10,7 @@ from . import mesh_data, outputs, palettes
 from .generators import Generator, link_object, node_material, register_generator
 
 ATTRACTOR_IMAGE = 256  # pixels of the density image the control heights are sampled from
+IRREGULAR_SHIFT = 0.3  # an irregular grid's random displacement, in control spacings (< 0.5)
 LEVEL = "ifs_level"  # the point attribute holding each vertex's normalised height
 
 
@@ -68,27 +69,20 @@ class TerrainGenerator(Generator):
 
     @staticmethod
     def controls(system, settings):
-        """Control heights from the attractor's density image or from the seed."""
+        """Control heights from the attractor's density image or from the seed, built by the core's
+        make_terrain_controls: the CLI's `terrain` uses the same builder, so one seed gives one terrain."""
         grid, n, seed = settings["terrain_grid"], settings["terrain_controls"], settings["seed"]
         size, height = settings["terrain_size"], settings["terrain_height"]
-        controls = ifsforge.TerrainControls()
-        controls.grid = grid
+        options = dict(grid=grid, rows=n, columns=n, size_x=size, size_y=size,
+                       roughness=tuple(settings["terrain_roughness"]),
+                       shift=IRREGULAR_SHIFT if grid == "irregular" else 0.0)
         if settings["terrain_source"] == 'ATTRACTOR':
             view = settings["view"] if system.spatial_dims == 3 else None
             image = ifsforge.render(system, "chaos", ATTRACTOR_IMAGE, view=view, seed=seed).to_image("density")
-            ifsforge.sample_heights(controls, n, n, image, low=0.0, high=height)
+            options.update(height_map=image, low=0.0, high=height)
         else:
-            controls.heights = ifsforge.random_heights(grid, n, n, base=[0.5 * height], amplitude=0.5 * height,
-                                                       seed=seed)
-        if grid == "circular":
-            controls.radii = [float(r) for r in np.linspace(0.0, size / 2, n)]
-        if grid == "irregular":
-            ifsforge.random_shifts(controls, 0.3, seed)
-        u_maps = n if grid == "circular" else n - 1
-        controls.a22_u = list(ifsforge.vertical_scaling(u_maps, settings["terrain_roughness"][0], "random", seed))
-        controls.a22_v = list(ifsforge.vertical_scaling(n - 1, settings["terrain_roughness"][1], "random", seed, 1))
-        controls.size_x = controls.size_y = size
-        return controls
+            options.update(base=0.5 * height, amplitude=0.5 * height)
+        return ifsforge.make_terrain_controls(seed, **options)
 
     def apply(self, context, owner, result, name):
         if owner is None:

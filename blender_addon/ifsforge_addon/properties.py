@@ -12,6 +12,9 @@ from . import codec
 
 MAX_DIM = 8          # kMaxDim of the core
 MAX_EXTRA = 6        # channels beyond the 2 or 3 spatial ones
+# The core's settings structs: each default is written once, in C++.
+RENDER, TONE, DRAW = ifsforge.RenderOptions(), ifsforge.ToneOptions(), ifsforge.DrawOptions()
+VOLUME, ISO, INSTANCE = ifsforge.VolumeOptions(), ifsforge.IsoSurfaceOptions(), ifsforge.InstanceOptions()
 COMMON_LAYOUTS = ("xy", "xyz", "xy+gray", "xy+rgb", "xy+hsi", "xy+rgba", "xyz+gray", "xyz+rgb", "xyz+hsi",
                   "xyz+rgba", "xyz+k", "xyz+rgb+k")
 
@@ -112,42 +115,42 @@ VOLUME_RENDERER_ITEMS = [(name, name, text) for name, text in getattr(ifsforge, 
 
 class IFSFORGE_PG_settings(PropertyGroup):
     """How a datablock is generated from its system."""
-    seed: IntProperty(name="Seed", min=0, default=0)
+    seed: IntProperty(name="Seed", min=0, default=RENDER.seed)
     # 2D image
-    image_size: IntProperty(name="Size", min=16, max=16384, default=1024, description="Pixels per side")
+    image_size: IntProperty(name="Size", min=16, max=16384, default=RENDER.width, description="Pixels per side")
     image_algorithm: EnumProperty(name="Algorithm", items=RENDERER_ITEMS)
-    image_mode: EnumProperty(name="Mode", default='auto', items=(
+    image_mode: EnumProperty(name="Mode", default=TONE.mode, items=(
         ('auto', "Auto", "Shaded for 3D, colour when the layout has colour, else density"),
         ('binary', "Binary", "Coverage"), ('density', "Density", "Log density"),
         ('color', "Colour", "The colour channels"), ('shaded', "Shaded", "Lit z-buffer (3D systems)")))
-    view: FloatVectorProperty(name="View", size=2, default=(30.0, 25.0),
+    view: FloatVectorProperty(name="View", size=2, default=tuple(DRAW.view),
                               description="Yaw and pitch in degrees (3D systems)")
     # Volumes (6.2.3.2, 6.5.3.1) and their iso-surfaces
-    volume_resolution: IntProperty(name="Resolution", min=8, max=2048, default=256,
+    volume_resolution: IntProperty(name="Resolution", min=8, max=2048, default=VOLUME.resolution,
                                    description="Voxels along the longest side of the attractor's box")
     volume_algorithm: EnumProperty(name="Algorithm", items=VOLUME_RENDERER_ITEMS, default="prr")
-    volume_density: EnumProperty(name="Density", default='binary', items=(
+    volume_density: EnumProperty(name="Density", default=VOLUME.density, items=(
         ('binary', "Binary", "1 in every occupied voxel"), ('hits', "Hits", "Points or leaves per voxel"),
         ('measure', "Measure", "The voxel's share of the invariant measure")))
     volume_strength: FloatProperty(name="Material density", min=0.0, default=25.0,
                                    description="Principled Volume density multiplier of the new material")
-    mesh_iso: FloatProperty(name="Iso value", min=0.0, max=1.0, default=0.5,
+    mesh_iso: FloatProperty(name="Iso value", min=0.0, max=1.0, default=ISO.iso,
                             description="Iso-surface of the occupancy (0..1)")
     custom_normals: BoolProperty(
         name="Core normals", default=False,
         description="Store the core's per-vertex normals as custom split normals (terrains, iso-surfaces). Off: "
                     "smooth shading from the faces, much faster to build and to evaluate")
-    mesh_adaptivity: FloatProperty(name="Adaptivity", min=0.0, max=1.0, default=0.0,
+    mesh_adaptivity: FloatProperty(name="Adaptivity", min=0.0, max=1.0, default=ISO.adaptivity,
                                    description="0: every voxel face; higher merges flat regions")
     # CSG instances (vector recursive rendering, 5.8.2)
-    instance_depth: IntProperty(name="Depth", min=0, max=24, default=0,
+    instance_depth: IntProperty(name="Depth", min=0, max=24, default=INSTANCE.depth,
                                 description="Recursion depth L: N^L instances (0: the largest L with N^L <= 50000)")
     instance_primitives: StringProperty(
-        name="Primitives", default="sphere",
+        name="Primitives", default=",".join(INSTANCE.primitives),
         description="A primitive, or a comma list the k channel picks from: sphere, box, cone, cylinder, torus, "
                     "circle, square, triangle, line")
-    instance_scale: FloatProperty(name="Scale factor", min=0.0, default=1.0, description="sf of Eq. 60")
-    instance_color_by: EnumProperty(name="Colour", default='auto', items=(
+    instance_scale: FloatProperty(name="Scale factor", min=0.0, default=INSTANCE.scale_factor, description="sf of Eq. 60")
+    instance_color_by: EnumProperty(name="Colour", default=INSTANCE.color_source, items=(
         ('auto', "Auto", "The colour channels if the layout has them, else the first map of the address"),
         ('channels', "Channels", "The layout's colour channels (Eq. 101)"),
         ('first-map', "First map", "The first map of each leaf's address"),

@@ -6,7 +6,6 @@
 // renderer's documentation), printed beside the seed's estimate "seed_ops".
 #include <benchmark/benchmark.h>
 
-#include <map>
 #include <string>
 
 #include "ifsforge/render/renderer.h"
@@ -26,15 +25,6 @@ Ifs vicsek() {
   return Ifs("vicsek", ChannelLayout("xy"), maps, std::vector<double>(5, 1.0));
 }
 
-/// The seed's operation counts for H = V = 1000, N = 5 (5.13.1, Eq. 75-88).
-const std::map<std::string, double>& seed_estimates() {
-  static const std::map<std::string, double> estimates = {
-      {"chaos", 8e6},           {"dia", 100e6},         {"dia-s", 320e6}, {"mpa", 0.5e6},
-      {"cma", 100e6},           {"eta", 1.28e9},        {"string-rewriting", 781250},
-      {"tsa", 0.8e6},           {"prr", 390625},        {"ibr", 1e6},     {"afra", 780000}};
-  return estimates;
-}
-
 void render_algorithm(benchmark::State& state, const std::string& name, bool binary) {
   const Ifs system = vicsek();
   RenderOptions o;
@@ -52,8 +42,8 @@ void render_algorithm(benchmark::State& state, const std::string& name, bool bin
   }
   state.counters["ops"] = static_cast<double>(ops);
   state.counters["covered"] = static_cast<double>(covered);
-  const auto it = seed_estimates().find(name);
-  if (it != seed_estimates().end()) state.counters["seed_ops"] = it->second;
+  const double seed_ops = seed_reference(name).operations;  // 5.13.1's estimate, kept on the registry
+  if (seed_ops > 0) state.counters["seed_ops"] = seed_ops;
 }
 
 const bool registered = [] {

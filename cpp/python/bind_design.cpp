@@ -15,6 +15,8 @@ py::array_t<T> view(const std::vector<T>& data, std::vector<py::ssize_t> shape, 
   return out;
 }
 
+}  // namespace
+
 void bind_design(py::module_& m) {
   py::class_<PreviewCloud>(m, "PreviewCloud",
                            "Points of the attractor with colours, and the collage frames, for a viewport preview.")
@@ -61,8 +63,9 @@ void bind_design(py::module_& m) {
           py::gil_scoped_release release;
           return preview_cloud(ifs, o);
         },
-        py::arg("ifs"), py::arg("count") = 200000, py::arg("seed") = 0, py::arg("coloring") = "auto",
-        py::arg("highlight") = -1, py::arg("threads") = 0,
+        py::arg("ifs"), py::arg("count") = PreviewOptions{}.count, py::arg("seed") = PreviewOptions{}.seed,
+        py::arg("coloring") = "auto", py::arg("highlight") = PreviewOptions{}.highlight,
+        py::arg("threads") = PreviewOptions{}.threads,
         "A seeded cloud of points on the attractor coloured by piece (the collage of Eq. 41) or by the "
         "layout's colour channels (coloring 'auto', 'pieces', 'channels'), plus the collage frames. "
         "highlight: a map whose piece stays bright. Identical for any thread count.");
@@ -78,7 +81,4 @@ void bind_design(py::module_& m) {
         "The system with its last map repeated up to `maps` maps (same attractor and measure).");
 }
 
-const Binding registered(60, &bind_design);
-
-}  // namespace
 }  // namespace ifsforge::python

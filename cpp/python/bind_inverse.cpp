@@ -56,6 +56,8 @@ Frame frame_of(const Ifs& ifs, int width, int height, const std::optional<std::v
   return Frame::fit(ifs, width, height, w);
 }
 
+}  // namespace
+
 void bind_inverse(py::module_& m) {
   m.def("foreground", [](const py::array& image, double threshold) {
     return pixel_set_to_numpy(foreground(image_from_numpy(image), threshold));
@@ -181,7 +183,4 @@ void bind_inverse(py::module_& m) {
         "Intersection over union of the attractor (chaos game) and the target laid on fit's window.");
 }
 
-const Binding registered(70, &bind_inverse);
-
-}  // namespace
 }  // namespace ifsforge::python

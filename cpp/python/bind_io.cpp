@@ -1,10 +1,25 @@
-// File formats: ifsforge/1 JSON, Fractint .ifs, PNG.
+// Every reader and writer: ifsforge/1 JSON, Fractint .ifs, PNG, meshes (PLY/OBJ/GLB, OpenMesh
+// readers), POV-Ray scenes, SVG, glTF instances and DF3 volumes. OpenVDB is in bind_io_vdb.cpp, a
+// module of its own (ifsforge._vdb) loaded on first use: libopenvdb alone takes ~60 ms to load.
 #include "bindings.h"
+
+#include <cstring>
+
 #include "ifsforge/core/error.h"
+#include "ifsforge/io/atomic_file.h"
+#include "ifsforge/io/df3.h"
 #include "ifsforge/io/fractint.h"
 #include "ifsforge/io/system_file.h"
+#include "ifsforge/io/gltf_instances.h"
+#include "ifsforge/io/pov_scene.h"
 #include "ifsforge/io/ifs_json.h"
+#include "ifsforge/io/mesh.h"
+#include "ifsforge/geometry/mesh_edges.h"
+#include "ifsforge/io/mesh_reader.h"
 #include "ifsforge/io/png.h"
+#include "ifsforge/io/pov_instances.h"
+#include "ifsforge/io/povray.h"
+#include "ifsforge/io/svg.h"
 
 namespace ifsforge::python {
 
@@ -29,9 +44,41 @@ py::array_t<float> image_to_numpy(const Image& image) {
   return to_numpy(image.pixels, {image.height, image.width, image.channels});
 }
 
+std::optional<Up> up_argument(const py::object& up) {
+  if (up.is_none()) return std::nullopt;
+  if (py::isinstance<Up>(up)) return up.cast<Up>();
+  if (py::isinstance<py::str>(up)) return up_from_string(up.cast<std::string>());
+  throw InputError("up is 'y', 'z' or None, not " + py::repr(up).cast<std::string>());
+}
+
 namespace {
 
+template <typename T, std::size_t N>
+std::vector<std::array<T, N>> rows(const std::optional<py::array>& array, const char* what) {
+  std::vector<std::array<T, N>> out;
+  if (!array) return out;
+  auto a = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(*array);
+  if (!a || a.ndim() != 2 || a.shape(1) != static_cast<py::ssize_t>(N))
+    throw InputError(std::string(what) + " must be an array of shape (n, " + std::to_string(N) + ")");
+  out.resize(a.shape(0));
+  std::memcpy(out.data(), a.data(), out.size() * sizeof(out[0]));
+  return out;
+}
+
+}  // namespace
+
 void bind_io(py::module_& m) {
+  m.def("write_bytes", [](const std::string& path, const py::object& data) {
+    if (!py::isinstance<py::bytes>(data) && !py::isinstance<py::str>(data))
+      throw InputError("write_bytes: " + path + ": the data must be bytes or str");
+    const std::string bytes = data.cast<std::string>();  // str: UTF-8
+    py::gil_scoped_release release;
+    AtomicFile file(path);
+    if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), file.file()) != bytes.size())
+      throw FileError("cannot write '" + path + "'");
+    file.commit();
+  }, py::arg("path"), py::arg("data"),
+     "Write bytes (or str, as UTF-8) to path atomically (AtomicFile): a failure leaves no partial file.");
   m.attr("FORMAT_VERSION") = kFormatVersion;
   m.def("load", &load_system, py::arg("spec"),
         "A system from 'file.json', 'file.ifs' (first entry) or 'file.ifs:entry'.");
@@ -49,9 +96,171 @@ void bind_io(py::module_& m) {
      "Write (h, w[, c]) floats in [0, 1] (or uint8/uint16) as an 8- or 16-bit PNG, atomically.");
   m.def("read_png", [](const std::string& path) { return image_to_numpy(read_png(path)); }, py::arg("path"),
         "A PNG as float32 in [0, 1], shape (h, w) or (h, w, c).");
+
+  py::enum_<Up>(m, "Up", "A mesh file's up axis. ifsforge's own axes are z up (x east, y north); a y-up file "
+                         "holds (x, z, -y): glTF and OBJ expect y, PLY z.")
+      .value("y", Up::y)
+      .value("z", Up::z);
+  m.def("default_up", &default_up, py::arg("path"),
+        "The up axis the reader of `path` expects by its extension: .glb/.gltf/.obj y, else (.ply) z.");
+  m.def("write_mesh",
+        [](const std::string& path, py::array positions, py::array triangles, std::optional<py::array> normals,
+           std::optional<py::array> colors, std::optional<py::array> uvs, const std::string& texture,
+           const std::string& name, bool compute, const py::object& up) {
+          TriangleMesh mesh;
+          mesh.positions = rows<float, 3>(positions, "positions");
+          mesh.triangles = rows<std::uint32_t, 3>(triangles, "triangles");
+          mesh.normals = rows<float, 3>(normals, "normals");
+          mesh.colors = rows<float, 4>(colors, "colors");
+          mesh.uvs = rows<float, 2>(uvs, "uvs");
+          MeshWriteOptions options;
+          options.base_color_texture = texture;
+          options.name = name;
+          const std::optional<Up> file_up = up_argument(up);
+          py::gil_scoped_release release;
+          if (compute && mesh.normals.empty()) compute_normals(mesh);
+          options.up = file_up;
+          write_mesh(path, mesh, options);
+        },
+        py::arg("path"), py::arg("positions"), py::arg("triangles"), py::arg("normals") = py::none(),
+        py::arg("colors") = py::none(), py::arg("uvs") = py::none(), py::arg("texture") = "",
+        py::arg("name") = "ifsforge", py::arg("compute_normals") = true, py::arg("up") = py::none(),
+        "Write a triangle mesh given in ifsforge's z-up axes as .ply, .obj or .glb (atomically), turned to "
+        "`up` ('y', 'z'; None: the format's, see default_up). colors are display RGBA in [0, 1] (the .glb "
+        "stores them linear); texture is a PNG embedded as the glTF base colour (needs uvs).");
+  m.def("mesh_edges",
+        [](py::array faces, std::size_t vertex_count) {
+          auto a = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(faces);
+          if (!a || a.ndim() != 2 || a.shape(1) < 3)
+            throw InputError("faces must be an array of shape (n, k) with k >= 3 corners per face");
+          const std::vector<std::uint32_t> corners(a.data(), a.data() + a.size());
+          const int k = static_cast<int>(a.shape(1));
+          MeshEdges e;
+          {
+            py::gil_scoped_release release;
+            e = mesh_edges(corners, k, vertex_count);
+          }
+          py::array_t<std::uint32_t> edges({static_cast<py::ssize_t>(e.edges.size()), py::ssize_t(2)});
+          py::array_t<std::uint32_t> corner_edges(static_cast<py::ssize_t>(e.corner_edges.size()));
+          std::memcpy(edges.mutable_data(), e.edges.data(), e.edges.size() * sizeof(e.edges[0]));
+          std::memcpy(corner_edges.mutable_data(), e.corner_edges.data(),
+                      e.corner_edges.size() * sizeof(std::uint32_t));
+          return py::make_tuple(edges, corner_edges);
+        },
+        py::arg("faces"), py::arg("vertex_count"),
+        "(edges (E, 2) uint32, corner_edges (n*k,) uint32) of faces (n, k): each undirected edge once, sorted, and "
+        "the edge of every corner j of a face (from its vertex j to j+1) -- what a mesh editor stores (Blender's "
+        "edges and loops).");
+  m.def("read_mesh", [](const std::string& path) { return mesh_dict(read_mesh(path)); }, py::arg("path"),
+        "A PLY/OBJ/OFF/STL mesh (OpenMesh), triangulated: {'positions', 'normals', 'triangles'}.");
+
+  m.def("write_pov_scene",
+        [](const std::string& path, const InstanceList& list, const std::string& title, int width, int height,
+           std::array<double, 2> view, bool orthographic, double fov, double margin, std::optional<bool> floor,
+           std::optional<bool> sky, std::array<float, 3> background, const std::string& quality, bool bounded_by,
+           int threads, const py::object& progress) {
+          PovSceneOptions o;
+          o.title = title;
+          o.width = width;
+          o.height = height;
+          o.view.yaw = view[0];
+          o.view.pitch = view[1];
+          o.view.orthographic = orthographic;
+          o.view.fov = fov;
+          o.view.margin = margin;
+          o.environment.floor = floor.value_or(list.spatial_dims == 3);
+          o.environment.sky = sky.value_or(list.spatial_dims == 3);
+          o.environment.background = background;
+          o.environment.quality = parse_pov_quality(quality);
+          o.bounded_by = bounded_by;
+          o.threads = threads;
+          o.progress = wrap_progress(progress);
+          py::gil_scoped_release release;
+          write_pov_scene(path, list, o);
+        },
+        py::arg("path"), py::arg("instances"), py::arg("title") = "", py::arg("width") = 800, py::arg("height") = 600,
+        py::arg("view") = std::array<double, 2>{30.0, 25.0}, py::arg("orthographic") = false, py::arg("fov") = 40.0,
+        py::arg("margin") = 0.05, py::arg("floor") = py::none(), py::arg("sky") = py::none(),
+        py::arg("background") = std::array<float, 3>{1, 1, 1}, py::arg("quality") = "normal",
+        py::arg("bounded_by") = false, py::arg("threads") = 0, py::arg("progress") = py::none(),
+        "A POV-Ray 3.7 scene (+ ifsforge.inc beside it): one union of the instances, camera and lights framed "
+        "for width x height from the instances' bounds. view = (yaw, pitch) as `render --view` (2D lists: from "
+        "above). floor/sky default to on for 3D lists. quality: draft, normal, high. bounded_by adds a manual "
+        "bound (slow to trace in POV-Ray 3.7).");
+  options_class<PovRenderOptions>(m, "PovRenderOptions", "The settings of render_povray() (keywords of the same names).")
+      .def_readwrite("width", &PovRenderOptions::width)
+      .def_readwrite("height", &PovRenderOptions::height)
+      .def_readwrite("antialias", &PovRenderOptions::antialias, "POV-Ray's +A threshold (0: off)")
+      .def_readwrite("threads", &PovRenderOptions::threads, "0: every core")
+      .def_property("progress", [](const PovRenderOptions&) { return py::none(); },
+                    [](PovRenderOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
+                    "progress(fraction) returning False cancels (write-only)");
+  m.def("render_povray",
+        [](const std::string& scene, const std::string& image, const py::object& width, const py::object& height,
+           const py::kwargs& kwargs) {
+          py::dict given(kwargs);
+          add_option(given, "width", width);
+          add_option(given, "height", height);
+          const PovRenderOptions o = options_from<PovRenderOptions>("render_povray", given);
+          py::gil_scoped_release release;
+          render_povray(scene, image, o);
+        },
+        py::arg("scene"), py::arg("image"), py::arg("width") = py::none(), py::arg("height") = py::none(),
+        "Render a scene with the real POV-Ray 3.7 (headless) into a PNG, atomically.");
+  m.def("povray_include", &povray_include, "the text of ifsforge.inc");
+  m.def("write_povray_include", &write_povray_include, py::arg("folder"));
+  m.def("pov_string", &pov_string, py::arg("text"), "a POV-Ray string literal holding text (ASCII, escaped)");
+  m.def("pov_comment", &pov_comment, py::arg("text"), "text made safe inside a // comment (one ASCII line)");
+  m.def("pov_identifier", &pov_identifier, py::arg("kind"), py::arg("name"),
+        "the identifier IFS_<kind>_<name> (name reduced to ASCII letters, digits and '_')");
+  m.def("pov_name", &pov_name, py::arg("name"), "the name part of pov_identifier");
+  m.def("ascii_text", &ascii_text, py::arg("text"), py::arg("unknown") = '?',
+        "text in printable ASCII: accents dropped, other characters as `unknown`");
+  m.def("pov_reserved_words", [] {
+    std::vector<std::string> words;
+    for (const auto w : pov_reserved_words()) words.emplace_back(w);
+    return words;
+  }, "POV-Ray 3.7's reserved words, sorted");
+
+  options_class<SvgOptions>(m, "SvgOptions", "The settings of write_svg() (keywords of the same names).")
+      .def_readwrite("width", &SvgOptions::width, "pixels; the height follows the instances' aspect ratio")
+      .def_readwrite("margin", &SvgOptions::margin, "free border, fraction of the larger side")
+      .def_readwrite("background", &SvgOptions::background, "RGB; None: transparent")
+      .def_readwrite("title", &SvgOptions::title, "default: the list's name");
+  m.def("write_svg",
+        [](const std::string& path, const InstanceList& list, const py::kwargs& kwargs) {
+          const SvgOptions o = options_from<SvgOptions>("write_svg", kwargs);
+          py::gil_scoped_release release;
+          write_svg(path, list, o);
+        },
+        py::arg("path"), py::arg("instances"), "SVG of a 2D instance list, one element per instance.");
+  options_class<GltfInstanceOptions>(m, "GltfInstanceOptions",
+                                     "The settings of write_gltf_instances() (keywords of the same names).")
+      .def_readwrite("segments", &GltfInstanceOptions::segments, "tessellation of the curved primitives")
+      .def_readwrite("color_levels", &GltfInstanceOptions::color_levels, "levels per channel of the colour classes")
+      .def_readwrite("extras", &GltfInstanceOptions::extras, "node extras: address, color, primitive")
+      .def_readwrite("name", &GltfInstanceOptions::name, "the root node; default: the list's name")
+      .def_property("up", [](const GltfInstanceOptions& o) { return o.up; },
+                    [](GltfInstanceOptions& o, const py::object& up) { o.up = up_argument(up).value_or(o.up); },
+                    "the file's up axis: 'y' (glTF's) or 'z'");
+  m.def("write_gltf_instances",
+        [](const std::string& path, const InstanceList& list, const py::kwargs& kwargs) {
+          const GltfInstanceOptions o = options_from<GltfInstanceOptions>("write_gltf_instances", kwargs);
+          py::gil_scoped_release release;
+          write_gltf_instances(path, list, o);
+        },
+        py::arg("path"), py::arg("instances"),
+        "Binary glTF: each primitive's mesh stored once, one node per instance (Blender: linked duplicates); "
+        "materials hold the display colours as linear baseColorFactor; up: 'y' (None: glTF's) or 'z'.");
+
+  m.def("write_df3",
+        [](const std::string& path, const Volume& volume, int bits) {
+          py::gil_scoped_release release;
+          write_df3(path, volume, bits);
+        },
+        py::arg("path"), py::arg("volume"), py::arg("bits") = 8,
+        "Write the volume's density as a POV-Ray .df3 (atomically): big-endian uint16 sizes x, y, z, then "
+        "8/16/32-bit big-endian voxels, x fastest, density / max density scaled to the full range.");
 }
 
-const Binding registered(20, &bind_io);
-
-}  // namespace
 }  // namespace ifsforge::python

@@ -1,7 +1,11 @@
-// The model: affine maps, their parameters, channel layouts, systems and their analysis.
+// The model: affine maps, their parameters, channel layouts, systems and their analysis;
+// condensation sets, recurrent and super IFS.
 #include "bindings.h"
 #include "ifsforge/core/error.h"
+#include "ifsforge/model/condensation.h"
 #include "ifsforge/model/map_params.h"
+#include "ifsforge/model/recurrent.h"
+#include "ifsforge/model/super_ifs.h"
 
 namespace ifsforge::python {
 namespace {
@@ -43,9 +47,100 @@ py::array_t<double> apply_points(const AffineMap& map, py::array_t<double, py::a
   return out;
 }
 
-}  // namespace
+py::array_t<double> matrix_array(const std::vector<double>& values, std::size_t n) {
+  py::array_t<double> out({static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(n)});
+  std::copy(values.begin(), values.end(), out.mutable_data());
+  return out;
+}
 
-namespace {
+TransitionMatrix transitions_from(py::array_t<double, py::array::c_style | py::array::forcecast> matrix) {
+  if (matrix.ndim() != 2 || matrix.shape(0) != matrix.shape(1))
+    throw InputError("the transition matrix must be square (N x N)");
+  const auto n = static_cast<std::size_t>(matrix.shape(0));
+  return TransitionMatrix(n, std::vector<double>(matrix.data(), matrix.data() + n * n));
+}
+
+/// Condensation sets (seed 3.1), recurrent IFS (3.3.3) and super IFS (3.3.5) on the Ifs class.
+void bind_model_extensions(py::module_& m, py::class_<Ifs>& ifs) {
+  py::class_<Condensation>(m, "Condensation",
+                           "A condensation set C (seed 3.1, Definitions 8-9): shapes in the xy plane added to every "
+                           "iterate, W(B) = C u w_1(B) u ... (Eq. 15).")
+      .def(py::init([](std::vector<Condensation::Path> polylines, std::vector<Condensation::Path> polygons,
+                       std::vector<double> channels, double probability) {
+             Condensation c;
+             c.polylines = std::move(polylines);
+             c.polygons = std::move(polygons);
+             c.channels = std::move(channels);
+             c.probability = probability;
+             return c;
+           }),
+           py::arg("polylines") = std::vector<Condensation::Path>{}, py::arg("polygons") = std::vector<Condensation::Path>{},
+           py::arg("channels") = std::vector<double>{}, py::arg("probability") = 0.1,
+           "polylines and polygons: lists of [x, y] points; channels: values of the layout's extra channels on C; "
+           "probability: p_0, the share of the measure on C")
+      .def_readwrite("polylines", &Condensation::polylines)
+      .def_readwrite("polygons", &Condensation::polygons)
+      .def_readwrite("channels", &Condensation::channels)
+      .def_readwrite("probability", &Condensation::probability)
+      .def("bounds", &Condensation::bounds, "(xmin, ymin, xmax, ymax)");
+
+  ifs.def_property(
+         "transitions",
+         [](const Ifs& s) -> py::object {
+           if (!s.recurrent()) return py::none();
+           return matrix_array(s.transitions().values(), s.size());
+         },
+         [](Ifs& s, const py::object& matrix) {
+           s.set_transitions(matrix.is_none() ? TransitionMatrix() : transitions_from(matrix.cast<py::array>()));
+         },
+         "Recurrent IFS (3.3.1): N x N matrix, (i, j) = probability that map j follows map i, or None. Setting it "
+         "replaces the probabilities by the chain's stationary distribution.")
+      .def_property_readonly("recurrent", &Ifs::recurrent)
+      .def("stationary_distribution", [](const Ifs& s) {
+        const auto v = effective_transitions(s).stationary();
+        return py::array_t<double>(v.size(), v.data());
+      }, "m with m P = m: how often each map is applied in the long run (the probabilities of an ordinary IFS)")
+      .def("piece_points", [](const Ifs& s) {
+        const auto points = piece_points(s);
+        py::array_t<double> out({static_cast<py::ssize_t>(points.size()), static_cast<py::ssize_t>(s.dim())});
+        for (std::size_t i = 0; i < points.size(); ++i)
+          for (int c = 0; c < s.dim(); ++c) out.mutable_at(i, c) = points[i][c];
+        return out;
+      }, "one point of each piece A_j of the attractor, shape (N, dim)")
+      .def_property(
+          "condensation",
+          [](const Ifs& s) -> py::object {
+            if (s.condensation().empty()) return py::none();
+            return py::cast(s.condensation());
+          },
+          [](Ifs& s, const py::object& c) { s.set_condensation(c.is_none() ? Condensation() : c.cast<Condensation>()); },
+          "the condensation set (a Condensation) or None")
+      .def_property_readonly("condensation_box", [](const Ifs& s) -> py::object {
+        if (s.condensation().empty()) return py::none();
+        return py::cast(condensation_attractor_box(s));
+      }, "(xmin, ymin, xmax, ymax) holding the attractor with its condensation set (C and every w_s(C)), "
+         "or None: what renderers frame when given no window")
+      .def_property_readonly("super_ifs", [](const Ifs& s) -> py::object {
+        const SuperIfs& p = s.super_ifs();
+        if (p.empty()) return py::none();
+        py::dict d;
+        d["names"] = p.names;
+        d["sizes"] = p.sizes;
+        d["probabilities"] = p.probabilities;
+        d["variability"] = p.variability;
+        return d;
+      }, "super IFS (3.3.5): {'names', 'sizes', 'probabilities', 'variability'} of the member systems, or None")
+      .def("member", &super_member, py::arg("n"), "member system n of a super IFS as its own Ifs");
+
+  m.def("make_super_ifs", [](const std::string& name, const std::vector<Ifs>& members,
+                             std::optional<std::vector<double>> probabilities, int variability) {
+    return make_super_ifs(name, members, probabilities.value_or(std::vector<double>{}), variability);
+  }, py::arg("name"), py::arg("members"), py::arg("probabilities") = py::none(), py::arg("variability") = 2,
+     "A super IFS (Eq. 38): the members' maps in one Ifs, member n chosen with probability P_n (default equal); "
+     "render its V-variable fractals with algorithm 'dia-s'.");
+}
+
+}  // namespace
 
 void bind_model(py::module_& m) {
   py::class_<AffineMap>(m, "AffineMap", "An affine map x' = A x + b on R^n (n = 1..8).")
@@ -105,7 +200,8 @@ void bind_model(py::module_& m) {
       .def("index", &ChannelLayout::index, py::arg("name"))
       .def("__repr__", [](const ChannelLayout& l) { return "ChannelLayout('" + l.text() + "')"; });
 
-  py::class_<Ifs>(m, "Ifs", "An nD iterated function system with probabilities (Eq. 22).")
+  py::class_<Ifs> ifs(m, "Ifs", "An nD iterated function system with probabilities (Eq. 22).");
+  ifs
       .def(py::init([](std::vector<AffineMap> maps, std::optional<std::vector<double>> probabilities,
                        const std::string& layout, const std::string& name) {
              return Ifs(name, ChannelLayout(layout), std::move(maps), probabilities.value_or(std::vector<double>{}));
@@ -173,9 +269,7 @@ void bind_model(py::module_& m) {
     return py::array_t<double>(v.size(), v.data());
   }, py::arg("maps"), py::arg("spatial_dims"), "Eq. 46: p_i proportional to |det A_i|, floored at 1% of the largest.");
   m.def("contraction_factor_2d", &contraction_factor_2d, "Eq. 8-9.");
+  bind_model_extensions(m, ifs);
 }
 
-const Binding registered(10, &bind_model);
-
-}  // namespace
 }  // namespace ifsforge::python

@@ -54,6 +54,8 @@ py::dict cost(const PifsCode& code) {
   return d;
 }
 
+}  // namespace
+
 void bind_pifs(py::module_& m) {
   py::class_<PifsCode>(m, "PifsCode", "A partitioned IFS code of an image (seed 3.3.2); decodes at any size.")
       .def_readonly("width", &PifsCode::width)
@@ -95,8 +97,9 @@ void bind_pifs(py::module_& m) {
           image = pifs_decode(code, o);
         }
         return image_to_numpy(image);
-      }, py::arg("scale") = 1.0, py::arg("size") = py::none(), py::arg("decoder") = "hierarchical",
-         py::arg("iterations") = 0, py::arg("deblock") = PifsDecodeOptions{}.deblock, py::arg("threads") = 0,
+      }, py::arg("scale") = PifsDecodeOptions{}.scale, py::arg("size") = py::none(),
+         py::arg("decoder") = "hierarchical", py::arg("iterations") = PifsDecodeOptions{}.iterations,
+         py::arg("deblock") = PifsDecodeOptions{}.deblock, py::arg("threads") = PifsDecodeOptions{}.threads,
          "The image (float32 in [0, 1], (h, w) or (h, w, c)) at scale × the size, or at size=(width, height). "
          "decoder: 'hierarchical' (Baharav) or 'iterative' (DIA); iterations 0 = the default.")
       .def("to_bytes", &to_bytes, "The .pifs file's bytes.")
@@ -132,8 +135,10 @@ void bind_pifs(py::module_& m) {
     py::gil_scoped_release release;
     return pifs_encode(image, o, callback);
   }, py::arg("image"), py::arg("ratio") = py::none(), py::arg("bytes") = py::none(), py::arg("quality") = py::none(),
-     py::arg("min_block") = 4, py::arg("max_block") = 32, py::arg("s_bits") = 5, py::arg("dc_step") = 1,
-     py::arg("ycbcr") = true, py::arg("threads") = 0, py::arg("progress") = py::none(),
+     py::arg("min_block") = PifsEncodeOptions{}.min_block, py::arg("max_block") = PifsEncodeOptions{}.max_block,
+     py::arg("s_bits") = PifsEncodeOptions{}.s_bits, py::arg("dc_step") = PifsEncodeOptions{}.dc_step,
+     py::arg("ycbcr") = PifsEncodeOptions{}.ycbcr, py::arg("threads") = PifsEncodeOptions{}.threads,
+     py::arg("progress") = py::none(),
      "PIFS code of an image array ((h, w) or (h, w, c), c = 1-4; uint8, uint16 or floats in [0, 1]). Rate: "
      "bytes (file <= bytes), ratio (raw bytes / ratio) or quality (collage RMS threshold, 8-bit levels; default "
      "8). Identical for any thread count.");
@@ -146,7 +151,4 @@ void bind_pifs(py::module_& m) {
         "Atomic write of a .pifs file.");
 }
 
-const Binding registered(60, &bind_pifs);
-
-}  // namespace
 }  // namespace ifsforge::python

@@ -42,6 +42,8 @@ TerrainMeshOptions mesh_options(bool solid, std::optional<double> base, const st
   return o;
 }
 
+}  // namespace
+
 void bind_terrain(py::module_& m) {
   py::class_<FractalInterpolation>(m, "FractalInterpolation",
                                    "The continuous function through (x_i, F_i) whose graph is the attractor of the "
@@ -146,7 +148,7 @@ void bind_terrain(py::module_& m) {
           orient(mesh, axes);
         }
         return mesh_to_dict(mesh);
-      }, py::arg("solid") = false, py::arg("base") = py::none(), py::arg("up") = "z", py::arg("palette") = py::none(),
+      }, py::arg("solid") = TerrainMeshOptions{}.solid, py::arg("base") = py::none(), py::arg("up") = "z", py::arg("palette") = py::none(),
          py::arg("threads") = 0,
          "dict of numpy arrays (positions, normals, uvs, display colors with a palette, triangles) in `up` axes: "
          "'z' (default) is ifsforge's (x, y, height), what write_mesh expects; 'y' gives (x, height, -y)");
@@ -158,6 +160,42 @@ void bind_terrain(py::module_& m) {
   }, py::arg("controls"), py::arg("columns"), py::arg("rows"), py::arg("threads") = 0, py::arg("progress") = py::none(),
      "Interpolate the controls: leading vectors first, then every vertical (radial) vector. Exact at every "
      "sample; the same result for any thread count.");
+  options_class<TerrainControlsOptions>(m, "TerrainControlsOptions",
+                                        "What make_terrain_controls builds: the settings of a terrain without a "
+                                        "recipe file (keywords of the same names).")
+      .def_property("grid", [](const TerrainControlsOptions& o) { return std::string(to_string(o.grid)); },
+                    [](TerrainControlsOptions& o, const std::string& g) { o.grid = terrain_grid(g); },
+                    "regular, irregular or circular")
+      .def_readwrite("rows", &TerrainControlsOptions::rows, "control rows (circular: circles); 0: 9 (circular 6)")
+      .def_readwrite("columns", &TerrainControlsOptions::columns, "control columns (circular: per circle); 0: 9 (12)")
+      .def_readwrite("base", &TerrainControlsOptions::base, "random heights: base + amplitude (2 u - 1)")
+      .def_readwrite("amplitude", &TerrainControlsOptions::amplitude)
+      .def_property("height_map", [](const TerrainControlsOptions& o) -> py::object {
+                      if (!o.height_map) return py::none();
+                      return image_to_numpy(*o.height_map);
+                    },
+                    [](TerrainControlsOptions& o, const py::array& map) { o.height_map = image_from_numpy(map); },
+                    "sample the heights from this map (numpy image) instead of drawing them")
+      .def_readwrite("window", &TerrainControlsOptions::window, "height_map: the part covered, [0, 1] image coordinates")
+      .def_readwrite("low", &TerrainControlsOptions::low, "height_map: the height of value 0")
+      .def_readwrite("high", &TerrainControlsOptions::high, "height_map: the height of value 1")
+      .def_readwrite("radii", &TerrainControlsOptions::radii, "circular: radii (empty: evenly to size_x / 2)")
+      .def_readwrite("shift", &TerrainControlsOptions::shift, "random displacement amplitude (0: none)")
+      .def_readwrite("roughness", &TerrainControlsOptions::roughness, "(along, across) |a22|, or None: 0")
+      .def_property("signs", [](const TerrainControlsOptions& o) { return std::string(to_string(o.signs)); },
+                    [](TerrainControlsOptions& o, const std::string& s) { o.signs = sign_pattern(s); },
+                    "random, alternating or constant")
+      .def_readwrite("size_x", &TerrainControlsOptions::size_x)
+      .def_readwrite("size_y", &TerrainControlsOptions::size_y);
+  m.def("make_terrain_controls", [](std::uint64_t seed, const py::kwargs& kwargs) {
+    return make_terrain_controls(options_from<TerrainControlsOptions>("make_terrain_controls", kwargs), seed);
+  }, py::arg("seed"),
+     "The TerrainControls the TerrainControlsOptions (keywords) describe, every random draw from `seed`: the "
+     "one builder behind `ifsforge terrain` and the Blender add-on (one seed, one terrain).");
+  m.def("set_roughness", [](TerrainControls& c, double along, double across, const std::string& signs,
+                            std::uint64_t seed) { set_roughness(c, along, across, sign_pattern(signs), seed); },
+        py::arg("controls"), py::arg("along"), py::arg("across"), py::arg("signs"), py::arg("seed"),
+        "a22 of |along| and |across| with the sign pattern (random signs from the seed's streams 1 and 2)");
   m.def("random_heights", [](const std::string& grid, int rows, int columns, std::vector<double> base,
                              double amplitude, std::uint64_t seed) {
     return random_heights(terrain_grid(grid), rows, columns, base, amplitude, seed);
@@ -189,7 +227,7 @@ void bind_terrain(py::module_& m) {
     o.up = up_argument(up);
     py::gil_scoped_release release;
     write_terrain_mesh(path, t, o, threads);
-  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("solid") = false,
+  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("solid") = TerrainMeshOptions{}.solid,
      py::arg("base") = py::none(), py::arg("up") = py::none(), py::arg("threads") = 0,
      ".glb (palette strip embedded as base-colour texture), .obj or .ply; uv = (normalised height, 0.5); "
      "up: the file's up axis ('y', 'z'; None: the format's, glTF/OBJ y, PLY z)");
@@ -206,14 +244,12 @@ void bind_terrain(py::module_& m) {
     const Palette p = palette.value_or(Palette{});
     py::gil_scoped_release release;
     return write_terrain_pov(path, t, p, o, threads);
-  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("shape") = "height_field",
-     py::arg("camera") = "perspective", py::arg("flat") = false, py::arg("aspect") = 4.0 / 3.0,
-     py::arg("threads") = 0, py::arg("title") = TerrainPovOptions().title,
-     py::arg("palette_name") = TerrainPovOptions().palette_name,
+  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("shape") = TerrainPovOptions{}.shape,
+     py::arg("camera") = TerrainPovOptions{}.camera, py::arg("flat") = TerrainPovOptions{}.flat,
+     py::arg("aspect") = TerrainPovOptions{}.aspect,
+     py::arg("threads") = 0, py::arg("title") = TerrainPovOptions{}.title,
+     py::arg("palette_name") = TerrainPovOptions{}.palette_name,
      "POV-Ray scene (height_field + its 16-bit PNG, or mesh2) coloured by the palette; returns the files written");
 }
 
-const Binding registered(41, &bind_terrain);
-
-}  // namespace
 }  // namespace ifsforge::python

@@ -26,6 +26,8 @@ Palette palette_from_numpy(const py::array& array) {
   return p;
 }
 
+}  // namespace
+
 void bind_texture(py::module_& m) {
   py::class_<PaletteSpec>(m, "PaletteSpec",
                           "Colour stops, their positions and the roughness (a22 per map) of each component.")
@@ -98,7 +100,4 @@ void bind_texture(py::module_& m) {
   }, py::arg("hue"), py::arg("lightness"), py::arg("saturation"), "hue in degrees; lightness, saturation in [0, 1]");
 }
 
-const Binding registered(40, &bind_texture);
-
-}  // namespace
 }  // namespace ifsforge::python

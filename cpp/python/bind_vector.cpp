@@ -1,13 +1,7 @@
 // Vector IFS: instance lists (vector recursive rendering), addresses (string rewriting, TSA),
-// primitives, and the POV-Ray, SVG, glTF and raster outputs.
+// primitives and the raster drawing of instance lists.
 #include "bindings.h"
 #include "ifsforge/core/error.h"
-#include "ifsforge/io/gltf_instances.h"
-#include "ifsforge/io/mesh_reader.h"
-#include "ifsforge/io/pov_instances.h"
-#include "ifsforge/io/pov_scene.h"
-#include "ifsforge/io/povray.h"
-#include "ifsforge/io/svg.h"
 #include "ifsforge/vector/addresses.h"
 #include "ifsforge/vector/draw.h"
 #include "ifsforge/io/primitive_spec.h"
@@ -22,20 +16,6 @@ template <typename T>
 py::array_t<T> view(const py::object& owner, const T* data, std::vector<py::ssize_t> shape) {
   py::array_t<T> out(shape, data, owner);
   py::detail::array_proxy(out.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
-  return out;
-}
-
-py::dict mesh_dict(const TriangleMesh& mesh) {
-  py::dict out;
-  const auto n = static_cast<py::ssize_t>(mesh.positions.size()), t = static_cast<py::ssize_t>(mesh.triangles.size());
-  py::array_t<float> positions({n, py::ssize_t(3)}), normals({static_cast<py::ssize_t>(mesh.normals.size()), py::ssize_t(3)});
-  py::array_t<std::uint32_t> triangles({t, py::ssize_t(3)});
-  std::memcpy(positions.mutable_data(), mesh.positions.data(), n * 12);
-  std::memcpy(normals.mutable_data(), mesh.normals.data(), mesh.normals.size() * 12);
-  std::memcpy(triangles.mutable_data(), mesh.triangles.data(), t * 12);
-  out["positions"] = positions;
-  out["normals"] = normals;
-  out["triangles"] = triangles;
   return out;
 }
 
@@ -92,6 +72,8 @@ std::optional<std::vector<double>> optional_vector(const py::object& o) {
   return o.cast<std::vector<double>>();
 }
 
+}  // namespace
+
 void bind_vector(py::module_& m) {
   py::class_<Primitive>(m, "Primitive",
                         "A graphics primitive placed by vector IFS instances, in the instance's frame (x along the "
@@ -106,8 +88,6 @@ void bind_vector(py::module_& m) {
            py::arg("segments") = 32, "{'positions', 'normals', 'triangles'} in the frame of the primitive")
       .def("__repr__", [](const Primitive& p) { return "Primitive('" + p.name() + "')"; });
   m.def("primitive_names", &builtin_primitive_names, "names of the built-in primitives");
-  m.def("read_mesh", [](const std::string& path) { return mesh_dict(read_mesh(path)); }, py::arg("path"),
-        "A PLY/OBJ/OFF/STL mesh (OpenMesh), triangulated: {'positions', 'normals', 'triangles'}.");
 
   py::class_<AddressTable>(m, "AddressTable",
                            "Leaf addresses in depth-first order: map indices from the outermost map in "
@@ -186,34 +166,44 @@ void bind_vector(py::module_& m) {
                std::to_string(l.addresses.depth) + ">";
       });
 
+  options_class<InstanceOptions>(m, "InstanceOptions", "The settings of instances() (keywords of the same names).")
+      .def_readwrite("depth", &InstanceOptions::depth, "recursion depth L (0: default_instance_depth)")
+      .def_readwrite("min_probability", &InstanceOptions::min_probability, "pv of the TSA (5.7)")
+      .def_property("primitives", [](const InstanceOptions& o) {
+                      std::vector<std::string> names;
+                      for (const auto& p : o.primitives) names.push_back(p.name());
+                      return names;
+                    },
+                    [](InstanceOptions& o, const py::object& spec) { o.primitives = primitives_from(spec); },
+                    "'sphere', 'sphere,box,cone', a list of names or Primitives")
+      .def_property("normalisation", [](const InstanceOptions& o) { return std::string(to_string(o.normalisation)); },
+                    [](InstanceOptions& o, const std::string& n) { o.normalisation = parse_normalisation(n); },
+                    "proportional (Eq. 60) or constant")
+      .def_readwrite("scale_factor", &InstanceOptions::scale_factor, "sf of Eq. 60")
+      .def_readwrite("length", &InstanceOptions::length, "constant normalisation: the vector length (0: automatic)")
+      .def_readwrite("base_point", &InstanceOptions::base_point, "q0 (empty: the centre of the attractor's bounds)")
+      .def_readwrite("base_vector", &InstanceOptions::base_vector, "q1 - q0 (empty: (R, 0[, 0]))")
+      .def_readwrite("base_up", &InstanceOptions::base_up, "the frame's second axis before mapping (empty: y)")
+      .def_property("color_source", [](const InstanceOptions& o) { return std::string(to_string(o.color_source)); },
+                    [](InstanceOptions& o, const std::string& c) { o.color_source = parse_color_source(c); },
+                    "auto, channels, first-map, last-map or constant")
+      .def_readwrite("normalize_colors", &InstanceOptions::normalize_colors, "Eq. 101's stretch of each colour channel")
+      .def_readwrite("color", &InstanceOptions::color, "RGBA for color_source constant")
+      .def_readwrite("threads", &InstanceOptions::threads, "0: every core; the list never depends on it")
+      .def_property("progress", [](const InstanceOptions&) { return py::none(); },
+                    [](InstanceOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
+                    "progress(fraction) returning False cancels (write-only)");
+
   m.def("instances",
-        [](const Ifs& ifs, int depth, const py::object& primitives, const std::string& normalisation,
-           double scale_factor, double length, const py::object& base_point, const py::object& base_vector,
-           const py::object& base_up, double min_probability, const std::string& color_source,
-           std::array<float, 4> color, bool normalize_colors, int threads, const py::object& progress) {
-          InstanceOptions o;
-          o.depth = depth;
-          o.primitives = primitives_from(primitives);
-          o.normalisation = parse_normalisation(normalisation);
-          o.scale_factor = scale_factor;
-          o.length = length;
-          o.base_point = optional_vector(base_point).value_or(std::vector<double>{});
-          o.base_vector = optional_vector(base_vector).value_or(std::vector<double>{});
-          o.base_up = optional_vector(base_up).value_or(std::vector<double>{});
-          o.min_probability = min_probability;
-          o.color_source = parse_color_source(color_source);
-          o.color = color;
-          o.normalize_colors = normalize_colors;
-          o.threads = threads;
-          o.progress = wrap_progress(progress);
+        [](const Ifs& ifs, const py::object& depth, const py::kwargs& kwargs) {
+          py::dict given(kwargs);
+          add_option(given, "depth", depth);
+          const InstanceOptions o = options_from<InstanceOptions>("instances", given);
           py::gil_scoped_release release;
           return instances(ifs, o);
         },
-        py::arg("ifs"), py::arg("depth") = 0, py::arg("primitives") = "sphere", py::arg("normalisation") = "proportional",
-        py::arg("scale_factor") = 1.0, py::arg("length") = 0.0, py::arg("base_point") = py::none(),
-        py::arg("base_vector") = py::none(), py::arg("base_up") = py::none(), py::arg("min_probability") = 0.0,
-        py::arg("color_source") = "auto", py::arg("color") = std::array<float, 4>{0.8f, 0.8f, 0.8f, 1.0f},
-        py::arg("normalize_colors") = true, py::arg("threads") = 0, py::arg("progress") = py::none(),
+        py::arg("ifs"), py::arg("depth") = py::none(),
+        "The InstanceOptions given as keywords. "
         "Vector recursive rendering (5.8.2): the instance list of a system. depth=0 picks the largest L with "
         "N^L <= 50000. primitives: 'sphere', 'sphere,box,cone' or a list; the k channel (Eq. 99, 107) picks "
         "one (rounded, modulo the list). normalisation: 'proportional' (d = sf |q1 - q0|, Eq. 60) or "
@@ -248,109 +238,25 @@ void bind_vector(py::module_& m) {
           write_address_csv(path, t);
         }, py::arg("path"), py::arg("addresses"), "CSV: index,address,length,probability (atomic).");
 
-  m.def("write_pov_scene",
-        [](const std::string& path, const InstanceList& list, const std::string& title, int width, int height,
-           std::array<double, 2> view, bool orthographic, double fov, double margin, std::optional<bool> floor,
-           std::optional<bool> sky, std::array<float, 3> background, const std::string& quality, bool bounded_by,
-           int threads, const py::object& progress) {
-          PovSceneOptions o;
-          o.title = title;
-          o.width = width;
-          o.height = height;
-          o.view.yaw = view[0];
-          o.view.pitch = view[1];
-          o.view.orthographic = orthographic;
-          o.view.fov = fov;
-          o.view.margin = margin;
-          o.environment.floor = floor.value_or(list.spatial_dims == 3);
-          o.environment.sky = sky.value_or(list.spatial_dims == 3);
-          o.environment.background = background;
-          o.environment.quality = parse_pov_quality(quality);
-          o.bounded_by = bounded_by;
-          o.threads = threads;
-          o.progress = wrap_progress(progress);
-          py::gil_scoped_release release;
-          write_pov_scene(path, list, o);
-        },
-        py::arg("path"), py::arg("instances"), py::arg("title") = "", py::arg("width") = 800, py::arg("height") = 600,
-        py::arg("view") = std::array<double, 2>{30.0, 25.0}, py::arg("orthographic") = false, py::arg("fov") = 40.0,
-        py::arg("margin") = 0.05, py::arg("floor") = py::none(), py::arg("sky") = py::none(),
-        py::arg("background") = std::array<float, 3>{1, 1, 1}, py::arg("quality") = "normal",
-        py::arg("bounded_by") = false, py::arg("threads") = 0, py::arg("progress") = py::none(),
-        "A POV-Ray 3.7 scene (+ ifsforge.inc beside it): one union of the instances, camera and lights framed "
-        "for width x height from the instances' bounds. view = (yaw, pitch) as `render --view` (2D lists: from "
-        "above). floor/sky default to on for 3D lists. quality: draft, normal, high. bounded_by adds a manual "
-        "bound (slow to trace in POV-Ray 3.7).");
-  m.def("render_povray",
-        [](const std::string& scene, const std::string& image, int width, int height, double antialias, int threads,
-           const py::object& progress) {
-          PovRenderOptions o;
-          o.width = width;
-          o.height = height;
-          o.antialias = antialias;
-          o.threads = threads;
-          o.progress = wrap_progress(progress);
-          py::gil_scoped_release release;
-          render_povray(scene, image, o);
-        },
-        py::arg("scene"), py::arg("image"), py::arg("width") = 800, py::arg("height") = 600, py::arg("antialias") = 0.3,
-        py::arg("threads") = 0, py::arg("progress") = py::none(),
-        "Render a scene with the real POV-Ray 3.7 (headless) into a PNG, atomically.");
-  m.def("povray_include", &povray_include, "the text of ifsforge.inc");
-  m.def("write_povray_include", &write_povray_include, py::arg("folder"));
-  m.def("pov_string", &pov_string, py::arg("text"), "a POV-Ray string literal holding text (ASCII, escaped)");
-  m.def("pov_comment", &pov_comment, py::arg("text"), "text made safe inside a // comment (one ASCII line)");
-  m.def("pov_identifier", &pov_identifier, py::arg("kind"), py::arg("name"),
-        "the identifier IFS_<kind>_<name> (name reduced to ASCII letters, digits and '_')");
-  m.def("pov_name", &pov_name, py::arg("name"), "the name part of pov_identifier");
-  m.def("ascii_text", &ascii_text, py::arg("text"), py::arg("unknown") = '?',
-        "text in printable ASCII: accents dropped, other characters as `unknown`");
-  m.def("pov_reserved_words", [] {
-    std::vector<std::string> words;
-    for (const auto w : pov_reserved_words()) words.emplace_back(w);
-    return words;
-  }, "POV-Ray 3.7's reserved words, sorted");
-
-  m.def("write_svg",
-        [](const std::string& path, const InstanceList& list, int width, double margin,
-           std::optional<std::array<float, 3>> background, const std::string& title) {
-          SvgOptions o;
-          o.width = width;
-          o.margin = margin;
-          o.background = background;
-          o.title = title;
-          py::gil_scoped_release release;
-          write_svg(path, list, o);
-        },
-        py::arg("path"), py::arg("instances"), py::arg("width") = 1024, py::arg("margin") = 0.03,
-        py::arg("background") = py::none(), py::arg("title") = "", "SVG of a 2D instance list, one element per instance.");
-  m.def("write_gltf_instances",
-        [](const std::string& path, const InstanceList& list, int segments, int color_levels, bool extras,
-           const std::string& name, const py::object& up) {
-          GltfInstanceOptions o;
-          o.segments = segments;
-          o.color_levels = color_levels;
-          o.extras = extras;
-          o.name = name;
-          o.up = up_argument(up).value_or(o.up);
-          py::gil_scoped_release release;
-          write_gltf_instances(path, list, o);
-        },
-        py::arg("path"), py::arg("instances"), py::arg("segments") = 24, py::arg("color_levels") = 16,
-        py::arg("extras") = true, py::arg("name") = "", py::arg("up") = py::none(),
-        "Binary glTF: each primitive's mesh stored once, one node per instance (Blender: linked duplicates); "
-        "materials hold the display colours as linear baseColorFactor; up: 'y' (None: glTF's) or 'z'.");
+  options_class<DrawOptions>(m, "DrawOptions", "The settings of draw_instances() (keywords of the same names).")
+      .def_readwrite("width", &DrawOptions::width)
+      .def_readwrite("height", &DrawOptions::height, "draw_instances(): default the width")
+      .def_property("window", [](const DrawOptions& o) { return window_tuple(o.window); },
+                    [](DrawOptions& o, const std::optional<std::array<double, 4>>& w) { o.window = window_argument(w); },
+                    "(xmin, ymin, xmax, ymax); None: the instances' projected bounds")
+      .def_property("view", [](const DrawOptions& o) { return std::array<double, 2>{o.view.yaw, o.view.pitch}; },
+                    [](DrawOptions& o, const std::array<double, 2>& v) { o.view = View{v[0], v[1]}; },
+                    "(yaw, pitch) in degrees, for 3D lists")
+      .def_readwrite("background", &DrawOptions::background, "RGBA")
+      .def_readwrite("supersample", &DrawOptions::supersample, "samples per pixel along each axis (1..8)")
+      .def_readwrite("threads", &DrawOptions::threads, "0: every core; the image never depends on it");
   m.def("draw_instances",
-        [](const InstanceList& list, int width, std::optional<int> height, std::optional<std::array<double, 4>> window,
-           std::array<double, 2> view, std::array<float, 4> background, int supersample, int threads) {
-          DrawOptions o;
-          o.width = width;
-          o.height = height.value_or(width);
-          if (window) o.window = Window{(*window)[0], (*window)[1], (*window)[2], (*window)[3]};
-          o.view = View{view[0], view[1]};
-          o.background = background;
-          o.supersample = supersample;
-          o.threads = threads;
+        [](const InstanceList& list, const py::object& width, const py::object& height, const py::kwargs& kwargs) {
+          py::dict given(kwargs);
+          add_option(given, "width", width);
+          add_option(given, "height", height);
+          DrawOptions o = options_from<DrawOptions>("draw_instances", given);
+          if (!given.contains("height") || given["height"].is_none()) o.height = o.width;
           Image image;
           {
             py::gil_scoped_release release;
@@ -358,13 +264,8 @@ void bind_vector(py::module_& m) {
           }
           return image_to_numpy(image);
         },
-        py::arg("instances"), py::arg("width") = 1024, py::arg("height") = py::none(), py::arg("window") = py::none(),
-        py::arg("view") = std::array<double, 2>{30.0, 25.0},
-        py::arg("background") = std::array<float, 4>{1, 1, 1, 1}, py::arg("supersample") = 3, py::arg("threads") = 0,
+        py::arg("instances"), py::arg("width") = py::none(), py::arg("height") = py::none(),
         "RGBA (h, w, 4) float32 picture of the instances without POV-Ray (2D: list order; 3D: flat-shaded, far to near).");
 }
 
-const Binding registered(45, &bind_vector);
-
-}  // namespace
 }  // namespace ifsforge::python

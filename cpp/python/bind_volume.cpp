@@ -1,11 +1,10 @@
-// Volumes: the four volumetric renderers of Table 2, OpenVDB files and iso-surface meshes.
+// Volumes: the four volumetric renderers of Table 2 and the sparse volume they make.
 #include <algorithm>
 #include <cstring>
 
 #include "bindings.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
-#include "ifsforge/io/vdb.h"
 #include "ifsforge/volume/volume_renderer.h"
 
 namespace ifsforge::python {
@@ -39,12 +38,7 @@ py::array_t<float> attribute_array(const VolumeAttribute& a, std::size_t voxels)
   return to_numpy(a.values, {static_cast<py::ssize_t>(voxels), py::ssize_t(a.components)});
 }
 
-template <typename T, std::size_t N>
-py::array_t<T> rows_to_numpy(const std::vector<std::array<T, N>>& rows) {
-  py::array_t<T> out({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(N)});
-  if (!rows.empty()) std::memcpy(out.mutable_data(), rows.data(), rows.size() * sizeof(rows[0]));
-  return out;
-}
+}  // namespace
 
 void bind_volume(py::module_& m) {
   py::class_<Volume>(m, "Volume",
@@ -82,13 +76,14 @@ void bind_volume(py::module_& m) {
       .def_readonly("algorithm", &Volume::algorithm)
       .def_readonly("depth", &Volume::depth, "recursion depth (prr), rewriting levels (dia), escape bound (eta)")
       .def_readonly("points", &Volume::points, "leaves, random points, mapped voxels or search steps")
-      .def("attributes", [](const Volume& v, const std::string& scale) {
+      .def("attributes", [](const Volume& v, const std::optional<std::string>& scale) {
         py::dict out;
-        for (const auto& a : volume_attributes(v, color_scale_from_string(scale)))
+        const auto attributes = scale ? volume_attributes(v, color_scale_from_string(*scale)) : volume_attributes(v);
+        for (const auto& a : attributes)
           out[py::str(a.name)] = attribute_array(a, v.size());
         return out;
-      }, py::arg("color_scale") = "auto",
-         "The output attributes in [0, 1]: 'color' (n, 3) RGB (HSI converted, gray repeated), 'gray', 'alpha', ...")
+      }, py::arg("color_scale") = py::none(),
+         "The output attributes in [0, 1] (color_scale: auto (None), range or clamp): 'color' (n, 3) RGB (HSI converted, gray repeated), 'gray', 'alpha', ...")
       .def_property_readonly("color", [](const Volume& v) -> py::object {
         for (const auto& a : volume_attributes(v))
           if (a.name == "color") return attribute_array(a, v.size());
@@ -115,31 +110,39 @@ void bind_volume(py::module_& m) {
         return out;
       }, py::arg("what") = "density", "A dense (nx, ny, nz) float32 array (small grids only).");
 
+  options_class<VolumeOptions>(m, "VolumeOptions",
+                               "The settings of render_volume(); its keywords are these fields, their defaults these.")
+      .def_readwrite("resolution", &VolumeOptions::resolution, "voxels along the longest side of the grid's box")
+      .def_readwrite("bounds", &VolumeOptions::bounds, "(xmin, ymin, zmin, xmax, ymax, zmax); None: the attractor's box")
+      .def_property("density", [](const VolumeOptions& o) { return std::string(to_string(o.density)); },
+                    [](VolumeOptions& o, const std::string& d) { o.density = volume_density_from_string(d); },
+                    "binary, hits or measure")
+      .def_readwrite("depth", &VolumeOptions::depth, "prr recursion depth / dia levels (0: until occupancy stops changing)")
+      .def_property("iterations", [](const VolumeOptions& o) { return o.iterations; },
+                    [](VolumeOptions& o, long long v) { o.iterations = count_argument(v, "iterations"); },
+                    "ria points (0: doubled until occupancy stops changing)")
+      .def_readwrite("escape_bound", &VolumeOptions::escape_bound, "eta: steps a voxel must survive (0: from the resolution)")
+      .def_property("escape_norm", [](const VolumeOptions& o) { return std::string(to_string(o.escape_norm)); },
+                    [](VolumeOptions& o, const std::string& n) { o.escape_norm = escape_norm_from_string(n); },
+                    "eta: euclidean or linear (Eq. 55)")
+      .def_readwrite("escape_pick_max", &VolumeOptions::escape_pick_max, "eta: Eq. 56's largest delta")
+      .def_readwrite("seed", &VolumeOptions::seed, "ria only")
+      .def_readwrite("threads", &VolumeOptions::threads, "0: every core; the volume never depends on it")
+      .def_property("progress", [](const VolumeOptions&) { return py::none(); },
+                    [](VolumeOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
+                    "progress(fraction) returning False cancels (write-only)");
+
   m.def("render_volume",
-        [](const Ifs& ifs, const std::string& algorithm, int resolution, std::optional<std::array<double, 6>> bounds,
-           const std::string& density, int depth, long long iterations, int escape_bound,
-           const std::string& escape_norm, bool escape_pick_max, std::uint64_t seed, int threads,
-           const py::object& progress) {
-          VolumeOptions o;
-          o.resolution = resolution;
-          if (bounds) o.bounds = *bounds;
-          o.density = volume_density_from_string(density);
-          o.depth = depth;
-          o.iterations = count_argument(iterations, "iterations");
-          o.escape_bound = escape_bound;
-          o.escape_norm = escape_norm_from_string(escape_norm);
-          o.escape_pick_max = escape_pick_max;
-          o.seed = seed;
-          o.threads = threads;
-          o.progress = wrap_progress(progress);
+        [](const Ifs& ifs, const std::string& algorithm, const py::object& resolution, const py::kwargs& kwargs) {
+          py::dict given(kwargs);
+          add_option(given, "resolution", resolution);
+          const VolumeOptions o = options_from<VolumeOptions>("render_volume", given);
           const VolumeRenderer& r = volume_renderer(algorithm);
           py::gil_scoped_release release;
           return r.render(ifs, o);
         },
-        py::arg("ifs"), py::arg("algorithm") = "prr", py::arg("resolution") = 256, py::arg("bounds") = py::none(),
-        py::arg("density") = "binary", py::arg("depth") = 0, py::arg("iterations") = 0, py::arg("escape_bound") = 0,
-        py::arg("escape_norm") = "euclidean", py::arg("escape_pick_max") = false, py::arg("seed") = 0,
-        py::arg("threads") = 0, py::arg("progress") = py::none(),
+        py::arg("ifs"), py::arg("algorithm") = "prr", py::arg("resolution") = py::none(),
+        "The VolumeOptions given as keywords. "
         "Render a 3D system (xyz, xyz+gray, xyz+rgb, xyz+hsi, ...) into a sparse volume with one of the four "
         "renderers of the seed's Table 2: prr, ria, dia, eta. resolution: voxels along the longest side of "
         "bounds (xmin, ymin, zmin, xmax, ymax, zmax; default the attractor's box). density: binary, hits or "
@@ -152,68 +155,6 @@ void bind_volume(py::module_& m) {
     for (const VolumeRenderer* r : volume_renderers()) out.emplace_back(r->name(), r->description());
     return out;
   }, "(name, description) of every volumetric renderer");
-
-  m.def("write_vdb",
-        [](const std::string& path, const Volume& volume, std::optional<Ifs> system,
-           std::map<std::string, std::string> metadata, const std::string& color_scale, bool half, bool compress) {
-          VdbWriteOptions o;
-          o.color_scale = color_scale_from_string(color_scale);
-          o.half = half;
-          o.compress = compress;
-          o.metadata = std::move(metadata);
-          if (system) o.system = &*system;
-          py::gil_scoped_release release;
-          write_vdb(path, volume, o);
-        },
-        py::arg("path"), py::arg("volume"), py::arg("system") = py::none(),
-        py::arg("metadata") = std::map<std::string, std::string>{}, py::arg("color_scale") = "auto",
-        py::arg("half") = true, py::arg("compress") = false,
-        "Write an OpenVDB file (atomically): FloatGrid 'density', Vec3fGrid 'color' (RGB in [0, 1]) when the "
-        "layout has colour, FloatGrids 'gray', 'alpha', ...; the transform puts the voxels where the system "
-        "puts them; metadata describes the volume and, when given, the system (its JSON). half: store the "
-        "[0, 1] grids (and a binary density) as 16-bit halves (relative error <= 2^-11); compress: Blosc "
-        "(about a third smaller, slower to write).");
-
-  m.def("read_vdb_info", [](const std::string& path) {
-    const VdbFileInfo info = read_vdb_info(path);
-    py::list grids;
-    for (const auto& g : info.grids) {
-      py::dict d;
-      d["name"] = g.name;
-      d["type"] = g.type;
-      d["active_voxels"] = g.active_voxels;
-      d["voxel_size"] = g.voxel_size;
-      d["index_bounds"] = g.index_bounds;
-      grids.append(d);
-    }
-    py::dict out;
-    out["grids"] = grids;
-    out["metadata"] = info.metadata;
-    return out;
-  }, py::arg("path"), "The grids (name, type, active_voxels, voxel_size, index_bounds) and metadata of a .vdb.");
-
-  m.def("volume_to_mesh",
-        [](const Volume& volume, double iso, bool use_density, double adaptivity, const std::string& color_scale) {
-          IsoSurfaceOptions o{iso, use_density, adaptivity, color_scale_from_string(color_scale)};
-          TriangleMesh mesh;
-          {
-            py::gil_scoped_release release;
-            mesh = volume_to_mesh(volume, o);
-          }
-          py::dict out;
-          out["positions"] = rows_to_numpy(mesh.positions);
-          out["triangles"] = rows_to_numpy(mesh.triangles);
-          out["normals"] = rows_to_numpy(mesh.normals);
-          out["colors"] = mesh.colors.empty() ? py::object(py::none()) : py::object(rows_to_numpy(mesh.colors));
-          return out;
-        },
-        py::arg("volume"), py::arg("iso") = 0.5, py::arg("use_density") = false, py::arg("adaptivity") = 0.0,
-        py::arg("color_scale") = "auto",
-        "The iso-surface of the occupancy (or of the density) as a dict of arrays: positions, triangles, normals, "
-        "colors (RGBA from the colour grid, or None) -- ready for write_mesh(path, **mesh).");
 }
 
-const Binding registered(45, &bind_volume);
-
-}  // namespace
 }  // namespace ifsforge::python

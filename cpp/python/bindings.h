@@ -5,23 +5,33 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <string>
+#include <type_traits>
+
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/progress.h"
 #include "ifsforge/geometry/axes.h"
 #include "ifsforge/model/ifs.h"
+#include "ifsforge/render/frame.h"
 #include "ifsforge/core/image.h"
 
 namespace ifsforge::python {
 
 namespace py = pybind11;
 
-/// @brief Each bind_<area>.cpp registers its area with a static Binding, so adding an area
-/// touches no shared file. `order` sets the sequence (types before functions using them).
-struct Binding {
-  Binding(int order, void (*bind)(py::module_&));
-};
-/// @brief Runs every registered binding in order (called once by the module).
-void bind_all(py::module_& m);
+/// @brief One function per cpp/src area, in bind_<area>.cpp; module.cpp calls them in this
+/// order (types before the functions that take or return them).
+void bind_core(py::module_& m);
+void bind_model(py::module_& m);
+void bind_render(py::module_& m);
+void bind_texture(py::module_& m);
+void bind_vector(py::module_& m);
+void bind_volume(py::module_& m);
+void bind_io(py::module_& m);
+void bind_terrain(py::module_& m);
+void bind_pifs(py::module_& m);
+void bind_design(py::module_& m);
+void bind_inverse(py::module_& m);
 
 /// @brief A C++ progress callback around a Python callable f(fraction) -> bool | None
 /// (False cancels). Ctrl-C also cancels. Empty when `callback` is None.
@@ -30,6 +40,9 @@ ProgressCallback wrap_progress(const py::object& callback);
 /// @brief An `up` argument: None (the format's default: none), "y", "z" or ifsforge.Up.
 std::optional<Up> up_argument(const py::object& up);
 
+/// @brief {'positions', 'normals', 'triangles'} numpy arrays (copies) of a mesh.
+py::dict mesh_dict(const TriangleMesh& mesh);
+
 /// @brief A float32 numpy array (copy) of shape `shape` from contiguous data.
 py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssize_t> shape);
 
@@ -37,6 +50,55 @@ py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssiz
 Image image_from_numpy(const py::array& array);
 /// @brief (h, w) for one channel, else (h, w, c), float32.
 py::array_t<float> image_to_numpy(const Image& image);
+
+template <typename T, typename = void>
+struct has_progress : std::false_type {};
+template <typename T>
+struct has_progress<T, std::void_t<decltype(T::progress)>> : std::true_type {};
+
+/// @brief A `T` options struct from keyword arguments. The defaults are a default-constructed
+/// T's (the one place they are written); each keyword is set through T's bound Python class,
+/// whose properties convert and check it; None keeps the default. An unknown keyword is a
+/// TypeError naming `function`. A struct with a progress callback always gets one, so Ctrl-C
+/// stops the work even when the caller passed none.
+template <typename T>
+T options_from(const char* function, const py::dict& kwargs) {
+  py::object options = py::cast(T{});
+  for (const auto& item : kwargs) {
+    const std::string name = py::str(item.first);
+    if (name.empty() || name[0] == '_' || !py::hasattr(options, name.c_str()))
+      throw py::type_error(std::string(function) + "() got an unexpected keyword argument '" + name + "'");
+    if (!item.second.is_none()) py::setattr(options, item.first, item.second);
+  }
+  T result = options.cast<T>();
+  if constexpr (has_progress<T>::value)
+    if (!result.progress) result.progress = wrap_progress(py::none());
+  return result;
+}
+
+/// @brief Binds `T` as a Python class constructible with keyword arguments (see options_from).
+template <typename T>
+py::class_<T> options_class(py::module_& m, const char* name, const char* doc) {
+  py::class_<T> cls(m, name, doc);
+  cls.def(py::init([name](const py::kwargs& kwargs) { return options_from<T>(name, kwargs); }));
+  return cls;
+}
+
+/// @brief Sets `key` in `kwargs` when `value` is not None: a leading positional argument that
+/// is also an option field.
+inline void add_option(py::dict& kwargs, const char* key, const py::object& value) {
+  if (!value.is_none()) kwargs[key] = value;
+}
+
+/// @brief A window (xmin, ymin, xmax, ymax) between Python and C++.
+inline std::optional<Window> window_argument(const std::optional<std::array<double, 4>>& w) {
+  if (!w) return std::nullopt;
+  return Window{(*w)[0], (*w)[1], (*w)[2], (*w)[3]};
+}
+inline std::optional<std::array<double, 4>> window_tuple(const std::optional<Window>& w) {
+  if (!w) return std::nullopt;
+  return std::array<double, 4>{w->xmin, w->ymin, w->xmax, w->ymax};
+}
 
 /// A count a Python caller gives as an int: negative values are an InputError naming the
 /// option (not pybind's TypeError for an unsigned parameter).

@@ -211,6 +211,26 @@ def terrain_and_palette():
     assert len(obj.data.vertices) == 17 * 17 and obj.ifsforge.summary.startswith("regular terrain, 17x17")
 
 
+def terrain_same_seed():
+    """A random terrain from the panel: the height field the CLI and Python make from the same
+    settings and seed (test_blender_addon compares the bytes)."""
+    load("barnsley_fern.json")
+    settings.terrain_source, settings.terrain_grid, settings.terrain_controls = 'RANDOM', 'irregular', 9
+    settings.terrain_resolution, settings.terrain_size, settings.terrain_height = 65, 4.0, 1.0
+    # Values a float32 Blender property holds exactly, so the add-on passes what the CLI parses.
+    settings.terrain_roughness, settings.seed = (0.375, 0.25), 7
+    obj = generate("terrain")
+    from ifsforge_addon.generate_terrain import TerrainGenerator
+    values = generators.get('TERRAIN').resolve(dict(settings_values()))
+    terrain = ifsforge.make_terrain(TerrainGenerator.controls(None, values), 65, 65)
+    co = np.zeros(65 * 65 * 3, np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    close(co.reshape(-1, 3), terrain.mesh(up="z")["positions"], 1e-6)  # the object is that terrain
+    path = OUT / "terrain_same_seed.png"
+    ifsforge.write_png(str(path), terrain.height_image(65, 65), 16)
+    checks.values["terrain_same_seed_png"] = str(path)
+
+
 def settings_values():
     return {p.identifier: (getattr(settings, p.identifier) if isinstance(getattr(settings, p.identifier),
                                                                          (str, int, float, bool))
@@ -331,6 +351,7 @@ def bad_input():
 checks.run("volume", volume)
 checks.run("instances", instances)
 checks.run("terrain_and_palette", terrain_and_palette)
+checks.run("terrain_same_seed", terrain_same_seed)
 checks.run("iso_surface", iso_surface)
 checks.run("keyframes_regenerate_per_frame", keyframes_regenerate_per_frame)
 checks.run("cancelling", cancelling)

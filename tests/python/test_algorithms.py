@@ -190,3 +190,12 @@ def test_cli_growth_writes_frames(run_cli, tmp_path):
     assert len(frames) > 3
     first, last = ifsforge.read_png(str(frames[0])), ifsforge.read_png(str(frames[-1]))
     assert (last > 0).sum() > (first > 0).sum()
+
+
+def test_seed_reference_lives_on_the_registry():
+    # 5.13.1's random-iteration estimate is Eq. 44 at one point per pixel (H V 8).
+    assert ifsforge.seed_reference("chaos") == ("5.1.1", ifsforge.default_iterations(1000, 1000, points_per_pixel=1))
+    assert ifsforge.seed_reference("ria") == ifsforge.seed_reference("chaos")  # an alias, the same renderer
+    assert ifsforge.seed_reference("photocopy") == ("5.12.1", None)  # the seed gives no estimate
+    with pytest.raises(ifsforge.InputError, match="unknown algorithm"):
+        ifsforge.seed_reference("no-such")

@@ -7,6 +7,7 @@ import os
 import signal
 import shutil
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -126,6 +127,17 @@ def test_install_script(tmp_path):
 def test_generators_in_blender(tmp_path):
     report = run_blender("addon_generate.py", tmp_path)
     values = report["values"]
+    # One seed, one terrain: the add-on, the CLI and Python build the controls with the core's one
+    # builder (make_terrain_controls) and give the same height field, byte for byte.
+    cli_png, python_png = tmp_path / "cli_terrain.png", tmp_path / "python_terrain.png"
+    subprocess.run([sys.executable, "-m", "ifsforge", "terrain", "--grid", "irregular", "--controls", "9", "9",
+                    "--shift", "0.3", "--roughness", "0.375", "0.25", "--seed", "7", "--res", "65", "--size", "4", "4",
+                    "-o", str(cli_png)], check=True, env=dict(os.environ, PYTHONPATH=str(BUILD_PYTHON)))
+    controls = ifsforge.make_terrain_controls(7, grid="irregular", rows=9, columns=9, shift=0.3, roughness=(0.375, 0.25))
+    ifsforge.write_png(str(python_png), ifsforge.make_terrain(controls, 65, 65).height_image(65, 65), 16)
+    blender_png = values["terrain_same_seed_png"]
+    with open(blender_png, "rb") as f:
+        assert f.read() == cli_png.read_bytes() == python_png.read_bytes()
     # An independent reader (OpenVDB's own Python module) agrees with what Blender was shown.
     pyopenvdb = pytest.importorskip("pyopenvdb")
     path, voxels = values["tetrahedron_vdb_after"]

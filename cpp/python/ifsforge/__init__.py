@@ -25,18 +25,21 @@ from ifsforge._core import (  # noqa: F401
     read_png,
     render,
     renderers,
+    seed_reference,
     to_json,
     write_json,
     default_threads,
     mesh_edges,
     set_default_threads,
     write_mesh,
+    write_bytes,
     write_png,
 )
 from ifsforge._core import Up, default_up, linear_to_srgb, srgb_to_linear  # noqa: F401  (axes, colour rule)
 from ifsforge._core import PreviewCloud, morph, pad_maps, piece_color, preview_cloud  # noqa: F401  (design)
 from ifsforge._core import (  # noqa: F401  (terrain: fractal interpolation, terrains, palettes)
-    FractalInterpolation, Palette, PaletteRecipe, PaletteSpec, Terrain, TerrainControls, TerrainRecipe,
+    FractalInterpolation, Palette, PaletteRecipe, PaletteSpec, Terrain, TerrainControls, TerrainControlsOptions,
+    TerrainRecipe, make_terrain_controls, set_roughness,
     apply_palette, hls_to_rgb, make_palette, make_terrain, parse_palette_recipe, parse_terrain_recipe,
     pov_color_map, random_heights, random_shifts, read_palette_recipe, read_terrain_recipe,
     sample_heights, vertical_scaling, write_terrain_mesh, write_terrain_pov,
@@ -52,13 +55,17 @@ from ifsforge._core import (  # noqa: F401  (vector: instance lists, addresses, 
     write_povray_include, write_svg,
 )
 from ifsforge._core import (  # noqa: F401  (volume: Table 2 renderers, OpenVDB, POV-Ray df3, iso-surfaces)
-    Volume, read_vdb_info, render_volume, volume_renderers, volume_to_mesh, write_df3, write_vdb,
+    Volume, render_volume, volume_renderers, write_df3,
 )
 from ifsforge._core import (  # noqa: F401  (pifs: fractal image compression, seed 3.3.2)
     PifsCode, pifs_encode, pifs_from_bytes, read_pifs, write_pifs,
 )
 from ifsforge._core import (  # noqa: F401  (inverse problem: collage theorem, fitting)
     attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance, tops, tops_warp,
+)
+from ifsforge._core import (  # noqa: F401  (the settings structs: every default lives in C++, once)
+    DrawOptions, GltfInstanceOptions, InstanceOptions, PovRenderOptions, RenderOptions, SvgOptions, ToneOptions,
+    VolumeOptions,
 )
 from ifsforge.errors import (  # noqa: F401
     Cancelled,
@@ -70,3 +77,18 @@ from ifsforge.errors import (  # noqa: F401
 )
 
 __version__ = "0.1.0"
+
+# OpenVDB files and iso-surfaces live in their own extension, imported on first use: loading
+# libopenvdb takes ~60 ms, which every command that writes no .vdb would otherwise pay.
+_VDB_NAMES = ("IsoSurfaceOptions", "VdbWriteOptions", "read_vdb_info", "volume_to_mesh", "write_vdb")
+
+
+def __getattr__(name):
+    if name in _VDB_NAMES:
+        from ifsforge import _vdb
+        return getattr(_vdb, name)
+    raise AttributeError(f"module 'ifsforge' has no attribute '{name}'")
+
+
+def __dir__():
+    return sorted(list(globals()) + list(_VDB_NAMES))

@@ -2,7 +2,6 @@
 import argparse
 import contextlib
 import os
-import tempfile
 
 import ifsforge
 
@@ -84,24 +83,6 @@ def parse_parameters(items):
             raise ifsforge.InputError(f"--param expects KEY=VALUE, got '{item}'")
         out[key.strip()] = value.strip()
     return out
-
-
-def write_atomic(path, write, binary=False):
-    """Calls write(file) on a temporary beside `path`, then renames it over `path`: a failure
-    leaves neither a partial file nor the temporary."""
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, temporary = tempfile.mkstemp(prefix=".ifsforge-", dir=folder)
-    try:
-        with os.fdopen(fd, "wb" if binary else "w") as f:
-            write(f)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)  # mkstemp's 0600 is not what a plain write gives
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.remove(temporary)
-        raise
 
 
 @contextlib.contextmanager

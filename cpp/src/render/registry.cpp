@@ -26,27 +26,30 @@ namespace {
 struct Entry {
   std::unique_ptr<Renderer> renderer;
   std::vector<std::string> aliases;
+  SeedReference seed;  ///< where the seed describes it, and its 5.13.1 operation estimate
 };
 
 const std::vector<Entry>& registry() {
   static const std::vector<Entry> entries = [] {
+    // The seed's section of each algorithm and its operation estimate for H = V = 1000, N = 5
+    // (5.13.1, Eq. 75-88; 0: the seed gives none).
     std::vector<Entry> e;
-    e.push_back({std::make_unique<ChaosGame>(), {"ria", "random"}});
-    e.push_back({std::make_unique<ColourStealing>(), {"cs-ria", "color-stealing"}});
-    e.push_back({std::make_unique<DeterministicIteration>(), {"deterministic-iteration"}});
-    e.push_back({std::make_unique<Superfractal>(), {"superfractal"}});
-    e.push_back({std::make_unique<MinimalPlotting>(), {"minimal-plotting"}});
-    e.push_back({std::make_unique<ConstantMass>(), {"constant-mass"}});
-    e.push_back({std::make_unique<EscapeTime>(), {"escape-time"}});
-    e.push_back({std::make_unique<StringRewriting>(), {"srwa", "strings"}});
-    e.push_back({std::make_unique<TesseralSynecdoche>(), {"tesseral-synecdoche"}});
-    e.push_back({std::make_unique<PointRecursive>(), {"point-recursive"}});
-    e.push_back({std::make_unique<ImageBased>(), {"image-based"}});
-    e.push_back({std::make_unique<AccurateFractal>(), {"accurate-fractal"}});
-    e.push_back({std::make_unique<SelfCongruent>(), {"growth"}});
-    e.push_back({std::make_unique<RecurrentPhotocopy>(), {"recurrent-photocopy"}});
-    e.push_back({std::make_unique<ProbabilisticDomain>(), {"vrpda"}});
-    e.push_back({std::make_unique<TopsRenderer>(), {"fractal-tops"}});  // seed 3.3.5, after chapter 5
+    e.push_back({std::make_unique<ChaosGame>(), {"ria", "random"}, {"5.1.1", 8e6}});
+    e.push_back({std::make_unique<ColourStealing>(), {"cs-ria", "color-stealing"}, {"5.1.2", 8e6}});
+    e.push_back({std::make_unique<DeterministicIteration>(), {"deterministic-iteration"}, {"5.2.1", 100e6}});
+    e.push_back({std::make_unique<Superfractal>(), {"superfractal"}, {"5.2.2", 320e6}});
+    e.push_back({std::make_unique<MinimalPlotting>(), {"minimal-plotting"}, {"5.3", 0.5e6}});
+    e.push_back({std::make_unique<ConstantMass>(), {"constant-mass"}, {"5.4", 100e6}});
+    e.push_back({std::make_unique<EscapeTime>(), {"escape-time"}, {"5.5", 1.28e9}});
+    e.push_back({std::make_unique<StringRewriting>(), {"srwa", "strings"}, {"5.6", 781250}});
+    e.push_back({std::make_unique<TesseralSynecdoche>(), {"tesseral-synecdoche"}, {"5.7", 0.8e6}});
+    e.push_back({std::make_unique<PointRecursive>(), {"point-recursive"}, {"5.8.1", 390625}});
+    e.push_back({std::make_unique<ImageBased>(), {"image-based"}, {"5.9", 1e6}});
+    e.push_back({std::make_unique<AccurateFractal>(), {"accurate-fractal"}, {"5.10", 780000}});
+    e.push_back({std::make_unique<SelfCongruent>(), {"growth"}, {"5.11", 0}});
+    e.push_back({std::make_unique<RecurrentPhotocopy>(), {"recurrent-photocopy"}, {"5.12.1", 0}});
+    e.push_back({std::make_unique<ProbabilisticDomain>(), {"vrpda"}, {"5.12.2", 0}});
+    e.push_back({std::make_unique<TopsRenderer>(), {"fractal-tops"}, {"3.3.5", 0}});  // after chapter 5
     return e;
   }();
   return entries;
@@ -55,6 +58,13 @@ const std::vector<Entry>& registry() {
 }  // namespace
 
 const Renderer& renderer(const std::string& name) { return find_named(registry(), name, "algorithm"); }
+
+SeedReference seed_reference(const std::string& name) {
+  const Renderer* r = &renderer(name);
+  for (const auto& entry : registry())
+    if (entry.renderer.get() == r) return entry.seed;
+  return {};
+}
 
 std::vector<const Renderer*> renderers() {
   std::vector<const Renderer*> out;

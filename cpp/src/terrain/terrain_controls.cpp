@@ -88,4 +88,40 @@ void sample_heights(TerrainControls& c, int rows, int columns, const Image& map,
   if (circular) c.heights[0].assign(columns, c.heights[0][0]);
 }
 
+TerrainControls make_terrain_controls(const TerrainControlsOptions& options, std::uint64_t seed) {
+  TerrainControlsOptions o = options;
+  const bool circular = o.grid == TerrainGrid::Circular;
+  if (o.rows == 0) o.rows = circular ? 6 : 9;
+  if (o.columns == 0) o.columns = circular ? 12 : 9;
+  TerrainControls c;
+  c.grid = o.grid;
+  c.size_x = o.size_x;
+  c.size_y = o.size_y;
+  if (circular) {
+    c.radii = o.radii;
+    if (c.radii.empty())
+      for (int k = 0; k < o.rows; ++k) c.radii.push_back(o.rows > 1 ? 0.5 * o.size_x * k / (o.rows - 1) : 0.0);
+    if (c.radii.size() != std::size_t(o.rows))
+      throw InputError("terrain controls: " + std::to_string(o.rows) + " leading circles need " +
+                       std::to_string(o.rows) + " radii, got " + std::to_string(c.radii.size()));
+  } else if (!o.radii.empty()) {
+    throw InputError("terrain controls: radii belong to a circular grid");
+  }
+  if (o.height_map)
+    sample_heights(c, o.rows, o.columns, *o.height_map, o.window, o.low, o.high);
+  else
+    c.heights = random_heights(o.grid, o.rows, o.columns, {o.base}, o.amplitude, seed);
+  if (o.shift != 0.0) random_shifts(c, o.shift, seed);
+  if (o.roughness) set_roughness(c, (*o.roughness)[0], (*o.roughness)[1], o.signs, seed);
+  return c;
+}
+
+void set_roughness(TerrainControls& c, double along, double across, SignPattern signs, std::uint64_t seed) {
+  if (c.heights.empty() || c.heights[0].empty()) throw InputError("roughness: the controls have no heights");
+  const std::size_t rows = c.heights.size(), columns = c.heights[0].size();
+  const std::size_t maps_u = c.grid == TerrainGrid::Circular ? columns : columns - 1;
+  c.a22_u = vertical_scaling(maps_u, along, signs, seed, 1);
+  c.a22_v = vertical_scaling(rows - 1, across, signs, seed, 2);
+}
+
 }  // namespace ifsforge

@@ -30,6 +30,15 @@ ColorScale color_scale_from_string(const std::string& name) {
   throw InputError("unknown colour scale '" + name + "'; choose one of: auto, range, clamp");
 }
 
+const char* to_string(ColorScale s) {
+  switch (s) {
+    case ColorScale::Auto: return "auto";
+    case ColorScale::Range: return "range";
+    case ColorScale::Clamp: return "clamp";
+  }
+  return "?";
+}
+
 std::size_t Volume::find(std::uint64_t key) const {
   const auto it = std::lower_bound(keys.begin(), keys.end(), key);
   return it != keys.end() && *it == key ? static_cast<std::size_t>(it - keys.begin()) : keys.size();

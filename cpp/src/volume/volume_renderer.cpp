@@ -42,6 +42,8 @@ EscapeNorm escape_norm_from_string(const std::string& name) {
   throw InputError("unknown escape-time norm '" + name + "'; choose euclidean or linear (Eq. 55)");
 }
 
+const char* to_string(EscapeNorm n) { return n == EscapeNorm::Linear ? "linear" : "euclidean"; }
+
 const VolumeRenderer& volume_renderer(const std::string& name) {
   return find_named(registry(), name, "volume algorithm");
 }

@@ -57,6 +57,14 @@ class Renderer {
 
 /// @brief The renderer called `name` (or one of its aliases); InputError lists the choices.
 const Renderer& renderer(const std::string& name);
+/// @brief Where the seed describes a renderer, and the operations it estimates for a
+/// 1000 x 1000 image of a 5-map IFS (5.13.1, Eq. 75-88; 0 where it gives none).
+struct SeedReference {
+  std::string section;
+  double operations = 0;
+};
+/// @brief The seed reference of the renderer called `name` (or an alias).
+SeedReference seed_reference(const std::string& name);
 /// @brief Every renderer, in the order of the seed's chapter 5.
 std::vector<const Renderer*> renderers();
 

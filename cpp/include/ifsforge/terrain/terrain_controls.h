@@ -3,10 +3,12 @@
 /// generator, or an existing height map (a terrain insert that follows its surroundings).
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "ifsforge/core/image.h"
 #include "ifsforge/terrain/terrain.h"
+#include "ifsforge/interpolation/vertical_scaling.h"
 
 namespace ifsforge {
 
@@ -28,5 +30,35 @@ void random_shifts(TerrainControls& controls, double amplitude, std::uint64_t se
 /// low + v (high - low). A circular grid's centre takes the map's value at the centre.
 void sample_heights(TerrainControls& controls, int rows, int columns, const Image& map,
                     const std::array<double, 4>& window, double low = 0.0, double high = 1.0);
+
+/// @brief The controls of a terrain described by settings rather than a recipe file: what the
+/// CLI's `terrain` options and the add-on's panel fill in, so that one seed gives one terrain in
+/// both (make_terrain_controls draws every random number).
+struct TerrainControlsOptions {
+  TerrainGrid grid = TerrainGrid::Regular;
+  /// The control lattice (circular: circles, points per circle); 0: 9 x 9, circular 6 x 12.
+  int rows = 0, columns = 0;
+  double base = 0.5, amplitude = 0.5;  ///< random heights: base + amplitude (2 u - 1)
+  /// Sample the heights from this map (first channel) instead: its `window` in [0, 1] image
+  /// coordinates, values v in [0, 1] as low + v (high - low) (see sample_heights).
+  std::optional<Image> height_map;
+  std::array<double, 4> window{0.0, 0.0, 1.0, 1.0};
+  double low = 0.0, high = 1.0;
+  /// Circular: the leading circles' radii; empty: `rows` radii evenly from 0 to size_x / 2.
+  std::vector<double> radii;
+  double shift = 0.0;  ///< irregular and circular: random displacement amplitude (0: none)
+  /// |a22| along and across the leading vectors (none: 0, a piecewise bilinear terrain).
+  std::optional<std::array<double, 2>> roughness;
+  SignPattern signs = SignPattern::Random;
+  double size_x = 4.0, size_y = 4.0;  ///< the horizontal extent (heights around 0..1)
+};
+
+/// @brief The controls `options` describe, every random draw from `seed`: heights from
+/// Rng(seed, row), displacements (random_shifts), then the a22 signs (set_roughness).
+TerrainControls make_terrain_controls(const TerrainControlsOptions& options, std::uint64_t seed);
+
+/// @brief Sets a22_u and a22_v to |along| and |across| with `signs`, the random signs from
+/// Rng(seed, 1) along and Rng(seed, 2) across the leading vectors.
+void set_roughness(TerrainControls& controls, double along, double across, SignPattern signs, std::uint64_t seed);
 
 }  // namespace ifsforge

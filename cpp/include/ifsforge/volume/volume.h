@@ -23,6 +23,7 @@ VolumeDensity volume_density_from_string(const std::string& name);
 /// (v - min) / (max - min) over the attractor's range. Clamp: values clamped to [0, 1].
 enum class ColorScale { Auto, Range, Clamp };
 ColorScale color_scale_from_string(const std::string& name);
+const char* to_string(ColorScale s);
 
 /// A sparse volume: only occupied voxels are stored, sorted by key (x, then y, then z).
 struct Volume {

@@ -16,6 +16,7 @@ namespace ifsforge {
 /// Escape time (5.5): which delta of Eq. 55-56 picks the inverse map.
 enum class EscapeNorm { Euclidean, Linear };
 EscapeNorm escape_norm_from_string(const std::string& name);
+const char* to_string(EscapeNorm n);
 
 struct VolumeOptions {
   int resolution = 256;       ///< voxels along the longest side of the grid's box

@@ -17,15 +17,6 @@ from ifsforge import cli_common as common
 from ifsforge.contact_sheet import contact_sheet
 from ifsforge.progress import ProgressBar
 
-# The seed's section of each algorithm and its operation estimate for H = V = 1000, N = 5
-# (5.13.1, Eq. 75-88).
-SEED = {
-    "chaos": ("5.1.1", 8e6), "colour-stealing": ("5.1.2", 8e6), "dia": ("5.2.1", 100e6),
-    "dia-s": ("5.2.2", 320e6), "mpa": ("5.3", 0.5e6), "cma": ("5.4", 100e6), "eta": ("5.5", 1.28e9),
-    "string-rewriting": ("5.6", 781250), "tsa": ("5.7", 0.8e6), "prr": ("5.8.1", 390625),
-    "ibr": ("5.9", 1e6), "afra": ("5.10", 780000), "self-congruent": ("5.11", None),
-    "photocopy": ("5.12.1", None), "probabilistic-domain": ("5.12.2", None),
-}
 # Pixel-grid algorithms (default supersample 2): the comparison also reports them at supersample 1.
 PIXEL_GRID = ("dia", "dia-s", "mpa", "cma", "ibr", "self-congruent", "photocopy")
 
@@ -94,8 +85,8 @@ def compare(system, size=(512, 512), algorithms=None, threads=0, seed=0, overrid
     rows, images = [], {}
     for name in names:
         params = settings_for(name, overrides)
-        row = {"algorithm": name, "section": SEED.get(name, ("", None))[0],
-               "seed_operations": SEED.get(name, ("", None))[1]}
+        section, seed_operations = ifsforge.seed_reference(name)  # kept on the C++ registry
+        row = {"algorithm": name, "section": section, "seed_operations": seed_operations}
         bar = ProgressBar(f"compare {name}", enabled=None if progress else False)
         try:
             start = time.perf_counter()
@@ -164,7 +155,7 @@ def run(args):
     for name, content in (("comparison.md", text),
                           ("comparison.json", json.dumps({"system": system.name, "size": list(size),
                                                           "reference": reference, "rows": rows}, indent=2))):
-        common.write_atomic(os.path.join(args.output, name), lambda f, content=content: f.write(content))
+        ifsforge.write_bytes(os.path.join(args.output, name), content)
     print(text, end="")
     print(f"{args.output}: contact_sheet.png, comparison.md, comparison.json and {len(images)} images")
     return 0

@@ -1,6 +1,7 @@
 """ifsforge instances: vector recursive rendering (seed 5.8.2) of a system into an instance list,
 written as a POV-Ray scene (optionally rendered), SVG, glTF, numpy, address CSV or a PNG drawing."""
 import argparse
+import io
 import time
 
 import numpy as np
@@ -11,6 +12,8 @@ from ifsforge.progress import ProgressBar
 
 
 def register(subparsers):
+    # The instance list's defaults are the core's (InstanceOptions, PovRenderOptions): written once, in C++.
+    d, pov = ifsforge.InstanceOptions(), ifsforge.PovRenderOptions()
     p = subparsers.add_parser(
         "instances", help="vector IFS: primitives placed by the maps (POV-Ray, SVG, glTF, numpy)",
         description="Push a vector through the maps to every address of depth L (vector recursive "
@@ -18,24 +21,24 @@ def register(subparsers):
         "(Eq. 60-62), primitive (the k channel, Eq. 99/107) and colour (the colour channels, Eq. 101).")
     common.add_system_argument(p)
     g = p.add_argument_group("the instance list")
-    g.add_argument("--depth", type=common.int_option(0, 64), default=0, help="recursion depth L: N^L instances (0: largest L with N^L <= 50000)")
-    g.add_argument("--primitive", default="sphere",
+    g.add_argument("--depth", type=common.int_option(0, 64), default=d.depth, help="recursion depth L: N^L instances (0: largest L with N^L <= 50000)")
+    g.add_argument("--primitive", default=",".join(d.primitives),
                    help="primitive, or a comma list the k channel picks from: line, circle, triangle, square "
-                   "(each also -outline), sphere, box, cone, cylinder, torus, mesh:PATH (default sphere)")
-    g.add_argument("--normalisation", choices=["proportional", "constant"], default="proportional",
+                   "(each also -outline), sphere, box, cone, cylinder, torus, mesh:PATH (default %(default)s)")
+    g.add_argument("--normalisation", choices=["proportional", "constant"], default=d.normalisation,
                    help="proportional: d = sf |q1 - q0| (Eq. 60); constant: d = --length for all")
-    g.add_argument("--scale-factor", type=float, default=1.0, help="sf of Eq. 60 (default 1)")
-    g.add_argument("--length", type=float, default=0.0, help="constant normalisation: the vector length (0: automatic)")
+    g.add_argument("--scale-factor", type=float, default=d.scale_factor, help="sf of Eq. 60 (default %(default)s)")
+    g.add_argument("--length", type=float, default=d.length, help="constant normalisation: the vector length (0: automatic)")
     g.add_argument("--base-point", type=float, nargs="+", metavar="X",
                    help="q0 in every channel (default: the centre of the attractor's bounds)")
     g.add_argument("--base-vector", type=float, nargs="+", metavar="X",
                    help="q1 - q0, spatial (default: (R, 0[, 0]), R the half-diagonal of the bounds)")
     g.add_argument("--base-up", type=float, nargs=3, metavar="X", help="3D: the frame's second axis (default 0 1 0)")
-    g.add_argument("--min-probability", type=float, default=0.0,
+    g.add_argument("--min-probability", type=float, default=d.min_probability,
                    help="pv of the TSA (5.7): a branch less probable than this stops early")
-    g.add_argument("--color-by", choices=["auto", "channels", "first-map", "last-map", "constant"], default="auto",
+    g.add_argument("--color-by", choices=["auto", "channels", "first-map", "last-map", "constant"], default=d.color_source,
                    help="auto: the colour channels if the layout has them, else the first map of the address")
-    g.add_argument("--color", type=float, nargs="+", metavar="V", default=[0.8, 0.8, 0.8],
+    g.add_argument("--color", type=float, nargs="+", metavar="V", default=list(d.color[:3]),
                    help="--color-by constant: R G B [A] in [0, 1]")
     g.add_argument("--colors-as-given", action="store_true",
                    help="take the colour channels as they are (clamped to [0, 1]) instead of stretching each "
@@ -63,13 +66,15 @@ def register(subparsers):
                    help="POV-Ray: draft (no shadows), normal, high (soft shadows, radiosity)")
     s.add_argument("--bounded-by", action="store_true",
                    help="POV-Ray: add bounded_by to the union (POV-Ray 3.7 then traces far slower)")
-    s.add_argument("--antialias", type=float, default=0.3, help="POV-Ray's +A threshold (0: off)")
-    p.add_argument("--threads", type=common.int_option(0, 1024), default=0, help="0: every core (the output never depends on it)")
+    s.add_argument("--antialias", type=float, default=pov.antialias, help="POV-Ray's +A threshold (0: off)")
+    p.add_argument("--threads", type=common.int_option(0, 1024), default=d.threads, help="0: every core (the output never depends on it)")
     p.set_defaults(run=run)
 
 
 def atomic_save_npy(path, array):
-    common.write_atomic(path, lambda f: np.save(f, array), binary=True)
+    buffer = io.BytesIO()
+    np.save(buffer, array)
+    ifsforge.write_bytes(path, buffer.getvalue())
 
 
 def run(args):
@@ -81,8 +86,9 @@ def run(args):
     if len(args.color) not in (3, 4):
         raise ifsforge.InputError(f"--color expects R G B or R G B A, got {len(args.color)} numbers")
     system = common.load_system(args.system)
-    width, height = common.parse_size(args.size) if args.size else (800, 600)
-    view = args.view or system.render_defaults.get("view") or (30.0, 25.0)
+    frame = ifsforge.PovRenderOptions()
+    width, height = common.parse_size(args.size) if args.size else (frame.width, frame.height)
+    view = args.view or system.render_defaults.get("view") or tuple(ifsforge.DrawOptions().view)
 
     start = time.perf_counter()
     instances = ifsforge.instances(

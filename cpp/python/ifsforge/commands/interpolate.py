@@ -22,7 +22,7 @@ def register(subparsers):
 
 
 def write_text(path, text):
-    common.write_atomic(path, lambda f: f.write(text))
+    ifsforge.write_bytes(path, text)
 
 
 def run(args):

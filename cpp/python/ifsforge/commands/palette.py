@@ -47,7 +47,7 @@ def parse_stop(text):
 
 
 def write_text(path, text):
-    common.write_atomic(path, lambda f: f.write(text))
+    ifsforge.write_bytes(path, text)
 
 
 def run(args):

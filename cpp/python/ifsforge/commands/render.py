@@ -5,6 +5,8 @@ from ifsforge.progress import ProgressBar
 
 
 def register(subparsers):
+    # Every default is the core's (RenderOptions, ToneOptions): written once, in C++.
+    o, tone = ifsforge.RenderOptions(), ifsforge.ToneOptions()
     p = subparsers.add_parser("render", help="render a system to a PNG image",
                               description="Render a system to PNG. Defaults come from the system's "
                               "'render' object, then from the options' defaults.")
@@ -12,18 +14,18 @@ def register(subparsers):
     p.add_argument("-o", "--output", required=True, help="PNG file to write")
     p.add_argument("--algorithm", "-a", default=None,
                    help="rendering algorithm (see `ifsforge algorithms`; default chaos)")
-    p.add_argument("--size", default=None, help="N or WxH pixels (default 1024)")
-    p.add_argument("--iterations", type=common.int_option(0, 10**12), default=0, help="points for random iteration (0: Eq. 44/45)")
-    p.add_argument("--depth", type=common.int_option(0, 64), default=0, help="recursion depth (0: automatic, Eq. 59)")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--threads", type=common.int_option(0, 1024), default=0, help="0: every core (the image never depends on it)")
-    p.add_argument("--mode", default="auto", choices=["auto", "binary", "density", "color", "shaded"],
+    p.add_argument("--size", default=None, help=f"N or WxH pixels (default {o.width})")
+    p.add_argument("--iterations", type=common.int_option(0, 10**12), default=o.iterations, help="points for random iteration (0: Eq. 44/45)")
+    p.add_argument("--depth", type=common.int_option(0, 64), default=o.depth, help="recursion depth (0: automatic, Eq. 59)")
+    p.add_argument("--seed", type=int, default=o.seed)
+    p.add_argument("--threads", type=common.int_option(0, 1024), default=o.threads, help="0: every core (the image never depends on it)")
+    p.add_argument("--mode", default=tone.mode, choices=["auto", "binary", "density", "color", "shaded"],
                    help="binary coverage, log density, the colour channels, or a lit z-buffer (3D); "
                    "auto: shaded for 3D, color when the layout has colour, else density")
-    p.add_argument("--gamma", type=common.float_option(0, 100, low_open=True), default=2.2)
+    p.add_argument("--gamma", type=common.float_option(0, 100, low_open=True), default=tone.gamma)
     p.add_argument("--invert", action="store_true", help="dark attractor on white")
     p.add_argument("--bits", type=int, default=8, choices=[8, 16])
-    p.add_argument("--points-per-pixel", type=common.float_option(0, 1e6, low_open=True), default=16.0, help="PEPP of Eq. 44")
+    p.add_argument("--points-per-pixel", type=common.float_option(0, 1e6, low_open=True), default=o.points_per_pixel, help="PEPP of Eq. 44")
     p.add_argument("--window", type=float, nargs=4, metavar=("XMIN", "YMIN", "XMAX", "YMAX"))
     p.add_argument("--view", type=float, nargs=2, metavar=("YAW", "PITCH"), help="3D systems: degrees")
     p.add_argument("--reference", help="colour-stealing: the picture colours come from")
@@ -37,7 +39,7 @@ def run(args):
     system = common.load_system(args.system)
     defaults = system.render_defaults
     algorithm = args.algorithm or defaults.get("algorithm", "chaos")
-    width, height = common.parse_size(args.size) if args.size else defaults.get("size", (1024, 1024))
+    width, height = common.parse_size(args.size) if args.size else defaults.get("size", (None, None))
     window = args.window or defaults.get("window")
     view = args.view or defaults.get("view")
     common.ensure_output_folder(args.output)
@@ -49,11 +51,11 @@ def run(args):
         if not args.algorithm:
             algorithm = "colour-stealing"
     raster = ifsforge.render(
-        system, algorithm, width, height, window=window, view=view, iterations=args.iterations,
+        system, algorithm, width, height=height, window=window, view=view, iterations=args.iterations,
         depth=args.depth, seed=args.seed, threads=args.threads, binary=args.mode == "binary",
         points_per_pixel=args.points_per_pixel, progress=ProgressBar(f"render {system.name}"),
         parameters=common.parse_parameters(args.param), **extra)
-    image = raster.to_image(args.mode, args.gamma, args.invert)
+    image = raster.to_image(args.mode, gamma=args.gamma, invert=args.invert)
     ifsforge.write_png(args.output, image, args.bits)
-    print(f"{args.output}: {width}x{height} {algorithm}, {raster.points} points, "
+    print(f"{args.output}: {raster.width}x{raster.height} {algorithm}, {raster.points} points, "
           f"{raster.covered()} pixels covered")

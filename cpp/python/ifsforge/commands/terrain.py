@@ -11,6 +11,7 @@ OUTPUTS = (".png", ".pov") + MESHES
 
 
 def register(subparsers):
+    t = ifsforge.TerrainControlsOptions()  # the controls' defaults: the core's, written once
     p = subparsers.add_parser(
         "terrain", help="a fractal-interpolation terrain: 16-bit height PNG, mesh, POV-Ray scene",
         description="Interpolate control heights into a terrain: leading vectors first, then every "
@@ -24,12 +25,12 @@ def register(subparsers):
     g.add_argument("--grid", choices=["regular", "irregular", "circular"], help="default regular")
     g.add_argument("--controls", type=int, nargs=2, metavar=("ROWS", "COLUMNS"),
                    help="control lattice (default 9 9; circular: 6 circles of 12)")
-    g.add_argument("--amplitude", type=float, default=0.5, help="random heights: 0.5 +- amplitude")
+    g.add_argument("--amplitude", type=float, default=t.amplitude, help=f"random heights: {t.base} +- amplitude")
     g.add_argument("--heights-from", metavar="MAP.png", help="sample the control heights from a height map (an insert)")
-    g.add_argument("--window", type=float, nargs=4, metavar=("X0", "Y0", "X1", "Y1"), default=[0, 0, 1, 1],
+    g.add_argument("--window", type=float, nargs=4, metavar=("X0", "Y0", "X1", "Y1"), default=list(t.window),
                    help="the part of the map the terrain covers, in [0, 1] image coordinates")
-    g.add_argument("--low", type=float, default=0.0, help="height of map value 0")
-    g.add_argument("--high", type=float, default=1.0, help="height of map value 1")
+    g.add_argument("--low", type=float, default=t.low, help="height of map value 0")
+    g.add_argument("--high", type=float, default=t.high, help="height of map value 1")
     g.add_argument("--radii", type=float, nargs="+", help="circular: leading circle radii, from 0 (default to 2)")
     g.add_argument("--shift", type=float, help="irregular/circular: random displacement amplitude (< 0.5 spacing)")
     g.add_argument("--size", type=float, nargs=2, metavar=("X", "Y"),
@@ -37,7 +38,7 @@ def register(subparsers):
     r = p.add_argument_group("roughness (overrides the recipe's)")
     r.add_argument("--roughness", type=float, nargs="+", metavar="A22",
                    help="|a22| along the leading vectors, then across them (one value: both)")
-    r.add_argument("--signs", choices=["random", "alternating", "constant"], default="random",
+    r.add_argument("--signs", choices=["random", "alternating", "constant"], default=t.signs,
                    help="signs of the a22 factors (default random)")
     r.add_argument("--seed", type=int, default=0, help="seed of random controls, shifts and signs")
     o = p.add_argument_group("output")
@@ -57,24 +58,24 @@ def register(subparsers):
 
 
 def controls_from_options(args):
-    grid = args.grid or "regular"
-    circular = grid == "circular"
-    rows, columns = args.controls or ((6, 12) if circular else (9, 9))
-    c = ifsforge.TerrainControls()
-    c.grid = grid
-    if circular:
-        c.radii = args.radii or [2.0 * k / (rows - 1) for k in range(rows)]
-        if len(c.radii) != rows:
-            raise ifsforge.InputError(f"--radii: {rows} leading circles need {rows} radii, got {len(c.radii)}")
-    elif args.radii:
-        raise ifsforge.InputError("--radii belong to --grid circular")
+    """The core's one controls builder (the add-on uses it too: one seed, one terrain)."""
+    options = dict(grid=args.grid, amplitude=args.amplitude, radii=args.radii, shift=args.shift, signs=args.signs)
+    if args.controls:
+        options["rows"], options["columns"] = args.controls
     if args.heights_from:
-        ifsforge.sample_heights(c, rows, columns, ifsforge.read_png(args.heights_from), args.window,
-                                args.low, args.high)
-    else:
-        c.heights = ifsforge.random_heights(grid, rows, columns, [0.5], args.amplitude, args.seed)
-    c.size_x, c.size_y = args.size or (4.0, 4.0)
-    return c
+        options.update(height_map=ifsforge.read_png(args.heights_from), window=args.window, low=args.low,
+                       high=args.high)
+    if args.size:
+        options["size_x"], options["size_y"] = args.size
+    if args.roughness:
+        options["roughness"] = roughness(args)
+    return ifsforge.make_terrain_controls(args.seed, **options)
+
+
+def roughness(args):
+    if len(args.roughness) > 2:
+        raise ifsforge.InputError("--roughness takes one or two values (along, across the leading vectors)")
+    return args.roughness[0], args.roughness[-1]
 
 
 def sample_counts(grid, controls, res, recipe):
@@ -116,19 +117,11 @@ def run(args):
                                       "edit the recipe instead")
         recipe = ifsforge.read_terrain_recipe(args.recipe)
         controls, name = recipe.controls, recipe.name
+        if args.roughness:
+            ifsforge.set_roughness(controls, *roughness(args), args.signs, args.seed)
     else:
         controls, name = controls_from_options(args), "terrain"
     grid = controls.grid
-    if args.shift is not None:
-        ifsforge.random_shifts(controls, args.shift, args.seed)
-    if args.roughness:
-        if len(args.roughness) > 2:
-            raise ifsforge.InputError("--roughness takes one or two values (along, across the leading vectors)")
-        along, across = args.roughness[0], args.roughness[-1]
-        rows, columns = len(controls.heights), len(controls.heights[0])
-        maps_u = columns if grid == "circular" else columns - 1
-        controls.a22_u = ifsforge.vertical_scaling(maps_u, along, args.signs, args.seed, 1)
-        controls.a22_v = ifsforge.vertical_scaling(rows - 1, across, args.signs, args.seed, 2)
 
     palette, palette_name = None, "terrain"
     if args.palette:

@@ -1,0 +1,90 @@
+// OpenVDB files and iso-surfaces: the io area's OpenVDB part, built as its own extension module
+// (ifsforge._vdb) that the package imports on first use, so a command that writes no .vdb does
+// not pay the ~60 ms libopenvdb takes to load.
+#include "bindings.h"
+
+#include <cstring>
+
+#include "ifsforge/io/mesh.h"
+#include "ifsforge/io/vdb.h"
+
+namespace ifsforge::python {
+namespace {
+
+void bind_io_vdb(py::module_& m) {
+  options_class<VdbWriteOptions>(m, "VdbWriteOptions", "The settings of write_vdb() (keywords of the same names).")
+      .def_property("color_scale", [](const VdbWriteOptions& o) { return std::string(to_string(o.color_scale)); },
+                    [](VdbWriteOptions& o, const std::string& s) { o.color_scale = color_scale_from_string(s); },
+                    "auto, range or clamp")
+      .def_readwrite("metadata", &VdbWriteOptions::metadata, "extra file metadata (string values)")
+      .def_readwrite("half", &VdbWriteOptions::half, "16-bit halves for the [0, 1] grids")
+      .def_readwrite("compress", &VdbWriteOptions::compress, "Blosc-compress the leaf buffers");
+  m.def("write_vdb",
+        [](const std::string& path, const Volume& volume, std::optional<Ifs> system, const py::kwargs& kwargs) {
+          VdbWriteOptions o = options_from<VdbWriteOptions>("write_vdb", kwargs);
+          if (system) o.system = &*system;
+          py::gil_scoped_release release;
+          write_vdb(path, volume, o);
+        },
+        py::arg("path"), py::arg("volume"), py::arg("system") = py::none(),
+        "Write an OpenVDB file (atomically): FloatGrid 'density', Vec3fGrid 'color' (RGB in [0, 1]) when the "
+        "layout has colour, FloatGrids 'gray', 'alpha', ...; the transform puts the voxels where the system "
+        "puts them; metadata describes the volume and, when given, the system (its JSON). half: store the "
+        "[0, 1] grids (and a binary density) as 16-bit halves (relative error <= 2^-11); compress: Blosc "
+        "(about a third smaller, slower to write).");
+
+  m.def("read_vdb_info", [](const std::string& path) {
+    const VdbFileInfo info = read_vdb_info(path);
+    py::list grids;
+    for (const auto& g : info.grids) {
+      py::dict d;
+      d["name"] = g.name;
+      d["type"] = g.type;
+      d["active_voxels"] = g.active_voxels;
+      d["voxel_size"] = g.voxel_size;
+      d["index_bounds"] = g.index_bounds;
+      grids.append(d);
+    }
+    py::dict out;
+    out["grids"] = grids;
+    out["metadata"] = info.metadata;
+    return out;
+  }, py::arg("path"), "The grids (name, type, active_voxels, voxel_size, index_bounds) and metadata of a .vdb.");
+
+  options_class<IsoSurfaceOptions>(m, "IsoSurfaceOptions", "The settings of volume_to_mesh() (keywords of the same names).")
+      .def_readwrite("iso", &IsoSurfaceOptions::iso, "the surface's level of the occupancy (or density)")
+      .def_readwrite("use_density", &IsoSurfaceOptions::use_density, "the density grid's level instead of the occupancy")
+      .def_readwrite("adaptivity", &IsoSurfaceOptions::adaptivity, "0: every voxel-sized polygon; up to 1: merge flat areas")
+      .def_property("color_scale", [](const IsoSurfaceOptions& o) { return std::string(to_string(o.color_scale)); },
+                    [](IsoSurfaceOptions& o, const std::string& s) { o.color_scale = color_scale_from_string(s); },
+                    "auto, range or clamp");
+  m.def("volume_to_mesh",
+        [](const Volume& volume, const py::kwargs& kwargs) {
+          const IsoSurfaceOptions o = options_from<IsoSurfaceOptions>("volume_to_mesh", kwargs);
+          TriangleMesh mesh;
+          {
+            py::gil_scoped_release release;
+            mesh = volume_to_mesh(volume, o);
+          }
+          py::dict out = mesh_dict(mesh);
+          out["colors"] = py::none();
+          if (!mesh.colors.empty()) {
+            py::array_t<float> colors({static_cast<py::ssize_t>(mesh.colors.size()), py::ssize_t(4)});
+            std::memcpy(colors.mutable_data(), mesh.colors.data(), mesh.colors.size() * 16);
+            out["colors"] = colors;
+          }
+          return out;
+        },
+        py::arg("volume"),
+        "The iso-surface of the occupancy (or of the density) as a dict of arrays: positions, triangles, normals, "
+        "colors (RGBA from the colour grid, or None) -- ready for write_mesh(path, **mesh).");
+}
+
+}  // namespace
+}  // namespace ifsforge::python
+
+PYBIND11_MODULE(_vdb, m) {
+  m.doc() = "ifsforge's OpenVDB writer, reader and iso-surfaces (imported by ifsforge on first use)";
+  pybind11::module_::import("ifsforge._core");  // the Volume and Ifs types, and the error translation
+  ifsforge::python::bind_io_vdb(m);
+}
