@@ -169,9 +169,35 @@ def render_volume(system, algorithm="prr", client=None, progress=None, **options
 
 
 def render(system, algorithm="chaos", client=None, progress=None, **options):
-    """ifsforge.render with its jobs on `client`'s workers (chaos); the same raster.
+    """ifsforge.render with its jobs on `client`'s workers (chaos, prr); the same raster.
     Without a client, the local render."""
     if client is None:
         return ifsforge.render(system, algorithm, progress=progress, **options)
     run = _runner(client, _render_task, ifsforge.to_json(system), algorithm, _worker_options(options))
     return _core.render_distributed(system, algorithm, options, run, progress)
+
+
+def _frame_task(system_json, algorithm, options, mode, path):
+    raster = ifsforge.render(_core.parse_json(system_json), algorithm, **options)
+    ifsforge.write_png(path, raster.to_image(mode))  # atomic: a reader never sees half a frame
+    return os.path.getsize(path)
+
+
+def render_frames(client, frames, algorithm, mode, progress=None, **options):
+    """Renders each (system, path) of `frames` with ifsforge.render and writes its PNG (`mode`)
+    on a worker, one task per frame: `path` must be on storage every worker shares. The files
+    are the bytes a local render writes. Returns the bytes written per frame."""
+    frames = list(frames)
+    tasks = [client.submit(_frame_task, ifsforge.to_json(system), algorithm, _worker_options(options), mode,
+                           os.path.abspath(path), pure=False) for system, path in frames]
+    try:
+        sizes = []
+        for k, task in enumerate(tasks):
+            sizes.append(task.result())
+            if progress is not None and progress((k + 1) / len(tasks)) is False:
+                raise ifsforge.Cancelled("cancelled")
+        return sizes
+    except (OSError, TimeoutError) as error:
+        raise ClusterError(f"the cluster failed: {error}") from None
+    finally:
+        client.cancel(tasks)

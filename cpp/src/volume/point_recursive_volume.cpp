@@ -351,14 +351,18 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
   const double dimension = shrink > 0.0 && shrink < 1.0 ? std::min(3.0, log_n / -std::log(shrink)) : 3.0;
   double expected = std::min(grid.cells(), 8.0 * std::pow(static_cast<double>(options.resolution), dimension));
   if (fixed) expected = std::min(expected, std::pow(static_cast<double>(n), options.depth));  // the leaves
-  check_memory(expected * (2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels) +
-                   setup.threads * VoxelAccumulator::bytes(channels),
-               "a " + std::to_string(options.resolution) + "^3 point-recursive volume");
-
+  // A cluster worker running a range of the jobs holds their share of the voxels only; the
+  // render (here or merging a cluster's results) holds them all.
   out.jobs = plan.jobs;
   last = std::min<std::uint64_t>(last, plan.jobs);
-  if (first >= last) return out;
-  const std::uint64_t count = last - first;
+  const std::uint64_t count = last > first ? last - first : 0;
+  const bool part = count > 0 && count < plan.jobs;
+  const double share = part ? static_cast<double>(count) / static_cast<double>(plan.jobs) : 1.0;
+  check_memory(share * expected * (2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels) +
+                   setup.threads * VoxelAccumulator::bytes(channels),
+               "a " + std::to_string(options.resolution) + "^3 point-recursive volume" +
+                   (part ? " (jobs " + std::to_string(first) + ".." + std::to_string(last - 1) + ")" : ""));
+  if (count == 0) return out;
   std::vector<VoxelAccumulator> scratch(std::min<std::uint64_t>(setup.threads, count),
                                         VoxelAccumulator(grid, setup.quantizer));
   std::vector<VoxelList>& lists = out.lists;

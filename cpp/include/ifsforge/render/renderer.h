@@ -18,7 +18,8 @@
 namespace ifsforge {
 
 /// Runs jobs [first, last) of a render elsewhere (on a cluster) and returns their results as
-/// Renderer::run_jobs bytes, grouped in any way (each renderer merges them exactly).
+/// Renderer::run_jobs bytes of consecutive ranges, in job order (each renderer merges them
+/// exactly: integer sums, or leaves applied in address order).
 using RenderJobRunner = std::function<std::vector<std::string>(std::uint64_t first, std::uint64_t last)>;
 
 struct RenderOptions {
