@@ -95,6 +95,30 @@ def test_image_through_two_workers_equals_the_local_png(cluster, cli, tmp_path):
     assert (tmp_path / "local.png").read_bytes() == (tmp_path / "cluster.png").read_bytes()
 
 
+def test_point_recursive_colour_image_through_workers_equals_the_local_raster(cluster):
+    system = ifsforge.load(str(SAMPLES / "colour5d_dragon_rgb.json"))  # floats summed in address order
+    options = dict(width=160, height=120)
+    local = ifsforge.render(system, "prr", **options)
+    with distributed.connect(scheduler=cluster.address) as client:
+        remote = distributed.render(system, "prr", client=client, **options)
+    assert local.covered() > 1000
+    assert np.array_equal(local.density, remote.density)
+    assert np.array_equal(local.to_image("color"), remote.to_image("color"))
+    assert local.points == remote.points
+
+
+def test_morph_frames_written_by_workers_equal_the_local_frames(cluster, cli, tmp_path):
+    ends = (SAMPLES / "sierpinski_triangle.json", SAMPLES / "barnsley_fern.json")
+    cli("morph", *ends, "--frames", "5", "--size", "96", "-o", "local", check=True)
+    cli("morph", *ends, "--frames", "5", "--size", "96", "-o", tmp_path / "cluster", "--scheduler", cluster.address,
+        check=True)
+    names = sorted(p.name for p in (tmp_path / "local").iterdir())
+    assert names == [f"morph_{k:04d}.png" for k in range(5)]
+    assert names == sorted(p.name for p in (tmp_path / "cluster").iterdir())  # no temporaries left behind
+    for name in names:
+        assert (tmp_path / "local" / name).read_bytes() == (tmp_path / "cluster" / name).read_bytes()
+
+
 def test_random_iteration_volume_with_channels_merges_exactly(cluster):
     system = ifsforge.load(str(SAMPLES / "volume_hsi_tower.json"))
     options = dict(resolution=48, density="measure", iterations=5_000_000, seed=3)

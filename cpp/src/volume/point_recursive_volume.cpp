@@ -351,18 +351,18 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
   const double dimension = shrink > 0.0 && shrink < 1.0 ? std::min(3.0, log_n / -std::log(shrink)) : 3.0;
   double expected = std::min(grid.cells(), 8.0 * std::pow(static_cast<double>(options.resolution), dimension));
   if (fixed) expected = std::min(expected, std::pow(static_cast<double>(n), options.depth));  // the leaves
-  // A cluster worker running a range of the jobs holds their share of the voxels only; the
-  // render (here or merging a cluster's results) holds them all.
+  // A cluster worker running a range of the jobs holds their share of the voxels only; a
+  // render merging a cluster's results (no jobs here) checks the voxels it receives instead.
   out.jobs = plan.jobs;
   last = std::min<std::uint64_t>(last, plan.jobs);
   const std::uint64_t count = last > first ? last - first : 0;
-  const bool part = count > 0 && count < plan.jobs;
+  if (count == 0) return out;
+  const bool part = count < plan.jobs;
   const double share = part ? static_cast<double>(count) / static_cast<double>(plan.jobs) : 1.0;
   check_memory(share * expected * (2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels) +
                    setup.threads * VoxelAccumulator::bytes(channels),
                "a " + std::to_string(options.resolution) + "^3 point-recursive volume" +
                    (part ? " (jobs " + std::to_string(first) + ".." + std::to_string(last - 1) + ")" : ""));
-  if (count == 0) return out;
   std::vector<VoxelAccumulator> scratch(std::min<std::uint64_t>(setup.threads, count),
                                         VoxelAccumulator(grid, setup.quantizer));
   std::vector<VoxelList>& lists = out.lists;
@@ -455,11 +455,17 @@ Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options
   PrrJobs run = point_recursive_jobs(ifs, options, 0, here ? ~std::uint64_t(0) : 0,
                                      progress_range(options.progress, 0.0, 0.9));
   if (!here) {
+    double entries = 0.0;
     for (VolumeJobsResult& r : options.distribute(0, run.jobs)) {
+      entries += static_cast<double>(r.voxels.size());
       run.lists.push_back(std::move(r.voxels));
       run.leaves.push_back(r.points);
       run.deepest.push_back(r.depth);
     }
+    // The merge's output list and the volume, for the voxels the workers found.
+    const int channels = ifs.dim() - 3;
+    check_memory(entries * (VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels),
+                 "merging a " + std::to_string(options.resolution) + "^3 point-recursive volume");
   }
   if (options.progress && !options.progress(0.95)) throw Cancelled();
   const VolumeSetup& setup = run.setup;
