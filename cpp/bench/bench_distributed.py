@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Scale-out on Dask: 1 against 2 worker processes (a LocalCluster, one thread each) for a
-1024^3 and a 2048^3 volume, a 4096^2 PRR image and a 240-frame 512^2 morph.
+1024^3 and a 2048^3 volume, a 4096^2 chaos image, a 1024^2 PRR image and a 240-frame 512^2
+morph. (A 4096^2 PRR image sends its ~4 * 10^8 leaves, several GB: see the README.)
 
     cpp/bench/bench_distributed.py [--quick] [--cases volume1024,volume2048,image4096,morph240]
 
@@ -38,6 +39,13 @@ def worker_cpu(client):
         usage = resource.getrusage(resource.RUSAGE_SELF)
         return usage.ru_utime + usage.ru_stime
     return client.run(cpu)
+
+
+def peak_rss_mb(client):
+    """The largest peak resident size of any worker process so far, MB."""
+    def peak():
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    return max(client.run(peak).values())
 
 
 def driver_cpu():
@@ -81,14 +89,14 @@ def volume_case(resolution):
     return run
 
 
-def image_case(size):
+def image_case(size, algorithm):
     system = ifsforge.load(str(SYSTEMS / "barnsley_fern.json"))
     options = {"width": size, "height": size}
 
     def run(client):
-        distribute, stats = counting_runner(client, dist._render_task, ifsforge.to_json(system), "prr",
+        distribute, stats = counting_runner(client, dist._render_task, ifsforge.to_json(system), algorithm,
                                             dist._worker_options(options))
-        raster = _core.render_distributed(system, "prr", options, distribute)
+        raster = _core.render_distributed(system, algorithm, options, distribute)
         run.result = f"{raster.covered():,} pixels covered"
         return stats["tasks"], stats["bytes"]
     return run
@@ -120,7 +128,7 @@ def task_overhead(client, count=200):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--cases", default="volume1024,volume2048,image4096,morph240")
+    parser.add_argument("--cases", default="volume1024,volume2048,image4096,prr1024,morph240")
     args = parser.parse_args()
     small = args.quick
     folder = tempfile.mkdtemp(prefix="ifsforge-bench-")
@@ -129,8 +137,9 @@ def main():
                        volume_case(512 if small else 1024)),
         "volume2048": ("2048^3 pyramid volume (prr)" if not small else "1024^3 pyramid volume (prr)",
                        volume_case(1024 if small else 2048)),
-        "image4096": ("4096^2 fern image (prr)" if not small else "2048^2 fern image (prr)",
-                      image_case(2048 if small else 4096)),
+        "image4096": ("4096^2 fern image (chaos)" if not small else "2048^2 fern image (chaos)",
+                      image_case(2048 if small else 4096, "chaos")),
+        "prr1024": ("1024^2 fern image (prr)", image_case(1024, "prr")),
         "morph240": ("240-frame 512^2 morph (chaos)" if not small else "48-frame 512^2 morph (chaos)",
                      morph_case(48 if small else 240, folder)),
     }
@@ -150,7 +159,8 @@ def main():
                 busiest = max(cpu.values())
                 print(f"  {label}: {run.result}; wall {wall:.2f} s, workers' CPU {sum(cpu.values()):.2f} s "
                       f"(busiest {busiest:.2f} s), driver CPU {driver:.2f} s, {tasks} tasks, "
-                      f"{moved / max(tasks, 1) / 1e6:.2f} MB per task", flush=True)
+                      f"{moved / max(tasks, 1) / 1e6:.2f} MB per task; worker peak RSS {peak_rss_mb(client):.0f} MB, "
+                      f"driver {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB", flush=True)
     print("speed-up of 2 workers over 1 (wall; CPU: the busiest worker's CPU plus the driver's, 1 against 2):")
     for name in chosen:
         (w1, c1, d1), (w2, c2, d2) = results[name, 1], results[name, 2]

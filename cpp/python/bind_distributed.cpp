@@ -93,7 +93,7 @@ void bind_distributed(py::module_& m) {
           std::string bytes;
           {
             py::gil_scoped_release release;
-            bytes = encode_volume_jobs(r.run_jobs(ifs, o, first, last));
+            bytes = encode_volume_jobs(r.run_jobs(ifs, o, first, last), o.density);
           }
           return py::bytes(bytes);
         },

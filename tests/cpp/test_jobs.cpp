@@ -30,13 +30,15 @@ void expect_same(const Volume& a, const Volume& b) {
 }
 
 TEST(Jobs, VolumeRangesThroughBytesEqualTheLocalVolume) {
-  for (const char* algorithm : {"prr", "ria"}) {
+  for (const char* algorithm : {"prr", "ria"})
+  for (VolumeDensity density : {VolumeDensity::Binary, VolumeDensity::Hits, VolumeDensity::Measure})
+  for (bool colour : {false, true}) {
     VolumeOptions o;
     o.resolution = 32;
-    o.density = VolumeDensity::Measure;
+    o.density = density;
     o.iterations = 3u << 20;
     o.seed = 9;
-    const Ifs system = test_systems::tetrahedron(true);
+    const Ifs system = test_systems::tetrahedron(colour);
     const VolumeRenderer& r = volume_renderer(algorithm);
     const Volume local = r.render(system, o);
     VolumeOptions remote = o;
@@ -44,7 +46,7 @@ TEST(Jobs, VolumeRangesThroughBytesEqualTheLocalVolume) {
     remote.distribute = [&](std::uint64_t first, std::uint64_t last) {
       ++calls;
       return in_ranges(first, last, 3, [&](std::uint64_t a, std::uint64_t b) {
-        return decode_volume_jobs(encode_volume_jobs(r.run_jobs(system, o, a, b)));
+        return decode_volume_jobs(encode_volume_jobs(r.run_jobs(system, o, a, b), o.density));
       });
     };
     const Volume merged = r.render(system, remote);
