@@ -41,11 +41,16 @@ def worker_cpu(client):
     return client.run(cpu)
 
 
+def own_peak_mb():
+    """This process's peak resident size, MB: VmHWM (getrusage's maxrss would include the
+    high-water mark a spawned worker inherits from the large driver at exec)."""
+    with open("/proc/self/status") as f:
+        return next(int(line.split()[1]) for line in f if line.startswith("VmHWM")) / 1024
+
+
 def peak_rss_mb(client):
     """The largest peak resident size of any worker process so far, MB."""
-    def peak():
-        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    return max(client.run(peak).values())
+    return max(client.run(own_peak_mb).values())
 
 
 def driver_cpu():
@@ -160,7 +165,7 @@ def main():
                 print(f"  {label}: {run.result}; wall {wall:.2f} s, workers' CPU {sum(cpu.values()):.2f} s "
                       f"(busiest {busiest:.2f} s), driver CPU {driver:.2f} s, {tasks} tasks, "
                       f"{moved / max(tasks, 1) / 1e6:.2f} MB per task; worker peak RSS {peak_rss_mb(client):.0f} MB, "
-                      f"driver {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB", flush=True)
+                      f"driver {own_peak_mb():.0f} MB", flush=True)
     print("speed-up of 2 workers over 1 (wall; CPU: the busiest worker's CPU plus the driver's, 1 against 2):")
     for name in chosen:
         (w1, c1, d1), (w2, c2, d2) = results[name, 1], results[name, 2]

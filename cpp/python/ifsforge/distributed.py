@@ -136,10 +136,10 @@ def _runner(client, task, *head):
         futures = [client.submit(task, *head, a, b, pure=False) for a, b in zip(cuts, cuts[1:]) if b > a]
         try:
             return client.gather(futures)
-        except ifsforge.Error:
+        except ifsforge.Error:  # raised by the core on a worker: as it would be here
             raise
-        except (OSError, TimeoutError) as error:
-            raise ClusterError(f"the cluster failed: {error}") from None
+        except Exception as error:  # lost connection, a task whose workers kept dying (KilledWorker), ...
+            raise ClusterError(f"the cluster failed: {type(error).__name__}: {error}") from None
         finally:
             for future in futures:
                 future.release()
@@ -197,7 +197,9 @@ def render_frames(client, frames, algorithm, mode, progress=None, **options):
             if progress is not None and progress((k + 1) / len(tasks)) is False:
                 raise ifsforge.Cancelled("cancelled")
         return sizes
-    except (OSError, TimeoutError) as error:
-        raise ClusterError(f"the cluster failed: {error}") from None
+    except ifsforge.Error:
+        raise
+    except Exception as error:
+        raise ClusterError(f"the cluster failed: {type(error).__name__}: {error}") from None
     finally:
         client.cancel(tasks)
