@@ -32,6 +32,7 @@ void bind_terrain(py::module_& m);
 void bind_pifs(py::module_& m);
 void bind_design(py::module_& m);
 void bind_inverse(py::module_& m);
+void bind_distributed(py::module_& m);
 
 /// @brief A C++ progress callback around a Python callable f(fraction) -> bool | None
 /// (False cancels). Ctrl-C also cancels. Empty when `callback` is None.

@@ -15,4 +15,5 @@ PYBIND11_MODULE(_core, m) {
   bind_pifs(m);
   bind_design(m);
   bind_inverse(m);
+  bind_distributed(m);
 }

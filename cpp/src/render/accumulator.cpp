@@ -1,7 +1,11 @@
 #include "ifsforge/render/accumulator.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
+
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/varint.h"
 
 namespace ifsforge {
 
@@ -28,6 +32,58 @@ void Accumulator::merge(const Accumulator& other) {
   for (std::size_t i = 0; i < mass_.size(); ++i) mass_[i] += other.mass_[i];
   for (std::size_t i = 0; i < sums_.size(); ++i) sums_[i] += other.sums_[i];
   for (std::size_t i = 0; i < nearest_.size(); ++i) nearest_[i] = std::max(nearest_[i], other.nearest_[i]);
+}
+
+namespace {
+constexpr std::uint64_t kMagic = 0x4149'4649;  // "IFIA"
+}
+
+std::string Accumulator::encode() const {
+  std::string out;
+  put_varint(out, kMagic);
+  for (std::uint64_t v : {std::uint64_t(width_), std::uint64_t(height_), std::uint64_t(channels_),
+                          std::uint64_t(mass_.empty() ? 0 : 1), std::uint64_t(nearest_.empty() ? 0 : 1)})
+    put_varint(out, v);
+  // Pixels without hits hold nothing else (no mass, sums or depth): only the others travel.
+  std::size_t previous = 0;
+  for (std::size_t i = 0; i < hits_.size(); ++i) {
+    if (!hits_[i]) continue;
+    put_varint(out, i - previous);
+    previous = i;
+    put_varint(out, hits_[i]);
+    if (!mass_.empty()) put_varint(out, mass_[i]);
+    for (int c = 0; c < channels_; ++c) put_varint(out, sums_[i * channels_ + c]);
+    if (!nearest_.empty()) {
+      std::uint32_t bits;
+      std::memcpy(&bits, &nearest_[i], 4);
+      put_varint(out, bits);
+    }
+  }
+  return out;
+}
+
+void Accumulator::merge_encoded(const std::string& bytes) {
+  VarintReader in(bytes, "image job result");
+  if (in.next() != kMagic || in.next() != std::uint64_t(width_) || in.next() != std::uint64_t(height_) ||
+      in.next() != std::uint64_t(channels_) || in.next() != (mass_.empty() ? 0u : 1u) ||
+      in.next() != (nearest_.empty() ? 0u : 1u))
+    throw InputError("image job result: not the histogram of this render (another size, system or build)");
+  std::size_t i = 0;
+  bool first = true;
+  while (!in.done()) {
+    i += in.next();
+    if (i >= hits_.size() || (!first && i == 0)) throw InputError("image job result: pixel out of range");
+    first = false;
+    hits_[i] += in.next();
+    if (!mass_.empty()) mass_[i] += in.next();
+    for (int c = 0; c < channels_; ++c) sums_[i * channels_ + c] += in.next();
+    if (!nearest_.empty()) {
+      const auto bits = static_cast<std::uint32_t>(in.next());
+      float d;
+      std::memcpy(&d, &bits, 4);
+      nearest_[i] = std::max(nearest_[i], d);
+    }
+  }
 }
 
 void Accumulator::finish(Raster& raster) const {

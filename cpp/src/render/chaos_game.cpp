@@ -228,9 +228,15 @@ void chaos_job_avx2(const PixelMaps& maps, const Frame& frame, const Point& star
 
 #endif  // IFSFORGE_CHAOS_AVX2
 
-}  // namespace
+/// What every job of one render shares: the frame, the point count and its cut into jobs.
+struct ChaosSetup {
+  Frame frame;
+  JobPlan plan;
+  std::vector<double> lo, hi;  // channel ranges
+  bool simd = false;
+};
 
-Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
+ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads) {
   if (!ifs.condensation().empty())
     throw InputError("random iteration does not draw condensation sets: render '" + ifs.name() +
                      "' with dia, mpa or self-congruent");
@@ -242,7 +248,6 @@ Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
                                                                       options.points_per_pixel);
   std::vector<double> lo, hi;
   channel_ranges(ifs, lo, hi);
-  const int threads = resolve_threads(options.threads);
   const std::size_t pixels = std::size_t(frame.width()) * frame.height();
 #ifdef IFSFORGE_CHAOS_AVX2
   const bool simd = ifs.dim() == 2 && ifs.size() <= 8 && !ifs.recurrent();
@@ -253,13 +258,25 @@ Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
                           (simd ? 4.0 * pixels : 0.0)),
                "a " + std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
                    " random-iteration image on " + std::to_string(threads) + " threads");
+  return {frame, plan_jobs(total, simd ? 32 : 1), lo, hi, simd};
+}
 
-  const JobPlan plan = plan_jobs(total, simd ? 32 : 1);
+Accumulator empty_accumulator(const Ifs& ifs, const ChaosSetup& setup) {
+  Accumulator acc(setup.frame.width(), setup.frame.height(), false, setup.lo, setup.hi);
+  if (ifs.spatial_dims() == 3) acc.enable_depth();
+  return acc;
+}
+
+/// Runs jobs [first, last) on `threads` threads into one accumulator (integer sums: the same
+/// whatever the grouping of the jobs).
+Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const ChaosSetup& setup,
+                             std::uint64_t first, std::uint64_t last, int threads) {
+  const Frame& frame = setup.frame;
+  const JobPlan& plan = setup.plan;
+  const bool simd = setup.simd;
+  const std::size_t pixels = std::size_t(frame.width()) * frame.height();
   std::vector<Accumulator> acc;
-  for (int t = 0; t < threads; ++t) {
-    acc.emplace_back(frame.width(), frame.height(), false, lo, hi);
-    if (ifs.spatial_dims() == 3) acc.back().enable_depth();
-  }
+  for (int t = 0; t < threads; ++t) acc.push_back(empty_accumulator(ifs, setup));
   const MapSampler sampler(ifs.probabilities());
   std::vector<MapSampler> rows;
   for (std::size_t i = 0; i < ifs.size() && ifs.recurrent(); ++i) rows.emplace_back(ifs.transitions().row(i));
@@ -281,8 +298,9 @@ Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
 #endif
 
   parallel_jobs(
-      plan.jobs, threads,
-      [&](std::size_t job, int worker) {
+      last - first, threads,
+      [&](std::size_t index, int worker) {
+        const std::uint64_t job = first + index;
 #ifdef IFSFORGE_CHAOS_AVX2
         if (simd) {
           auto& h = histograms[worker];
@@ -305,12 +323,36 @@ Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
     if (simd && !histograms[t].empty()) flush(t);
 #endif
   for (int t = 1; t < threads; ++t) acc[0].merge(acc[t]);
+  return std::move(acc[0]);
+}
+
+}  // namespace
+
+Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
+  const int threads = options.distribute ? 1 : resolve_threads(options.threads);
+  const ChaosSetup setup = chaos_setup(ifs, options, threads);
+  Accumulator acc = empty_accumulator(ifs, setup);
+  if (options.distribute) {
+    for (const std::string& bytes : options.distribute(0, setup.plan.jobs)) acc.merge_encoded(bytes);
+  } else {
+    acc = chaos_accumulate(ifs, options, setup, 0, setup.plan.jobs, threads);
+  }
   Raster raster;
   describe_channels(ifs, raster);
-  acc[0].finish(raster);
-  raster.pixel_size = frame.pixel_size();
-  raster.points = plan.jobs * plan.points_per_job;
+  acc.finish(raster);
+  raster.pixel_size = setup.frame.pixel_size();
+  raster.points = setup.plan.jobs * setup.plan.points_per_job;
   return raster;
+}
+
+std::string ChaosGame::run_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
+                                std::uint64_t last) const {
+  const int threads = resolve_threads(options.threads);
+  const ChaosSetup setup = chaos_setup(ifs, options, threads);
+  last = std::min(last, setup.plan.jobs);
+  if (first >= last) return empty_accumulator(ifs, setup).encode();
+  const int used = static_cast<int>(std::min<std::uint64_t>(threads, last - first));
+  return chaos_accumulate(ifs, options, setup, first, last, used).encode();
 }
 
 }  // namespace ifsforge

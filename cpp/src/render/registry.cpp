@@ -57,6 +57,10 @@ const std::vector<Entry>& registry() {
 
 }  // namespace
 
+std::string Renderer::run_jobs(const Ifs&, const RenderOptions&, std::uint64_t, std::uint64_t) const {
+  throw InputError("the " + name() + " renderer does not split into independent jobs: distribute chaos or prr");
+}
+
 const Renderer& renderer(const std::string& name) { return find_named(registry(), name, "algorithm"); }
 
 SeedReference seed_reference(const std::string& name) {

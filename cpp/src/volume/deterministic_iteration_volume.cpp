@@ -37,6 +37,7 @@ void pack(const double* u, std::uint64_t* slots) {
 }  // namespace
 
 Volume DeterministicIterationVolume::render(const Ifs& ifs, const VolumeOptions& options) const {
+  if (options.distribute) run_jobs(ifs, options, 0, 0);  // InputError: no independent jobs
   const VolumeSetup setup = prepare_volume(ifs, options);
   const VoxelGrid& grid = setup.grid;
   const ChannelQuantizer& quantizer = setup.quantizer;

@@ -124,6 +124,7 @@ struct VoxelSearch {
 }  // namespace
 
 Volume EscapeTimeVolume::render(const Ifs& ifs, const VolumeOptions& options) const {
+  if (options.distribute) run_jobs(ifs, options, 0, 0);  // InputError: no independent jobs
   const VolumeSetup setup = prepare_volume(ifs, options);
   if (options.density == VolumeDensity::Measure)
     throw InputError("escape time (5.5) finds which voxels the attractor occupies, not its measure: "

@@ -279,10 +279,23 @@ bool spatial_rows_independent(const Ifs& ifs) {
   return true;
 }
 
-}  // namespace
+/// The jobs of one render: its setup and address-prefix plan, and per job run, the sorted
+/// voxels, the points plotted and the depth reached.
+struct PrrJobs {
+  VolumeSetup setup;
+  std::uint64_t jobs = 0;
+  std::vector<VoxelList> lists;
+  std::vector<std::uint64_t> leaves;
+  std::vector<int> deepest;
+};
 
-Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options) const {
-  const VolumeSetup setup = prepare_volume(ifs, options);
+/// Plans the render and runs its jobs [first, last) (clamped to the job count; none when
+/// first >= last: the plan alone, for a render whose jobs run elsewhere).
+PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first, std::uint64_t last,
+                             const ProgressCallback& progress) {
+  PrrJobs out;
+  out.setup = prepare_volume(ifs, options);
+  const VolumeSetup& setup = out.setup;
   const VoxelGrid& grid = setup.grid;
   const std::size_t n = ifs.size();
   const int dim = ifs.dim();
@@ -338,14 +351,26 @@ Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options
   const double dimension = shrink > 0.0 && shrink < 1.0 ? std::min(3.0, log_n / -std::log(shrink)) : 3.0;
   double expected = std::min(grid.cells(), 8.0 * std::pow(static_cast<double>(options.resolution), dimension));
   if (fixed) expected = std::min(expected, std::pow(static_cast<double>(n), options.depth));  // the leaves
-  check_memory(expected * (2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels) +
+  // A cluster worker running a range of the jobs holds their share of the voxels only; a
+  // render merging a cluster's results (no jobs here) checks the voxels it receives instead.
+  out.jobs = plan.jobs;
+  last = std::min<std::uint64_t>(last, plan.jobs);
+  const std::uint64_t count = last > first ? last - first : 0;
+  if (count == 0) return out;
+  const bool part = count < plan.jobs;
+  const double share = part ? static_cast<double>(count) / static_cast<double>(plan.jobs) : 1.0;
+  check_memory(share * expected * (2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels) +
                    setup.threads * VoxelAccumulator::bytes(channels),
-               "a " + std::to_string(options.resolution) + "^3 point-recursive volume");
-
-  std::vector<VoxelAccumulator> scratch(setup.threads, VoxelAccumulator(grid, setup.quantizer));
-  std::vector<VoxelList> lists(plan.jobs, VoxelList(channels));
-  std::vector<std::uint64_t> leaves(plan.jobs, 0);
-  std::vector<int> deepest(plan.jobs, 0);
+               "a " + std::to_string(options.resolution) + "^3 point-recursive volume" +
+                   (part ? " (jobs " + std::to_string(first) + ".." + std::to_string(last - 1) + ")" : ""));
+  std::vector<VoxelAccumulator> scratch(std::min<std::uint64_t>(setup.threads, count),
+                                        VoxelAccumulator(grid, setup.quantizer));
+  std::vector<VoxelList>& lists = out.lists;
+  std::vector<std::uint64_t>& leaves = out.leaves;
+  std::vector<int>& deepest = out.deepest;
+  lists.assign(count, VoxelList(channels));
+  leaves.assign(count, 0);
+  deepest.assign(count, 0);
   const double inverse = 1.0 / grid.voxel_size;
   const bool spatial = spatial_rows_independent(ifs);
   // The box M(centre +- half) in continuous voxel coordinates.
@@ -367,8 +392,9 @@ Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options
   };
 
   parallel_jobs(
-      plan.jobs, setup.threads,
-      [&](std::size_t job, int worker) {
+      count, static_cast<int>(scratch.size()),
+      [&](std::size_t index, int worker) {
+        const std::uint64_t job = first + index;
         VoxelAccumulator& acc = scratch[worker];
         // The job's piece of the attractor: the prefix map applied to B.
         AffineMap prefix(dim);
@@ -414,19 +440,52 @@ Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options
           plotted += cloud.points.size();
           depth = std::max(depth, node.length + cloud_levels);
         });
-        lists[job] = acc.finish();
-        leaves[job] = plotted + (expander ? expander->plotted() : 0);
-        deepest[job] = std::max(depth, expander ? expander->depth() : 0);
+        lists[index] = acc.finish();
+        leaves[index] = plotted + (expander ? expander->plotted() : 0);
+        deepest[index] = std::max(depth, expander ? expander->depth() : 0);
       },
-      progress_range(options.progress, 0.0, 0.9));
+      progress);
+  return out;
+}
 
+}  // namespace
+
+Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options) const {
+  const bool here = !options.distribute;
+  PrrJobs run = point_recursive_jobs(ifs, options, 0, here ? ~std::uint64_t(0) : 0,
+                                     progress_range(options.progress, 0.0, 0.9));
+  if (!here) {
+    double entries = 0.0;
+    for (VolumeJobsResult& r : options.distribute(0, run.jobs)) {
+      entries += static_cast<double>(r.voxels.size());
+      run.lists.push_back(std::move(r.voxels));
+      run.leaves.push_back(r.points);
+      run.deepest.push_back(r.depth);
+    }
+    // The merge's output list and the volume, for the voxels the workers found.
+    const int channels = ifs.dim() - 3;
+    check_memory(entries * (VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels),
+                 "merging a " + std::to_string(options.resolution) + "^3 point-recursive volume");
+  }
   if (options.progress && !options.progress(0.95)) throw Cancelled();
-  Volume volume = finish_volume(lists, grid, ifs, setup.quantizer, options.density, kVolumeMassUnit, setup.threads);
+  const VolumeSetup& setup = run.setup;
+  Volume volume = finish_volume(run.lists, setup.grid, ifs, setup.quantizer, options.density, kVolumeMassUnit,
+                                setup.threads);
   volume.algorithm = name();
-  volume.depth = *std::max_element(deepest.begin(), deepest.end());
-  for (std::uint64_t l : leaves) volume.points += l;
+  for (int d : run.deepest) volume.depth = std::max(volume.depth, d);
+  for (std::uint64_t l : run.leaves) volume.points += l;
   if (options.progress && !options.progress(1.0)) throw Cancelled();
   return volume;
+}
+
+VolumeJobsResult PointRecursiveVolume::run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                                                std::uint64_t last) const {
+  PrrJobs run = point_recursive_jobs(ifs, options, first, last, options.progress);
+  VolumeJobsResult out;
+  for (int d : run.deepest) out.depth = std::max(out.depth, d);
+  for (std::uint64_t l : run.leaves) out.points += l;
+  out.voxels = merge_voxel_lists(run.lists, run.setup.threads);
+  return out;
 }
 
 }  // namespace ifsforge

@@ -74,15 +74,20 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
   // Plots jobs [first, last) (job j: points [j, j + 1) * kPointsPerJob, capped at `limit`) and
   // adds them to `total`. Job j always draws stream (seed, j): the result never depends on
   // the threads or on how the jobs were grouped into rounds.
+  // With `distribute`, the same jobs run elsewhere (random_iteration_jobs) and merge here.
   auto round = [&](std::uint64_t first, std::uint64_t last, std::uint64_t limit, const ProgressCallback& progress) {
-    parallel_jobs(last - first, setup.threads, [&](std::size_t k, int worker) {
-      const std::uint64_t job = first + k;
-      const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
-      run(ifs, sampler, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
-    }, progress);
     std::vector<VoxelList> lists;
     lists.push_back(std::move(total));
-    for (VoxelTable& t : tables) lists.push_back(t.take());
+    if (options.distribute) {
+      for (VolumeJobsResult& r : options.distribute(first, last)) lists.push_back(std::move(r.voxels));
+    } else {
+      parallel_jobs(last - first, setup.threads, [&](std::size_t k, int worker) {
+        const std::uint64_t job = first + k;
+        const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
+        run(ifs, sampler, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
+      }, progress);
+      for (VoxelTable& t : tables) lists.push_back(t.take());
+    }
     total = merge_voxel_lists(lists, setup.threads);
     points = std::min(limit, last * kPointsPerJob);
     jobs_done = last;
@@ -114,6 +119,31 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
   volume.points = points;
   if (options.progress && !options.progress(1.0)) throw Cancelled();
   return volume;
+}
+
+VolumeJobsResult RandomIterationVolume::run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                                                 std::uint64_t last) const {
+  const VolumeSetup setup = prepare_volume(ifs, options);
+  const int channels = ifs.dim() - 3;
+  const MapSampler sampler(ifs.probabilities());
+  const ChaosJob run = chaos_job_for(ifs.dim());
+  // render()'s point cap: the requested count, or whole jobs while doubling.
+  const std::uint64_t limit = options.iterations > 0 ? options.iterations : last * kPointsPerJob;
+  last = std::min(last, (limit + kPointsPerJob - 1) / kPointsPerJob);
+  const int threads = static_cast<int>(std::min<std::uint64_t>(setup.threads, std::max(first, last) - first));
+  std::vector<VoxelTable> tables(std::max(1, threads), VoxelTable(channels));
+  VolumeJobsResult out;
+  if (first < last)
+    parallel_jobs(last - first, threads, [&](std::size_t k, int worker) {
+      const std::uint64_t job = first + k;
+      const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
+      run(ifs, sampler, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
+    }, options.progress);
+  std::vector<VoxelList> lists;
+  for (VoxelTable& t : tables) lists.push_back(t.take());
+  out.voxels = merge_voxel_lists(lists, setup.threads);
+  for (std::uint64_t job = first; job < last; ++job) out.points += std::min(kPointsPerJob, limit - job * kPointsPerJob);
+  return out;
 }
 
 }  // namespace ifsforge

@@ -54,6 +54,10 @@ std::vector<const VolumeRenderer*> volume_renderers() {
   return out;
 }
 
+VolumeJobsResult VolumeRenderer::run_jobs(const Ifs&, const VolumeOptions&, std::uint64_t, std::uint64_t) const {
+  throw InputError("the " + name() + " volume renderer does not split into independent jobs: distribute prr or ria");
+}
+
 Volume render_volume(const Ifs& ifs, const std::string& algorithm, const VolumeOptions& options) {
   return volume_renderer(algorithm).render(ifs, options);
 }

@@ -4,6 +4,7 @@
 /// every renderer's output independent of the thread count.
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "ifsforge/model/ifs.h"
@@ -47,6 +48,11 @@ class Accumulator {
     if (d > nearest_[pixel]) nearest_[pixel] = d;
   }
   void merge(const Accumulator& other);
+  /// @brief Sparse bytes for a cluster: the pixels holding hits (gaps between them, then
+  /// their sums) as varints, depths as float bits.
+  std::string encode() const;
+  /// @brief merge() of the accumulator `bytes` came from (same shape); InputError otherwise.
+  void merge_encoded(const std::string& bytes);
   /// @brief Density = mass (measure on) or hits; channel means from the sums.
   void finish(Raster& raster) const;
 

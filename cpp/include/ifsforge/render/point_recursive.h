@@ -21,6 +21,10 @@ class PointRecursive : public Renderer {
     return "point recursive rendering (5.8.1): deterministic, measure per pixel";
   }
   Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  /// Jobs' leaves in address order (render() applies them in that order: exact float sums).
+  std::string run_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
+                       std::uint64_t last) const override;
+  bool distributable() const override { return true; }
   std::vector<RendererParameter> parameters() const override {
     return {{"cut", "1",
              "pixels: a piece smaller than this that straddles pixel edges is not split further but "

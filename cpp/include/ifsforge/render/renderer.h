@@ -2,6 +2,7 @@
 /// @file The common interface of the 2D rendering algorithms (seed chapter 5) and their
 /// registry, so that Python and the CLI choose one by name.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -15,6 +16,11 @@
 #include "ifsforge/render/raster.h"
 
 namespace ifsforge {
+
+/// Runs jobs [first, last) of a render elsewhere (on a cluster) and returns their results as
+/// Renderer::run_jobs bytes of consecutive ranges, in job order (each renderer merges them
+/// exactly: integer sums, or leaves applied in address order).
+using RenderJobRunner = std::function<std::vector<std::string>(std::uint64_t first, std::uint64_t last)>;
 
 struct RenderOptions {
   int width = 1024, height = 1024;
@@ -36,6 +42,8 @@ struct RenderOptions {
   /// Algorithm-specific settings by name, as text (Renderer::parameters() lists each
   /// algorithm's names and defaults; an unknown name is an InputError).
   std::map<std::string, std::string> parameters;
+  /// Empty: the jobs run here on `threads` threads. Set: chaos and prr hand their jobs to it.
+  RenderJobRunner distribute;
 };
 
 /// @brief One algorithm-specific setting: its name, default ("" = chosen automatically) and
@@ -53,6 +61,13 @@ class Renderer {
   virtual Raster render(const Ifs& ifs, const RenderOptions& options) const = 0;
   /// @brief The settings this algorithm reads from RenderOptions::parameters.
   virtual std::vector<RendererParameter> parameters() const { return {}; }
+  /// @brief Jobs [first, last) of the render `options` describe, as bytes that render() merges
+  /// exactly when `options.distribute` returns them: what a cluster's worker runs. InputError
+  /// for a renderer whose work does not split into independent jobs.
+  virtual std::string run_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
+                               std::uint64_t last) const;
+  /// @brief Whether run_jobs and RenderOptions::distribute work for this renderer.
+  virtual bool distributable() const { return false; }
 };
 
 /// @brief The renderer called `name` (or one of its aliases); InputError lists the choices.

@@ -2,6 +2,7 @@
 /// @file The volumetric renderers of the seed's Table 2 (5.13.2) behind one interface, and
 /// what they share: the options, the checks on the input and the grid they fill.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,18 @@ namespace ifsforge {
 enum class EscapeNorm { Euclidean, Linear };
 EscapeNorm escape_norm_from_string(const std::string& name);
 const char* to_string(EscapeNorm n);
+
+/// What a range of a renderer's jobs produces: the sorted integer sums of their voxels (which
+/// merge exactly with any other range's), the points they plotted and the deepest level reached.
+struct VolumeJobsResult {
+  VoxelList voxels;
+  std::uint64_t points = 0;
+  int depth = 0;
+};
+
+/// Runs the jobs [first, last) elsewhere (on a cluster) and returns their results, grouped in
+/// any way: the merge is exact, so the volume is the same bytes as when they run here.
+using VolumeJobRunner = std::function<std::vector<VolumeJobsResult>(std::uint64_t first, std::uint64_t last)>;
 
 struct VolumeOptions {
   int resolution = 256;       ///< voxels along the longest side of the grid's box
@@ -35,6 +48,9 @@ struct VolumeOptions {
   std::uint64_t seed = 0;        ///< RIA only
   int threads = 0;               ///< 0: every core; the volume never depends on it
   ProgressCallback progress;
+  /// Empty: the jobs run here on `threads` threads. Set: the renderer plans, hands every job
+  /// to it, and merges (prr and ria; the others throw InputError).
+  VolumeJobRunner distribute;
 };
 
 class VolumeRenderer {
@@ -44,6 +60,11 @@ class VolumeRenderer {
   virtual std::string description() const = 0;
   /// @brief Renders `ifs` (xyz layouts with any extra channels; it must have an attractor).
   virtual Volume render(const Ifs& ifs, const VolumeOptions& options) const = 0;
+  /// @brief Runs jobs [first, last) of the render `options` describe (on `options.threads`
+  /// threads), merged into one result: what a cluster's worker does. InputError for a
+  /// renderer whose work does not split into independent jobs.
+  virtual VolumeJobsResult run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                                    std::uint64_t last) const;
 };
 
 /// @brief The volumetric renderer called `name` ("prr", "ria", "dia", "eta" or an alias);

@@ -6,6 +6,7 @@ import numpy as np
 
 import ifsforge
 from ifsforge import cli_common as common
+from ifsforge import distributed
 from ifsforge.progress import ProgressBar
 
 
@@ -24,6 +25,7 @@ def register(subparsers):
     p.add_argument("--mode", default="auto", choices=["auto", "binary", "density", "color", "shaded"])
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--view", type=float, nargs=2, metavar=("YAW", "PITCH"), help="3D systems: degrees")
+    distributed.add_cluster_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -63,11 +65,17 @@ def run(args):
     window = common_window(systems) if start.spatial_dims == 2 else None
     view = (args.view or start.render_defaults.get("view")) if start.spatial_dims == 3 else None
     bar = ProgressBar(f"morph {start.name} -> {end.name}")
-    for k, system in enumerate(systems):
+    paths = [os.path.join(args.output, f"{args.prefix}_{k:04d}.png") for k in range(len(systems))]
+    with distributed.client_from_args(args) as client:
+        if client is not None:  # one task per frame, each written by its worker
+            distributed.render_frames(client, zip(systems, paths), args.algorithm, args.mode, progress=bar,
+                                      width=width, height=height, window=window, view=view, seed=args.seed,
+                                      binary=args.mode == "binary")
+    for k, system in enumerate(systems if client is None else []):
         def progress(fraction, k=k):
             return bar((k + fraction) / len(systems))
         raster = ifsforge.render(system, args.algorithm, width, height, window=window, view=view, seed=args.seed,
                                  binary=args.mode == "binary", progress=progress)
-        ifsforge.write_png(os.path.join(args.output, f"{args.prefix}_{k:04d}.png"), raster.to_image(args.mode))
+        ifsforge.write_png(paths[k], raster.to_image(args.mode))
     print(f"{args.output}: {len(systems)} frames from '{start.name}' to '{end.name}' ({width}x{height})")
     return 0

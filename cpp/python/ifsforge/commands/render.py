@@ -1,6 +1,7 @@
 """ifsforge render: a 2D image of a system with any chapter-5 algorithm."""
 import ifsforge
 from ifsforge import cli_common as common
+from ifsforge import distributed
 from ifsforge.progress import ProgressBar
 
 
@@ -32,6 +33,7 @@ def register(subparsers):
     p.add_argument("--reference-system", help="colour-stealing: the system that walks the picture")
     p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
                    help="an algorithm setting, repeatable (`ifsforge algorithms` lists them)")
+    distributed.add_cluster_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -50,11 +52,12 @@ def run(args):
             extra["reference_system"] = common.load_system(args.reference_system)
         if not args.algorithm:
             algorithm = "colour-stealing"
-    raster = ifsforge.render(
-        system, algorithm, width, height=height, window=window, view=view, iterations=args.iterations,
-        depth=args.depth, seed=args.seed, threads=args.threads, binary=args.mode == "binary",
-        points_per_pixel=args.points_per_pixel, progress=ProgressBar(f"render {system.name}"),
-        parameters=common.parse_parameters(args.param), **extra)
+    with distributed.client_from_args(args) as client:
+        raster = distributed.render(
+            system, algorithm, client=client, width=width, height=height, window=window, view=view,
+            iterations=args.iterations, depth=args.depth, seed=args.seed, threads=args.threads,
+            binary=args.mode == "binary", points_per_pixel=args.points_per_pixel,
+            progress=ProgressBar(f"render {system.name}"), parameters=common.parse_parameters(args.param), **extra)
     image = raster.to_image(args.mode, gamma=args.gamma, invert=args.invert)
     ifsforge.write_png(args.output, image, args.bits)
     print(f"{args.output}: {raster.width}x{raster.height} {algorithm}, {raster.points} points, "

@@ -4,6 +4,7 @@ import time
 
 import ifsforge
 from ifsforge import cli_common as common
+from ifsforge import distributed
 from ifsforge.progress import ProgressBar
 
 MESH_EXTENSIONS = (".ply", ".obj", ".glb")
@@ -48,6 +49,7 @@ def register(subparsers):
     p.add_argument("--iso", type=float, default=iso.iso, help="mesh: iso level of the occupancy (default %(default)s)")
     p.add_argument("--adaptivity", type=float, default=iso.adaptivity, help="mesh: 0 (every voxel) .. 1 (merge flat areas)")
     common.add_up_argument(p)
+    distributed.add_cluster_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -68,11 +70,12 @@ def run(args):
         common.ensure_output_folder(args.mesh)
     system = common.load_system(args.system)
     start = time.perf_counter()
-    volume = ifsforge.render_volume(
-        system, args.algorithm, args.res, bounds=args.bounds, density=args.density, depth=args.depth,
-        iterations=args.iterations, escape_bound=args.escape_bound, escape_norm=args.escape_norm,
-        escape_pick_max=args.escape_max, seed=args.seed, threads=args.threads,
-        progress=ProgressBar(f"volume {system.name}"))
+    with distributed.client_from_args(args) as client:
+        volume = distributed.render_volume(
+            system, args.algorithm, client=client, resolution=args.res, bounds=args.bounds, density=args.density,
+            depth=args.depth, iterations=args.iterations, escape_bound=args.escape_bound,
+            escape_norm=args.escape_norm, escape_pick_max=args.escape_max, seed=args.seed, threads=args.threads,
+            progress=ProgressBar(f"volume {system.name}"))
     nx, ny, nz = volume.dims
     print(f"{system.name}: {nx}x{ny}x{nz} voxels of {volume.voxel_size:.6g}, {volume.algorithm} "
           f"(depth {volume.depth}), {len(volume):,} occupied, {time.perf_counter() - start:.2f} s")
@@ -86,7 +89,7 @@ def run(args):
         if args.output:
             # Only what shapes the volume: no thread count (the bytes never depend on it), no path.
             shown = {k: v for k, v in sorted(vars(args).items())
-                     if k not in ("run", "command", "threads", "output", "mesh", "df3")}
+                     if k not in ("run", "command", "threads", "output", "mesh", "df3", *distributed.CLUSTER_OPTIONS)}
             parameters = {"ifsforge_resolution": str(args.res),
                           "ifsforge_command": "ifsforge volume " + " ".join(f"{k}={v}" for k, v in shown.items())}
             start = time.perf_counter()

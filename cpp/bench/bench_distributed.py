@@ -1,0 +1,176 @@
+#!/usr/bin/python3
+"""Scale-out on Dask: 1 against 2 worker processes (a LocalCluster, one thread each) for a
+1024^3 and a 2048^3 volume, a 4096^2 chaos image, a 1024^2 PRR image and a 240-frame 512^2
+morph. (A 4096^2 PRR image sends its ~4 * 10^8 leaves, several GB: see the README.)
+
+    cpp/bench/bench_distributed.py [--quick] [--cases volume1024,volume2048,image4096,morph240]
+
+Printed per case and worker count: wall time, the workers' CPU time (user + sys of each worker
+process, from getrusage) and its busiest worker, the driver's CPU time, the tasks, the per-task
+overhead (wall time of empty tasks through the same scheduler) and the bytes moved per task.
+The machine may be shared: the CPU-time figures (the busiest worker's CPU plus the driver's, which
+merges) give the speed-up the work allows whatever the load; the wall figures are what this run saw.
+--quick: 512^3 / 1024^3 volumes, a 2048^2 image and 48 frames. Needs the built ifsforge (build/python).
+"""
+import argparse
+import os
+import resource
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "build" / "python"))
+os.environ["PYTHONPATH"] = str(ROOT / "build" / "python")  # the worker processes import the same build
+
+import distributed  # noqa: E402
+
+import ifsforge  # noqa: E402
+from ifsforge import _core  # noqa: E402
+from ifsforge import distributed as dist  # noqa: E402
+
+SYSTEMS = ROOT / "samples" / "systems"
+
+
+def worker_cpu(client):
+    """CPU seconds (user + sys) each worker process has used so far."""
+    def cpu():
+        usage = resource.getrusage(resource.RUSAGE_SELF)
+        return usage.ru_utime + usage.ru_stime
+    return client.run(cpu)
+
+
+def own_peak_mb():
+    """This process's peak resident size, MB: VmHWM (getrusage's maxrss would include the
+    high-water mark a spawned worker inherits from the large driver at exec)."""
+    with open("/proc/self/status") as f:
+        return next(int(line.split()[1]) for line in f if line.startswith("VmHWM")) / 1024
+
+
+def peak_rss_mb(client):
+    """The largest peak resident size of any worker process so far, MB."""
+    return max(client.run(own_peak_mb).values())
+
+
+def driver_cpu():
+    return time.process_time()
+
+
+def measure(client, run):
+    """Runs run() -> (tasks, bytes); returns wall, per-worker CPU, driver CPU, tasks, bytes."""
+    before, driver = worker_cpu(client), driver_cpu()
+    start = time.perf_counter()
+    tasks, moved = run()
+    wall = time.perf_counter() - start
+    after = worker_cpu(client)
+    cpu = {w: after[w] - before.get(w, 0.0) for w in after}
+    return wall, cpu, driver_cpu() - driver, tasks, moved
+
+
+def counting_runner(client, task, *head):
+    """dist._runner that also counts the tasks and the bytes they return."""
+    inner = dist._runner(client, task, *head)
+    stats = {"tasks": 0, "bytes": 0}
+
+    def distribute(first, last):
+        results = inner(first, last)
+        stats["tasks"] += len(results)
+        stats["bytes"] += sum(len(r) for r in results)
+        return results
+    return distribute, stats
+
+
+def volume_case(resolution):
+    system = ifsforge.load(str(SYSTEMS / "sierpinski_pyramid.json"))
+    options = {"resolution": resolution}
+
+    def run(client):
+        distribute, stats = counting_runner(client, dist._volume_task, ifsforge.to_json(system), "prr",
+                                            dist._worker_options(options))
+        volume = _core.render_volume_distributed(system, "prr", options, distribute)
+        run.result = f"{len(volume):,} voxels"
+        return stats["tasks"], stats["bytes"]
+    return run
+
+
+def image_case(size, algorithm):
+    system = ifsforge.load(str(SYSTEMS / "barnsley_fern.json"))
+    options = {"width": size, "height": size}
+
+    def run(client):
+        distribute, stats = counting_runner(client, dist._render_task, ifsforge.to_json(system), algorithm,
+                                            dist._worker_options(options))
+        raster = _core.render_distributed(system, algorithm, options, distribute)
+        run.result = f"{raster.covered():,} pixels covered"
+        return stats["tasks"], stats["bytes"]
+    return run
+
+
+def morph_case(frames, folder):
+    a = ifsforge.load(str(SYSTEMS / "sierpinski_triangle.json"))
+    b = ifsforge.load(str(SYSTEMS / "barnsley_fern.json"))
+    systems = [ifsforge.morph(a, b, k / (frames - 1)) for k in range(frames)]
+    paths = [os.path.join(folder, f"morph_{k:04d}.png") for k in range(frames)]
+
+    def run(client):
+        sizes = dist.render_frames(client, zip(systems, paths), "chaos", "density", width=512, height=512)
+        run.result = f"{len(sizes)} frames"
+        return len(sizes), 0  # each worker writes its frame: nothing but the size comes back
+    return run
+
+
+def task_overhead(client, count=200):
+    """Wall seconds per task of `count` empty volume ranges (scheduling, pickling, the setup)."""
+    system_json = ifsforge.to_json(ifsforge.load(str(SYSTEMS / "sierpinski_pyramid.json")))
+    options = {"resolution": 16, "threads": 1}
+    start = time.perf_counter()
+    client.gather([client.submit(dist._volume_task, system_json, "prr", options, 0, 0, pure=False)
+                   for _ in range(count)])
+    return (time.perf_counter() - start) / count
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--cases", default="volume1024,volume2048,image4096,prr1024,morph240")
+    args = parser.parse_args()
+    small = args.quick
+    folder = tempfile.mkdtemp(prefix="ifsforge-bench-")
+    cases = {
+        "volume1024": ("1024^3 pyramid volume (prr)" if not small else "512^3 pyramid volume (prr)",
+                       volume_case(512 if small else 1024)),
+        "volume2048": ("2048^3 pyramid volume (prr)" if not small else "1024^3 pyramid volume (prr)",
+                       volume_case(1024 if small else 2048)),
+        "image4096": ("4096^2 fern image (chaos)" if not small else "2048^2 fern image (chaos)",
+                      image_case(2048 if small else 4096, "chaos")),
+        "prr1024": ("1024^2 fern image (prr)", image_case(1024, "prr")),
+        "morph240": ("240-frame 512^2 morph (chaos)" if not small else "48-frame 512^2 morph (chaos)",
+                     morph_case(48 if small else 240, folder)),
+    }
+    chosen = [c for c in args.cases.split(",") if c]
+    results = {}
+    for workers in (1, 2):
+        with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                      dashboard_address=None, silence_logs=50) as cluster, \
+                distributed.Client(cluster) as client:
+            dist.check_workers(client)
+            overhead = task_overhead(client)
+            print(f"{workers} worker(s): {overhead * 1000:.1f} ms per empty task", flush=True)
+            for name in chosen:
+                label, run = cases[name]
+                wall, cpu, driver, tasks, moved = measure(client, lambda: run(client))
+                results[name, workers] = (wall, cpu, driver)
+                busiest = max(cpu.values())
+                print(f"  {label}: {run.result}; wall {wall:.2f} s, workers' CPU {sum(cpu.values()):.2f} s "
+                      f"(busiest {busiest:.2f} s), driver CPU {driver:.2f} s, {tasks} tasks, "
+                      f"{moved / max(tasks, 1) / 1e6:.2f} MB per task; worker peak RSS {peak_rss_mb(client):.0f} MB, "
+                      f"driver {own_peak_mb():.0f} MB", flush=True)
+    print("speed-up of 2 workers over 1 (wall; CPU: the busiest worker's CPU plus the driver's, 1 against 2):")
+    for name in chosen:
+        (w1, c1, d1), (w2, c2, d2) = results[name, 1], results[name, 2]
+        print(f"  {cases[name][0]}: wall {w1 / w2:.2f}x, CPU {(max(c1.values()) + d1) / (max(c2.values()) + d2):.2f}x")
+
+
+if __name__ == "__main__":
+    main()

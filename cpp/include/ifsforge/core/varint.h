@@ -1,0 +1,41 @@
+#pragma once
+/// @file LEB128 variable-length integers: the compact wire format of job results sent between
+/// machines (small counts and key deltas take one byte).
+#include <cstdint>
+#include <string>
+
+#include "ifsforge/core/error.h"
+
+namespace ifsforge {
+
+inline void put_varint(std::string& out, std::uint64_t value) {
+  while (value >= 0x80) {
+    out.push_back(static_cast<char>((value & 0x7F) | 0x80));
+    value >>= 7;
+  }
+  out.push_back(static_cast<char>(value));
+}
+
+/// Reads varints from a byte string; a truncated or over-long one is an InputError naming `what`.
+class VarintReader {
+ public:
+  VarintReader(const std::string& bytes, std::string what) : bytes_(bytes), what_(std::move(what)) {}
+  std::uint64_t next() {
+    std::uint64_t value = 0;
+    for (int shift = 0; shift < 64; shift += 7) {
+      if (at_ >= bytes_.size()) throw InputError(what_ + ": truncated");
+      const auto byte = static_cast<unsigned char>(bytes_[at_++]);
+      value |= std::uint64_t(byte & 0x7F) << shift;
+      if (!(byte & 0x80)) return value;
+    }
+    throw InputError(what_ + ": malformed integer");
+  }
+  bool done() const { return at_ == bytes_.size(); }
+
+ private:
+  const std::string& bytes_;
+  std::string what_;
+  std::size_t at_ = 0;
+};
+
+}  // namespace ifsforge
