@@ -12,6 +12,13 @@
 #include "ifsforge/render/tone_map.h"
 
 namespace ifsforge::python {
+
+RenderOptions render_options(const py::dict& given) {
+  RenderOptions o = options_from<RenderOptions>("render", given);
+  if (!given.contains("height") || given["height"].is_none()) o.height = o.width;  // square by default
+  return o;
+}
+
 void bind_render(py::module_& m) {
   py::class_<Raster>(m, "Raster", "Density (hits or measure) and mean channel values per pixel.")
       .def_readonly("width", &Raster::width)
@@ -101,8 +108,7 @@ void bind_render(py::module_& m) {
           py::dict given(kwargs);
           add_option(given, "width", width);
           add_option(given, "height", height);
-          RenderOptions o = options_from<RenderOptions>("render", given);
-          if (!given.contains("height") || given["height"].is_none()) o.height = o.width;
+          RenderOptions o = render_options(given);
           const Renderer& r = renderer(algorithm);
           check_parameters(r, o);
           py::gil_scoped_release release;

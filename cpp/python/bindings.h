@@ -13,6 +13,7 @@
 #include "ifsforge/geometry/axes.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/render/frame.h"
+#include "ifsforge/render/renderer.h"
 #include "ifsforge/core/image.h"
 
 namespace ifsforge::python {
@@ -76,6 +77,9 @@ T options_from(const char* function, const py::dict& kwargs) {
     if (!result.progress) result.progress = wrap_progress(py::none());
   return result;
 }
+
+/// @brief render()'s RenderOptions from its keywords (options_from; height defaults to width).
+RenderOptions render_options(const py::dict& given);
 
 /// @brief Binds `T` as a Python class constructible with keyword arguments (see options_from).
 template <typename T>
