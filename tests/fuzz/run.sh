@@ -34,6 +34,7 @@ put("fractint", "nul", b"fern {\n 0 0 0 0.16 0 0 0.01\n 0.85 x\x00yz 0 0 0 0 0.8
 put("mesh", "huge_ply", b"\x00ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
     b"property float z\nend_header\n0 0 0\n")
 put("mesh", "triangle_obj", b"\x01v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+put("mesh", "slash_corner_obj", b"\x01v 0 0 0\nv 1 0 0\nv 0 1 0\nf /1 2 3\n")
 put("mesh", "triangle_off", b"\x02OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
 put("vdb_info", "empty", b"")
 PY

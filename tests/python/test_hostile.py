@@ -129,6 +129,12 @@ def test_ply_declaring_four_billion_vertices(tmp_path):
     ("noply.ply", b"plx\nformat ascii 1.0\nend_header\n", r"noply\.ply': a PLY file starts with the line 'ply'"),
     ("corners.off", b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3333333330 0 1 2\n",
      r"corners\.off': face 0 does not start with a corner count"),
+    # OpenMesh's OBJ reader aborts the process on a corner without a vertex index (CI's fuzzer).
+    ("slash.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf /1 2 3\n", r"slash\.obj':4: face corner '/1' is not"),
+    ("zero.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", r"zero\.obj':4: face corner '0'"),
+    ("ahead.obj", b"v 0 0 0\nf 1 2 3\nv 1 0 0\nv 0 1 0\n", r"ahead\.obj':2: face corner '2'.* the 1 vertices"),
+    ("texture.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n", r"texture\.obj':5: face corner '2/2'"),
+    ("edge.obj", b"v 0 0 0\nv 1 0 0\nf 1 2\n", r"edge\.obj':3: a face needs three corners"),
 ])
 def test_fuzzed_mesh_headers_are_refused(tmp_path, name, data, message):
     (tmp_path / name).write_bytes(data)

@@ -2,7 +2,9 @@
 #include "ifsforge/io/mesh.h"
 
 // OpenMesh's property containers trip GCC 12's -Wmaybe-uninitialized at instantiation.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <tiny_gltf.h>

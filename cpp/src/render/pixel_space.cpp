@@ -221,7 +221,7 @@ std::vector<std::uint32_t> condensation_pixels(const Ifs& ifs, const Frame& fram
 }
 
 PixelScatter::PixelScatter(std::size_t pixels, int values, int workers)
-    : pixels_(pixels), values_(values), workers_(workers), merged_((pixels + 63) / 64, 0) {
+    : values_(values), workers_(workers), merged_((pixels + 63) / 64, 0) {
   for (Worker& w : workers_) {
     w.flag.assign(pixels, 0);
     w.touched.assign(pixels + 1, 0);

@@ -154,7 +154,6 @@ class PixelScatter {
     std::size_t count = 0;
     std::vector<std::uint64_t> sums;
   };
-  std::size_t pixels_;
   int values_;
   std::vector<Worker> workers_;
   std::vector<std::uint64_t> merged_;  ///< one bit per pixel touched by any worker
