@@ -9,6 +9,7 @@
 #include "ifsforge/core/cells.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/render/accumulator.h"
 #include "ifsforge/render/parameters.h"
@@ -23,6 +24,13 @@ struct LeafList {
   std::vector<double> mass;
   std::vector<float> channels;  // pixel-major
   std::vector<float> depth;     // 3D systems
+
+  void clear() {
+    pixel.clear();
+    mass.clear();
+    channels.clear();
+    depth.clear();
+  }
 };
 
 /// Thrown by a job that exceeds its node budget: render() falls back to the Eq. 59 depth.
@@ -63,17 +71,22 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   raster.height = frame.height();
   // Density accumulates in single precision straight into the raster; a covered pixel is
   // kept above 0 even when its mass underflows.
-  raster.density.assign(pixels, 0.0f);
+  assign_large(raster.density, pixels, 0.0f);
   raster.pixel_size = frame.pixel_size();
-  if (ifs.spatial_dims() == 3) raster.depth.assign(pixels, -std::numeric_limits<float>::infinity());
-  std::vector<std::uint32_t> hits(channels ? pixels : 0, 0u);
-  std::vector<double> sums(pixels * channels, 0.0);
+  if (ifs.spatial_dims() == 3) assign_large(raster.depth, pixels, -std::numeric_limits<float>::infinity());
+  std::vector<std::uint32_t> hits;
+  std::vector<double> sums;
+  assign_large(hits, channels ? pixels : 0, 0u);
+  assign_large(sums, pixels * channels, 0.0);
   constexpr float kCovered = std::numeric_limits<float>::denorm_min();
 
   // Results are applied strictly in job (address) order: floating-point sums come out the
   // same for any number of threads.
   std::mutex mutex;
   std::map<std::uint64_t, LeafList> waiting;
+  // Applied lists keep their buffers for later jobs: growing a fresh list page by page for
+  // every job cost more page faults and copies than the plotting itself.
+  std::vector<LeafList> spare;
   std::uint64_t next_job = 0;
   auto apply = [&](const LeafList& list) {
     for (std::size_t k = 0; k < list.pixel.size(); ++k) {
@@ -138,6 +151,13 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
         plan.jobs, options.threads,
         [&](std::size_t job, int) {
           LeafList list;
+          {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (!spare.empty()) {
+              list = std::move(spare.back());
+              spare.pop_back();
+            }
+          }
           auto plot = [&](const Point& p, double mass) {
             const auto px = frame.to_pixel(p);
             if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) return;
@@ -179,9 +199,13 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
             return;
           }
           apply(list);
+          list.clear();
+          spare.push_back(std::move(list));
           ++next_job;
           for (auto it = waiting.find(next_job); it != waiting.end(); it = waiting.find(next_job)) {
             apply(it->second);
+            it->second.clear();
+            spare.push_back(std::move(it->second));
             waiting.erase(it);
             ++next_job;
           }
@@ -195,7 +219,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     return render(ifs, fixed);
   }
 
-  raster.channels.assign(pixels * channels, 0.0f);
+  assign_large(raster.channels, pixels * channels, 0.0f);
   for (std::size_t i = 0; channels && i < pixels; ++i)
     for (int c = 0; c < channels && hits[i]; ++c)
       raster.channels[i * channels + c] = static_cast<float>(sums[i * channels + c] / hits[i]);
