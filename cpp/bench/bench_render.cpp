@@ -1,9 +1,11 @@
 // Render benchmarks for the targets: random iteration of the Barnsley fern into a
 // 1024^2 density histogram (points/s on 1 and 2 threads), and point recursive rendering of
-// the Sierpinski triangle at 4096^2. Run: build/cpp/bench/bench_render
+// the Sierpinski triangle at 4096^2. Counters: page faults and the process's CPU milliseconds
+// (all threads) per iteration. Run: build/cpp/bench/bench_render
 #include <benchmark/benchmark.h>
 
 #include "ifsforge/render/renderer.h"
+#include "process_usage.h"
 
 using namespace ifsforge;
 
@@ -32,7 +34,10 @@ void ChaosFern1024(benchmark::State& state) {
   RenderOptions o;
   o.iterations = 200'000'000;
   o.threads = static_cast<int>(state.range(0));
-  for (auto _ : state) benchmark::DoNotOptimize(renderer("chaos").render(s, o));
+  {
+    ProcessUsage usage(state);
+    for (auto _ : state) benchmark::DoNotOptimize(renderer("chaos").render(s, o));
+  }
   state.counters["points/s"] = benchmark::Counter(double(o.iterations) * state.iterations(), benchmark::Counter::kIsRate);
 }
 BENCHMARK(ChaosFern1024)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -43,7 +48,10 @@ void ChaosTetrahedron3D(benchmark::State& state) {
   o.iterations = 20'000'000;
   o.view = View{30, 20};
   o.threads = static_cast<int>(state.range(0));
-  for (auto _ : state) benchmark::DoNotOptimize(renderer("chaos").render(s, o));
+  {
+    ProcessUsage usage(state);
+    for (auto _ : state) benchmark::DoNotOptimize(renderer("chaos").render(s, o));
+  }
   state.counters["points/s"] = benchmark::Counter(double(o.iterations) * state.iterations(), benchmark::Counter::kIsRate);
 }
 BENCHMARK(ChaosTetrahedron3D)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -56,6 +64,7 @@ void PrrSierpinski4096(benchmark::State& state) {
   o.width = o.height = 4096;
   o.threads = static_cast<int>(state.range(0));
   o.depth = static_cast<int>(state.range(1));
+  ProcessUsage usage(state);
   for (auto _ : state) benchmark::DoNotOptimize(renderer("prr").render(s, o));
 }
 BENCHMARK(PrrSierpinski4096)->Args({1, 12})->Args({2, 12})->Args({1, 0})->Args({2, 0})->Unit(benchmark::kMillisecond)->UseRealTime();

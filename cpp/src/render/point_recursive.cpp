@@ -10,6 +10,7 @@
 #include "ifsforge/core/cells.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/varint.h"
 #include "ifsforge/render/accumulator.h"
@@ -25,6 +26,13 @@ struct LeafList {
   std::vector<double> mass;
   std::vector<float> channels;  // pixel-major
   std::vector<float> depth;     // 3D systems
+
+  void clear() {
+    pixel.clear();
+    mass.clear();
+    channels.clear();
+    depth.clear();
+  }
 };
 
 /// Thrown by a job that exceeds its node budget: render() falls back to the Eq. 59 depth.
@@ -101,8 +109,9 @@ struct PrrImage {
 
   std::size_t pixels() const { return std::size_t(frame.width()) * frame.height(); }
 
-  /// The leaves of one job that land on the image, in the walk's order; OverBudget.
-  LeafList job(std::uint64_t job) const {
+  /// The leaves of one job that land on the image, in the walk's order, into `list` (cleared
+  /// first, its buffers kept); OverBudget.
+  void job(std::uint64_t job, LeafList& list) const {
     const double w = frame.width(), h = frame.height();
     auto pixel_box = [&](const AffineMap& m, double* lo, double* hi) { piece_pixel_box(frame, plan, m, lo, hi); };
     auto stop = [&](const RecursionNode& node) {
@@ -113,7 +122,7 @@ struct PrrImage {
       if (in_one_cell(lo, hi, 2)) return true;
       return std::max(hi[0] - lo[0], hi[1] - lo[1]) < cut;
     };
-    LeafList list;
+    list.clear();
     auto plot = [&](const Point& p, double mass) {
       const auto px = frame.to_pixel(p);
       if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) return;
@@ -149,7 +158,6 @@ struct PrrImage {
         if (inside == 0.0 || strictly[k])
           plot(images[k], node.mass * spread_share[k] / (inside == 0.0 ? 1.0 : inside));
     });
-    return list;
   }
 };
 
@@ -217,17 +225,22 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   raster.height = frame.height();
   // Density accumulates in single precision straight into the raster; a covered pixel is
   // kept above 0 even when its mass underflows.
-  raster.density.assign(pixels, 0.0f);
+  assign_large(raster.density, pixels, 0.0f);
   raster.pixel_size = frame.pixel_size();
-  if (ifs.spatial_dims() == 3) raster.depth.assign(pixels, -std::numeric_limits<float>::infinity());
-  std::vector<std::uint32_t> hits(channels ? pixels : 0, 0u);
-  std::vector<double> sums(pixels * channels, 0.0);
+  if (ifs.spatial_dims() == 3) assign_large(raster.depth, pixels, -std::numeric_limits<float>::infinity());
+  std::vector<std::uint32_t> hits;
+  std::vector<double> sums;
+  assign_large(hits, channels ? pixels : 0, 0u);
+  assign_large(sums, pixels * channels, 0.0);
   constexpr float kCovered = std::numeric_limits<float>::denorm_min();
 
   // Results are applied strictly in job (address) order: floating-point sums come out the
   // same for any number of threads, or of cluster workers.
   std::mutex mutex;
   std::map<std::uint64_t, LeafList> waiting;
+  // Applied lists keep their buffers for later jobs: growing a fresh list page by page for
+  // every job cost more page faults and copies than the plotting itself.
+  std::vector<LeafList> spare;
   std::uint64_t next_job = 0;
   auto apply = [&](const LeafList& list) {
     for (std::size_t k = 0; k < list.pixel.size(); ++k) {
@@ -259,16 +272,26 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
       parallel_jobs(
           setup.plan.jobs, options.threads,
           [&](std::size_t job, int) {
-            LeafList list = setup.job(job);
+            LeafList list;
+            {
+              std::lock_guard<std::mutex> lock(mutex);
+              if (!spare.empty()) {
+                list = std::move(spare.back());
+                spare.pop_back();
+              }
+            }
+            setup.job(job, list);
             std::lock_guard<std::mutex> lock(mutex);
             if (job != next_job) {
               waiting.emplace(job, std::move(list));
               return;
             }
             apply(list);
+            spare.push_back(std::move(list));
             ++next_job;
             for (auto it = waiting.find(next_job); it != waiting.end(); it = waiting.find(next_job)) {
               apply(it->second);
+              spare.push_back(std::move(it->second));
               waiting.erase(it);
               ++next_job;
             }
@@ -279,7 +302,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     }
   }
 
-  raster.channels.assign(pixels * channels, 0.0f);
+  assign_large(raster.channels, pixels * channels, 0.0f);
   for (std::size_t i = 0; channels && i < pixels; ++i)
     for (int c = 0; c < channels && hits[i]; ++c)
       raster.channels[i * channels + c] = static_cast<float>(sums[i * channels + c] / hits[i]);
@@ -292,7 +315,7 @@ std::string PointRecursive::run_jobs(const Ifs& ifs, const RenderOptions& option
   last = std::min(last, setup.plan.jobs);
   std::vector<LeafList> lists(last > first ? last - first : 0);
   try {
-    parallel_jobs(lists.size(), options.threads, [&](std::size_t k, int) { lists[k] = setup.job(first + k); },
+    parallel_jobs(lists.size(), options.threads, [&](std::size_t k, int) { setup.job(first + k, lists[k]); },
                   options.progress);
   } catch (const OverBudget&) {
     return encode_leaves({}, true, setup.channels);
