@@ -45,7 +45,7 @@ BENCHMARK(ChaosFern1024)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseReal
 void ChaosTetrahedron3D(benchmark::State& state) {
   const Ifs s = sierpinski(3);
   RenderOptions o;
-  o.iterations = 20'000'000;
+  o.iterations = 200'000'000;
   o.view = View{30, 20};
   o.threads = static_cast<int>(state.range(0));
   {

@@ -30,6 +30,21 @@ Ifs koch() {
              {1, 1, 1, 1});
 }
 
+/// The tetrahedron's four half-size copies, with a gray channel (map i sets gray to i) when asked.
+Ifs tetrahedron(bool gray = false) {
+  std::vector<AffineMap> maps;
+  for (int i = 0; i < 4; ++i) {
+    std::vector<double> a{0.5, 0, 0, 0, 0.5, 0, 0, 0, 0.5}, b(3, 0.0);
+    if (i) b[i - 1] = 0.5;
+    if (gray) {
+      a = {0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0};
+      b.push_back(double(i));
+    }
+    maps.emplace_back(gray ? 4 : 3, a, b);
+  }
+  return Ifs("tetra", ChannelLayout(gray ? "xyz+gray" : "xyz"), maps, {1, 1, 1, 1});
+}
+
 RenderOptions size(int n) {
   RenderOptions o;
   o.width = o.height = n;
@@ -106,7 +121,7 @@ TEST(Determinism, ColourChannelsAcrossThreads) {
 
 TEST(Renderers, ChaosGameLosesNoPoint) {
   // Every plotted point lands in exactly one pixel when the window holds the attractor, on the
-  // AVX2 path (2D) and the general path (3D projection) alike.
+  // AVX2 lanes (2D, and 3D with depth) and the general path (a colour channel) alike.
   RenderOptions o = size(257);
   o.iterations = 3'000'001;
   o.window = Window{-0.1, -0.1, 1.1, 1.1};
@@ -115,18 +130,40 @@ TEST(Renderers, ChaosGameLosesNoPoint) {
   for (float d : flat.density) total += d;
   EXPECT_EQ(total, static_cast<double>(flat.points));
   EXPECT_GE(flat.points, o.iterations);
-  std::vector<AffineMap> maps;
-  for (int i = 0; i < 4; ++i) {
-    std::vector<double> b(3, 0.0);
-    if (i) b[i - 1] = 0.5;
-    maps.emplace_back(3, std::vector<double>{0.5, 0, 0, 0, 0.5, 0, 0, 0, 0.5}, b);
-  }
   o.window.reset();
   o.view = View{30, 20};
-  const Raster solid = renderer("chaos").render(Ifs("tetra", ChannelLayout("xyz"), maps, {1, 1, 1, 1}), o);
-  total = 0;
-  for (float d : solid.density) total += d;
-  EXPECT_EQ(total, static_cast<double>(solid.points));
+  for (bool gray : {false, true}) {
+    const Raster solid = renderer("chaos").render(tetrahedron(gray), o);
+    total = 0;
+    for (float d : solid.density) total += d;
+    EXPECT_EQ(total, static_cast<double>(solid.points)) << gray;
+  }
+}
+
+TEST(Renderers, ChaosGameIn3DKeepsTheNearestDepthOnAnyThreadCount) {
+  // The 3D lanes carry the depth towards the viewer as a third pixel-space coordinate: the
+  // z-buffer must match PRR's (which takes the largest depth of its leaves) and not depend on
+  // the threads.
+  RenderOptions o = size(200);
+  o.view = View{30, 20};
+  o.iterations = 8'000'000;
+  o.threads = 1;
+  const Raster one = renderer("chaos").render(tetrahedron(), o);
+  o.threads = 2;
+  const Raster two = renderer("chaos").render(tetrahedron(), o);
+  EXPECT_EQ(one.density, two.density);
+  EXPECT_EQ(one.depth, two.depth);
+  const Raster exact = renderer("prr").render(tetrahedron(), o);
+  std::size_t both = 0, either = 0, close = 0;
+  for (std::size_t p = 0; p < one.density.size(); ++p) {
+    const bool a = one.density[p] > 0, b = exact.density[p] > 0;
+    either += a || b;
+    if (!(a && b)) continue;
+    ++both;
+    close += std::abs(one.depth[p] - exact.depth[p]) < 2 * exact.pixel_size;
+  }
+  EXPECT_GT(double(both) / double(either), 0.98);
+  EXPECT_GT(double(close) / double(both), 0.98);
 }
 
 TEST(Renderers, PrrFixedDepthPlotsNToTheL) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <mutex>
 
 #if defined(__AVX2__) && defined(__FMA__)
@@ -98,49 +99,59 @@ ChaosJob chaos_job_for(int dim) {
 
 #ifdef IFSFORGE_CHAOS_AVX2
 
-/// Up to 8 maps in pixel space, one coefficient per lane of each register.
+/// Up to 8 maps in pixel space (N = 2), or in pixel space plus depth towards the viewer
+/// (N = 3), one coefficient per lane of each register.
+template <int N>
 struct PixelMaps {
-  __m256 a, b, c, d, e, f;
+  __m256 a[N * N], b[N];
   __m256i thresholds[7];  ///< cumulative probability - 1, 24-bit
   int count;
 };
 
-PixelMaps pixel_maps(const Ifs& ifs, const Frame& frame) {
-  // World-to-pixel transform T: px = (u - xmin) sx, py = (ymax - v) sy.
+/// The frame's world-to-pixel map T: px = (u - xmin) sx, py = (ymax - v) sy, and in 3D
+/// the third coordinate the depth towards the viewer (T's rows are orthogonal: invertible).
+AffineMap to_pixel_space(const Frame& frame, int n) {
   const Window& win = frame.window();
   const double s = 1.0 / frame.pixel_size();
-  AffineMap to_pixel(2, {s, 0, 0, -s}, {-win.xmin * s, win.ymax * s});
+  if (n == 2) return AffineMap(2, {s, 0, 0, -s}, {-win.xmin * s, win.ymax * s});
+  const auto& proj = frame.projection();
+  const auto& toward = frame.toward_viewer();
+  return AffineMap(3,
+                   {proj[0][0] * s, proj[0][1] * s, proj[0][2] * s, -proj[1][0] * s, -proj[1][1] * s,
+                    -proj[1][2] * s, toward[0], toward[1], toward[2]},
+                   {-win.xmin * s, win.ymax * s, 0.0});
+}
+
+template <int N>
+PixelMaps<N> pixel_maps(const Ifs& ifs, const Frame& frame) {
+  // Each map conjugated by T: the lanes iterate in pixel coordinates.
+  const AffineMap to_pixel = to_pixel_space(frame, N);
   const AffineMap from_pixel = *to_pixel.inverse();
-  alignas(32) float a[8] = {}, b[8] = {}, c[8] = {}, d[8] = {}, e[8] = {}, f[8] = {};
-  PixelMaps m;
+  alignas(32) float a[N * N][8] = {}, b[N][8] = {};
+  PixelMaps<N> m;
   m.count = static_cast<int>(ifs.size());
   double cumulative = 0.0;
   for (int i = 0; i < m.count; ++i) {
     const AffineMap w = to_pixel.compose(ifs.map(i)).compose(from_pixel);
-    a[i] = static_cast<float>(w.a(0, 0));
-    b[i] = static_cast<float>(w.a(0, 1));
-    c[i] = static_cast<float>(w.a(1, 0));
-    d[i] = static_cast<float>(w.a(1, 1));
-    e[i] = static_cast<float>(w.b(0));
-    f[i] = static_cast<float>(w.b(1));
+    for (int r = 0; r < N; ++r) {
+      for (int c = 0; c < N; ++c) a[r * N + c][i] = static_cast<float>(w.a(r, c));
+      b[r][i] = static_cast<float>(w.b(r));
+    }
     if (i + 1 < m.count) {
       cumulative += ifs.probabilities()[i];
       const int t = static_cast<int>(std::lround(cumulative * 16777216.0));
       m.thresholds[i] = _mm256_set1_epi32(t - 1);
     }
   }
-  m.a = _mm256_load_ps(a);
-  m.b = _mm256_load_ps(b);
-  m.c = _mm256_load_ps(c);
-  m.d = _mm256_load_ps(d);
-  m.e = _mm256_load_ps(e);
-  m.f = _mm256_load_ps(f);
+  for (int k = 0; k < N * N; ++k) m.a[k] = _mm256_load_ps(a[k]);
+  for (int r = 0; r < N; ++r) m.b[r] = _mm256_load_ps(b[r]);
   return m;
 }
 
-/// Eight chaos games at once; xoshiro128+ per lane.
+/// Eight chaos games at once in pixel space; xoshiro128+ per lane.
+template <int N>
 struct Lanes {
-  __m256 x, y;
+  __m256 p[N];
   __m256i s0, s1, s2, s3;
 
   __m256i next() {
@@ -155,26 +166,26 @@ struct Lanes {
     return result;
   }
 
-  void step(const PixelMaps& m) {
+  void step(const PixelMaps<N>& m) {
     const __m256i u = _mm256_srli_epi32(next(), 8);  // top 24 bits
     __m256i index = _mm256_setzero_si256();
     for (int j = 0; j + 1 < m.count; ++j)
       index = _mm256_sub_epi32(index, _mm256_cmpgt_epi32(u, m.thresholds[j]));
-    const __m256 a = _mm256_permutevar8x32_ps(m.a, index);
-    const __m256 b = _mm256_permutevar8x32_ps(m.b, index);
-    const __m256 c = _mm256_permutevar8x32_ps(m.c, index);
-    const __m256 d = _mm256_permutevar8x32_ps(m.d, index);
-    const __m256 e = _mm256_permutevar8x32_ps(m.e, index);
-    const __m256 f = _mm256_permutevar8x32_ps(m.f, index);
-    const __m256 nx = _mm256_fmadd_ps(a, x, _mm256_fmadd_ps(b, y, e));
-    y = _mm256_fmadd_ps(c, x, _mm256_fmadd_ps(d, y, f));
-    x = nx;
+    __m256 q[N];
+    for (int r = 0; r < N; ++r) {
+      // Innermost term last: x' = a00 x + (a01 y + (... + b0)).
+      __m256 value = _mm256_permutevar8x32_ps(m.b[r], index);
+      for (int c = N - 1; c >= 0; --c)
+        value = _mm256_fmadd_ps(_mm256_permutevar8x32_ps(m.a[r * N + c], index), p[c], value);
+      q[r] = value;
+    }
+    for (int r = 0; r < N; ++r) p[r] = q[r];
   }
 
   /// Histogram slots of the eight points (the trash slot for points off the image).
   __m256i slots(__m256i width, __m256i height, __m256i trash) const {
-    const __m256i ix = _mm256_cvttps_epi32(_mm256_floor_ps(x));
-    const __m256i iy = _mm256_cvttps_epi32(_mm256_floor_ps(y));
+    const __m256i ix = _mm256_cvttps_epi32(_mm256_floor_ps(p[0]));
+    const __m256i iy = _mm256_cvttps_epi32(_mm256_floor_ps(p[1]));
     const __m256i minus1 = _mm256_set1_epi32(-1);
     const __m256i inside = _mm256_and_si256(
         _mm256_and_si256(_mm256_cmpgt_epi32(ix, minus1), _mm256_cmpgt_epi32(width, ix)),
@@ -187,12 +198,22 @@ struct Lanes {
 constexpr int kGroups = 4;  // independent lane groups in flight, to hide FMA latency
 constexpr std::uint64_t kLanes = 8 * kGroups;
 
-void chaos_job_avx2(const PixelMaps& maps, const Frame& frame, const Point& start,
+/// One job of kGroups x 8 lanes: 32-bit hits into `histogram` and, in 3D, the largest depth
+/// per pixel into `nearest` (both with a trash slot at the end).
+template <int N>
+void chaos_job_avx2(const PixelMaps<N>& maps, const Frame& frame, const Point& start,
                     std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
-                    std::uint64_t job, std::uint32_t* histogram) {
-  Lanes lanes[kGroups];
-  const float px = static_cast<float>((start[0] - frame.window().xmin) / frame.pixel_size());
-  const float py = static_cast<float>((frame.window().ymax - start[1]) / frame.pixel_size());
+                    std::uint64_t job, std::uint32_t* histogram, float* nearest) {
+  Lanes<N> lanes[kGroups];
+  float origin[N];
+  if constexpr (N == 2) {
+    origin[0] = static_cast<float>((start[0] - frame.window().xmin) / frame.pixel_size());
+    origin[1] = static_cast<float>((frame.window().ymax - start[1]) / frame.pixel_size());
+  } else {
+    double q[N];
+    to_pixel_space(frame, N).apply(start.data(), q);
+    for (int c = 0; c < N; ++c) origin[c] = static_cast<float>(q[c]);
+  }
   for (int g = 0; g < kGroups; ++g) {
     alignas(32) std::uint32_t s[4][8];
     for (int lane = 0; lane < 8; ++lane) {
@@ -204,11 +225,11 @@ void chaos_job_avx2(const PixelMaps& maps, const Frame& frame, const Point& star
         word[lane] = v;
       }
     }
-    lanes[g] = {_mm256_set1_ps(px), _mm256_set1_ps(py),
-                _mm256_load_si256(reinterpret_cast<const __m256i*>(s[0])),
-                _mm256_load_si256(reinterpret_cast<const __m256i*>(s[1])),
-                _mm256_load_si256(reinterpret_cast<const __m256i*>(s[2])),
-                _mm256_load_si256(reinterpret_cast<const __m256i*>(s[3]))};
+    for (int c = 0; c < N; ++c) lanes[g].p[c] = _mm256_set1_ps(origin[c]);
+    lanes[g].s0 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[0]));
+    lanes[g].s1 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[1]));
+    lanes[g].s2 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[2]));
+    lanes[g].s3 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[3]));
   }
   for (std::uint64_t i = 0; i < skip; ++i)
     for (auto& l : lanes) l.step(maps);
@@ -216,13 +237,18 @@ void chaos_job_avx2(const PixelMaps& maps, const Frame& frame, const Point& star
   const __m256i height = _mm256_set1_epi32(frame.height());
   const __m256i trash = _mm256_set1_epi32(frame.width() * frame.height());
   alignas(32) std::uint32_t slot[kGroups][8];
+  alignas(32) float depth[kGroups][8];
   for (std::uint64_t i = 0; i < points / kLanes; ++i) {
     for (int g = 0; g < kGroups; ++g) {
       lanes[g].step(maps);
       _mm256_store_si256(reinterpret_cast<__m256i*>(slot[g]), lanes[g].slots(width, height, trash));
+      if constexpr (N == 3) _mm256_store_ps(depth[g], lanes[g].p[2]);
     }
     for (int g = 0; g < kGroups; ++g)
-      for (int k = 0; k < 8; ++k) ++histogram[slot[g][k]];
+      for (int k = 0; k < 8; ++k) {
+        ++histogram[slot[g][k]];
+        if constexpr (N == 3) nearest[slot[g][k]] = std::max(nearest[slot[g][k]], depth[g][k]);
+      }
   }
 }
 
@@ -250,12 +276,14 @@ ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads
   channel_ranges(ifs, lo, hi);
   const std::size_t pixels = std::size_t(frame.width()) * frame.height();
 #ifdef IFSFORGE_CHAOS_AVX2
-  const bool simd = ifs.dim() == 2 && ifs.size() <= 8 && !ifs.recurrent();
+  // The lanes: a 2D system, or a purely spatial 3D one (its depth rides as the third lane).
+  const bool simd = (ifs.dim() == 2 || (ifs.dim() == 3 && ifs.spatial_dims() == 3)) && ifs.size() <= 8 &&
+                    !ifs.recurrent();
 #else
   const bool simd = false;
 #endif
   check_memory(threads * (Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) +
-                          (simd ? 4.0 * pixels : 0.0)),
+                          (simd ? 4.0 * ifs.dim() / 2 * pixels : 0.0)),
                "a " + std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
                    " random-iteration image on " + std::to_string(threads) + " threads");
   return {frame, plan_jobs(total, simd ? 32 : 1), lo, hi, simd};
@@ -273,8 +301,10 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
                              std::uint64_t first, std::uint64_t last, int threads) {
   const Frame& frame = setup.frame;
   const JobPlan& plan = setup.plan;
+#ifdef IFSFORGE_CHAOS_AVX2
   const bool simd = setup.simd;
   const std::size_t pixels = std::size_t(frame.width()) * frame.height();
+#endif
   std::vector<Accumulator> acc;
   for (int t = 0; t < threads; ++t) acc.push_back(empty_accumulator(ifs, setup));
   const MapSampler sampler(ifs.probabilities());
@@ -283,17 +313,23 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   const ChaosJob scalar_job = chaos_job_for(ifs.dim());
 
 #ifdef IFSFORGE_CHAOS_AVX2
+  // Per worker: 32-bit hits (and depths in 3D) flushed into the wide accumulator.
+  const bool depth = ifs.dim() == 3;
   std::vector<std::vector<std::uint32_t>> histograms(simd ? threads : 0);
+  std::vector<std::vector<float>> nearest(simd && depth ? threads : 0);
   std::vector<std::uint64_t> pending(threads, 0);
   auto flush = [&](int worker) {
     auto& h = histograms[worker];
     std::uint64_t* hits = acc[worker].hits();
     for (std::size_t i = 0; i < h.size(); ++i) hits[i] += h[i];
     std::fill(h.begin(), h.end(), 0u);
+    if (depth) acc[worker].merge_depth(nearest[worker].data());
     pending[worker] = 0;
   };
-  PixelMaps maps{};
-  if (simd) maps = pixel_maps(ifs, frame);
+  PixelMaps<2> maps2{};
+  PixelMaps<3> maps3{};
+  if (simd && !depth) maps2 = pixel_maps<2>(ifs, frame);
+  if (simd && depth) maps3 = pixel_maps<3>(ifs, frame);
   const Point start = ifs.start_point();
 #endif
 
@@ -305,10 +341,16 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         if (simd) {
           auto& h = histograms[worker];
           if (h.empty()) h.assign(pixels + 1, 0u);
+          if (depth && nearest[worker].empty())
+            nearest[worker].assign(pixels + 1, -std::numeric_limits<float>::infinity());
           // A 32-bit counter could overflow if one pixel took every point: flush first.
           if (pending[worker] + plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
-          chaos_job_avx2(maps, frame, start, plan.points_per_job, options.skip, options.seed, job,
-                         h.data());
+          if (depth)
+            chaos_job_avx2(maps3, frame, start, plan.points_per_job, options.skip, options.seed, job, h.data(),
+                           nearest[worker].data());
+          else
+            chaos_job_avx2(maps2, frame, start, plan.points_per_job, options.skip, options.seed, job, h.data(),
+                           nullptr);
           pending[worker] += plan.points_per_job;
           return;
         }

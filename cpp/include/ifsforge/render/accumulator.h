@@ -2,6 +2,7 @@
 /// @file Per-worker integer accumulation of hits, measure and channel values. Integer sums
 /// are associative, so merging workers in any order gives the same bytes: this is what keeps
 /// every renderer's output independent of the thread count.
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -46,6 +47,11 @@ class Accumulator {
   void add_depth(std::size_t pixel, double depth) {
     const float d = static_cast<float>(depth);
     if (d > nearest_[pixel]) nearest_[pixel] = d;
+  }
+  /// @brief Keeps the larger of each pixel's depth and `depth[pixel]` (one per pixel and the
+  /// trash slot, as hits()).
+  void merge_depth(const float* depth) {
+    for (std::size_t i = 0; i < nearest_.size(); ++i) nearest_[i] = std::max(nearest_[i], depth[i]);
   }
   void merge(const Accumulator& other);
   /// @brief Sparse bytes for a cluster: the pixels holding hits (gaps between them, then
