@@ -282,8 +282,9 @@ ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads
 #else
   const bool simd = false;
 #endif
-  check_memory(threads * (Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) +
-                          (simd ? 4.0 * ifs.dim() / 2 * pixels : 0.0)),
+  // The lanes: one accumulator, and per worker 32-bit hits (and float depths in 3D).
+  const double lane_bytes = simd ? threads * (ifs.dim() == 3 ? 8.0 : 4.0) * pixels : 0.0;
+  check_memory((simd ? 1 : threads) * Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) + lane_bytes,
                "a " + std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
                    " random-iteration image on " + std::to_string(threads) + " threads");
   return {frame, plan_jobs(total, simd ? 32 : 1), lo, hi, simd};
@@ -305,8 +306,11 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   const bool simd = setup.simd;
   const std::size_t pixels = std::size_t(frame.width()) * frame.height();
 #endif
+  // The lanes count into narrow per-worker histograms flushed into one wide accumulator
+  // (integer sums and a max: the order of flushes does not matter); the general path adds
+  // into one accumulator per worker.
   std::vector<Accumulator> acc;
-  for (int t = 0; t < threads; ++t) acc.push_back(empty_accumulator(ifs, setup));
+  for (int t = 0; t < (setup.simd ? 1 : threads); ++t) acc.push_back(empty_accumulator(ifs, setup));
   const MapSampler sampler(ifs.probabilities());
   std::vector<MapSampler> rows;
   for (std::size_t i = 0; i < ifs.size() && ifs.recurrent(); ++i) rows.emplace_back(ifs.transitions().row(i));
@@ -318,12 +322,16 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   std::vector<std::vector<std::uint32_t>> histograms(simd ? threads : 0);
   std::vector<std::vector<float>> nearest(simd && depth ? threads : 0);
   std::vector<std::uint64_t> pending(threads, 0);
+  std::mutex flushing;
   auto flush = [&](int worker) {
     auto& h = histograms[worker];
-    std::uint64_t* hits = acc[worker].hits();
-    for (std::size_t i = 0; i < h.size(); ++i) hits[i] += h[i];
+    {
+      std::lock_guard<std::mutex> lock(flushing);
+      std::uint64_t* hits = acc[0].hits();
+      for (std::size_t i = 0; i < h.size(); ++i) hits[i] += h[i];
+      if (depth) acc[0].merge_depth(nearest[worker].data());
+    }
     std::fill(h.begin(), h.end(), 0u);
-    if (depth) acc[worker].merge_depth(nearest[worker].data());
     pending[worker] = 0;
   };
   PixelMaps<2> maps2{};
@@ -340,9 +348,9 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
 #ifdef IFSFORGE_CHAOS_AVX2
         if (simd) {
           auto& h = histograms[worker];
-          if (h.empty()) h.assign(pixels + 1, 0u);
+          if (h.empty()) assign_large(h, pixels + 1, 0u);
           if (depth && nearest[worker].empty())
-            nearest[worker].assign(pixels + 1, -std::numeric_limits<float>::infinity());
+            assign_large(nearest[worker], pixels + 1, -std::numeric_limits<float>::infinity());
           // A 32-bit counter could overflow if one pixel took every point: flush first.
           if (pending[worker] + plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
           if (depth)
@@ -364,7 +372,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   for (int t = 0; t < threads; ++t)
     if (simd && !histograms[t].empty()) flush(t);
 #endif
-  for (int t = 1; t < threads; ++t) acc[0].merge(acc[t]);
+  for (std::size_t t = 1; t < acc.size(); ++t) acc[0].merge(acc[t]);
   return std::move(acc[0]);
 }
 

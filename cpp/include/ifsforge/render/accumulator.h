@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/pages.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/render/raster.h"
 
@@ -43,7 +44,7 @@ class Accumulator {
     }
   }
   /// @brief Keeps, per pixel, the largest depth towards the viewer (a z-buffer, 3D views).
-  void enable_depth() { nearest_.assign(hits_.size(), -std::numeric_limits<float>::infinity()); }
+  void enable_depth() { assign_large(nearest_, hits_.size(), -std::numeric_limits<float>::infinity()); }
   void add_depth(std::size_t pixel, double depth) {
     const float d = static_cast<float>(depth);
     if (d > nearest_[pixel]) nearest_[pixel] = d;
