@@ -18,6 +18,7 @@
 #include "ifsforge/io/mesh_reader.h"
 #include "ifsforge/io/png.h"
 #include "ifsforge/io/pov_instances.h"
+#include "ifsforge/render/tone_map.h"
 #include "ifsforge/io/povray.h"
 #include "ifsforge/io/svg.h"
 
@@ -88,6 +89,21 @@ void bind_io(py::module_& m) {
   m.def("write_json", &write_ifs_json, py::arg("path"), py::arg("ifs"), "Atomic write of the canonical JSON.");
   m.def("read_fractint", &read_fractint, py::arg("path"), "Every entry of a Fractint .ifs file.");
   m.def("parse_fractint", &parse_fractint, py::arg("text"), py::arg("source") = "<ifs>");
+  // The Raster overload comes first: a raster written this way never imports numpy (the
+  // array overload's type check would), which keeps a small `ifsforge render` fast.
+  m.def("write_png", [](const std::string& path, const Raster& raster, int bit_depth, const py::object& mode,
+                        const py::object& gamma, const py::object& invert) {
+    py::dict given;
+    add_option(given, "mode", mode);
+    add_option(given, "gamma", gamma);
+    add_option(given, "invert", invert);
+    const ToneOptions options = options_from<ToneOptions>("write_png", given);
+    py::gil_scoped_release release;
+    write_png(path, tone_map(raster, options), bit_depth);
+  }, py::arg("path"), py::arg("raster"), py::arg("bit_depth") = 8, py::kw_only(), py::arg("mode") = py::none(),
+     py::arg("gamma") = py::none(), py::arg("invert") = py::none(),
+     "Write a raster's picture (Raster.to_image with the ToneOptions given as keywords) as an 8- or 16-bit PNG, "
+     "atomically.");
   m.def("write_png", [](const std::string& path, const py::array& array, int bit_depth) {
     Image image = image_from_numpy(array);
     py::gil_scoped_release release;

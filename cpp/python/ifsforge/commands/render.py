@@ -58,7 +58,6 @@ def run(args):
             iterations=args.iterations, depth=args.depth, seed=args.seed, threads=args.threads,
             binary=args.mode == "binary", points_per_pixel=args.points_per_pixel,
             progress=ProgressBar(f"render {system.name}"), parameters=common.parse_parameters(args.param), **extra)
-    image = raster.to_image(args.mode, gamma=args.gamma, invert=args.invert)
-    ifsforge.write_png(args.output, image, args.bits)
+    ifsforge.write_png(args.output, raster, args.bits, mode=args.mode, gamma=args.gamma, invert=args.invert)
     print(f"{args.output}: {raster.width}x{raster.height} {algorithm}, {raster.points} points, "
           f"{raster.covered()} pixels covered")
