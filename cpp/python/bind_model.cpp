@@ -227,6 +227,57 @@ void bind_model(py::module_& m) {
       .def("lyapunov_exponent", &Ifs::lyapunov_exponent, py::arg("steps") = 20000, py::arg("seed") = 1)
       .def("classify", [](const Ifs& s) { return std::string(to_string(s.classify())); },
            "'hyperbolic', 'average-contractive', 'eventually-contractive' or 'divergent'")
+      .def("summary", [](const Ifs& s) {
+             // What `ifsforge info` prints, as plain Python values: no numpy (its import would
+             // be most of a small info's time).
+             const auto factors = s.contraction_factors();
+             const auto fixed = s.fixed_points();
+             const Classification kind = s.classify();
+             py::dict out;
+             out["name"] = s.name();
+             out["layout"] = s.layout().text();
+             out["channels"] = s.layout().names();
+             py::list maps;
+             for (std::size_t i = 0; i < s.size(); ++i) {
+               const AffineMap& m = s.map(i);
+               py::list matrix;
+               std::vector<double> offset(m.dim());
+               for (int r = 0; r < m.dim(); ++r) {
+                 std::vector<double> row(m.dim());
+                 for (int c = 0; c < m.dim(); ++c) row[c] = m.a(r, c);
+                 matrix.append(py::cast(row));
+                 offset[r] = m.b(r);
+               }
+               const std::vector<double> point(fixed[i].begin(), fixed[i].begin() + s.dim());
+               const bool none = std::any_of(point.begin(), point.end(), [](double v) { return std::isnan(v); });
+               py::dict map;
+               map["matrix"] = matrix;
+               map["offset"] = offset;
+               map["probability"] = s.probabilities()[i];
+               map["contraction_factor"] = factors[i];
+               map["determinant"] = m.determinant(s.spatial_dims());
+               map["fixed_point"] = none ? py::object(py::none()) : py::cast(point);
+               maps.append(map);
+             }
+             out["maps"] = maps;
+             out["classification"] = to_string(kind);
+             out["contraction_ratio"] = *std::max_element(factors.begin(), factors.end());
+             out["average_log_contraction"] = s.average_log_contraction();
+             out["lyapunov_exponent"] = s.lyapunov_exponent();
+             if (s.recurrent()) {
+               py::list rows;
+               for (std::size_t i = 0; i < s.size(); ++i) rows.append(py::cast(s.transitions().row(i)));
+               out["transitions"] = rows;
+             }
+             if (kind != Classification::Divergent) {
+               const Bounds b = s.attractor_bounds();
+               py::dict bounds;
+               for (int c = 0; c < s.dim(); ++c) bounds[py::str(s.layout().names()[c])] = std::vector<double>{b.lo[c], b.hi[c]};
+               out["bounds"] = bounds;
+             }
+             return out;
+           }, "What `ifsforge info` reports (maps, factors, fixed points, classification, transitions, bounds) as "
+              "plain Python values")
       .def("require_attractor", &Ifs::require_attractor)
       .def("fixed_points", [](const Ifs& s) { return points_of(s.fixed_points(), s.dim()); })
       .def("start_point", [](const Ifs& s) { auto p = s.start_point(); return py::array_t<double>(s.dim(), p.data()); })

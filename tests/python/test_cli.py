@@ -157,22 +157,36 @@ def test_info_of_an_ordinary_system_has_no_extensions(cli, tmp_path):
     assert "transitions" not in text and "super IFS" not in text and "condensation" not in text
 
 
+# The CLI with numpy's import refused: what a command imports is what its start-up costs.
+WITHOUT_NUMPY = ("import sys\n"
+                 "class NoNumpy:\n"
+                 "    def find_spec(self, name, path, target=None):\n"
+                 "        if name.split('.')[0] == 'numpy': raise ImportError('numpy imported')\n"
+                 "sys.meta_path.insert(0, NoNumpy())\n"
+                 "from ifsforge.cli import main\n"
+                 "sys.exit(main())\n")
+
+
 def test_render_writes_its_png_without_importing_numpy(tmp_path):
     # numpy's import (~0.13 s) would be most of a small render's time: the CLI tone-maps and
     # writes the raster in the core. The same bytes as the numpy path of the Python API.
     system = write(tmp_path / "t.json", TRIANGLE)
     out = tmp_path / "t.png"
-    blocker = ("import sys\n"
-               "class NoNumpy:\n"
-               "    def find_spec(self, name, path, target=None):\n"
-               "        if name.split('.')[0] == 'numpy': raise ImportError('numpy imported')\n"
-               "sys.meta_path.insert(0, NoNumpy())\n"
-               "from ifsforge.cli import main\n"
-               "sys.exit(main())\n")
     args = ["render", str(system), "-o", str(out), "--size", "96", "--iterations", "5000", "--mode", "density"]
-    result = subprocess.run(["/usr/bin/python3", "-c", blocker, *args], capture_output=True, text=True,
+    result = subprocess.run(["/usr/bin/python3", "-c", WITHOUT_NUMPY, *args], capture_output=True, text=True,
                             env=dict(os.environ, PYTHONPATH=str(BUILD_PYTHON)))
     assert result.returncode == 0, result.stderr
     raster = ifsforge.render(ifsforge.read_json(str(system)), "chaos", 96, iterations=5000)
     ifsforge.write_png(str(tmp_path / "api.png"), raster.to_image("density"))
     assert out.read_bytes() == (tmp_path / "api.png").read_bytes()
+
+
+def test_info_reports_without_importing_numpy(tmp_path):
+    system = write(tmp_path / "t.json", TRIANGLE)
+    result = subprocess.run(["/usr/bin/python3", "-c", WITHOUT_NUMPY, "info", str(system), "--json"], capture_output=True,
+                            text=True, env=dict(os.environ, PYTHONPATH=str(BUILD_PYTHON)))
+    assert result.returncode == 0, result.stderr
+    info = json.loads(result.stdout)
+    assert info["maps"][2]["fixed_point"] == pytest.approx([0.5, 1.0])
+    assert info["maps"][0]["matrix"] == [[0.5, 0.0], [0.0, 0.5]] and info["contraction_ratio"] == 0.5
+    assert info["bounds"]["x"] == pytest.approx([0.0, 1.0], abs=1e-6)

@@ -1,8 +1,6 @@
 """ifsforge info: the maps and what can be derived from them."""
 import json
 
-import numpy as np
-
 import ifsforge
 from ifsforge import cli_common as common
 
@@ -18,45 +16,21 @@ def register(subparsers):
 
 
 def describe(system, dimension_size=1024):
-    """Everything `info` prints, as a dict."""
-    factors = system.contraction_factors()
-    classification = system.classify()
-    out = {
-        "name": system.name,
-        "layout": system.layout,
-        "channels": system.channel_names,
-        "maps": [],
-        "classification": classification,
-        "contraction_ratio": float(factors.max()),
-        "average_log_contraction": float(system.average_log_contraction()),
-        "lyapunov_exponent": float(system.lyapunov_exponent()),
-    }
-    fixed = system.fixed_points()
-    for i, m in enumerate(system.maps):
-        out["maps"].append({
-            "matrix": m.matrix.tolist(), "offset": m.offset.tolist(),
-            "probability": float(system.probabilities[i]), "contraction_factor": float(factors[i]),
-            "determinant": float(m.determinant(system.spatial_dims)),
-            "fixed_point": None if np.isnan(fixed[i]).any() else fixed[i].tolist(),
-        })
+    """Everything `info` prints, as a dict (plain values from the core: a small info never
+    imports numpy)."""
+    out = system.summary()
     out.update(describe_extensions(system))
-    if classification != "divergent":
-        lo, hi = system.attractor_bounds()
-        out["bounds"] = {name: [float(a), float(b)] for name, a, b in zip(system.channel_names, lo, hi)}
-        # chaos refuses condensation sets rather than ignore them (they are no map to iterate).
-        if system.spatial_dims == 2 and system.condensation is None:
-            # Random iteration with Eq. 45's count: fast for every system, overlapping or not.
-            raster = ifsforge.render(system, "chaos", dimension_size, binary=True)
-            out["box_counting_dimension"] = ifsforge.box_counting(raster).dimension
+    # chaos refuses condensation sets rather than ignore them (they are no map to iterate).
+    if "bounds" in out and system.spatial_dims == 2 and system.condensation is None:
+        # Random iteration with Eq. 45's count: fast for every system, overlapping or not.
+        raster = ifsforge.render(system, "chaos", dimension_size, binary=True)
+        out["box_counting_dimension"] = ifsforge.box_counting(raster).dimension
     return out
 
 
 def describe_extensions(system):
     """The model's extensions that are set on `system` (at most one of them is)."""
     out = {}
-    if system.recurrent:
-        # 3.3.1: row i is the probability of each map following map i (rows normalised on load).
-        out["transitions"] = system.transitions.tolist()
     if system.super_ifs is not None:
         out["super_ifs"] = describe_super_ifs(system)
     if system.condensation is not None:
