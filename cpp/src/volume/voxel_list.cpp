@@ -4,6 +4,7 @@
 #include <limits>
 #include <numeric>
 
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 
 namespace ifsforge {
@@ -189,11 +190,11 @@ VoxelList merged(const SlabMerge& merge, int threads) {
   merge.run(
       threads,
       [&](std::size_t total) {
-        out.keys.resize(total);
-        out.hits.resize(total);
-        out.mass.resize(total);
-        out.sums.resize(total * nc);
-        if (merge.points()) out.points.resize(total * VoxelList::kExtremes);
+        resize_large(out.keys, total);
+        resize_large(out.hits, total);
+        resize_large(out.mass, total);
+        resize_large(out.sums, total * nc);
+        if (merge.points()) resize_large(out.points, total * VoxelList::kExtremes);
       },
       [&](std::size_t v, std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* sums,
           const std::uint64_t* extremes) {
@@ -241,9 +242,9 @@ Volume finish_volume(std::vector<VoxelList>& lists, const VoxelGrid& grid, const
   merge.run(
       threads,
       [&](std::size_t total) {
-        volume.keys.resize(total);
-        volume.density.resize(total);
-        volume.channels.resize(total * nc);
+        resize_large(volume.keys, total);
+        resize_large(volume.density, total);
+        resize_large(volume.channels, total * nc);
       },
       [&](std::size_t v, std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* sums,
           const std::uint64_t*) {
