@@ -3,7 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ifsforge/core/pages.h"
+
 namespace ifsforge {
+
+Image::Image(int w, int h, int c) : width(w), height(h), channels(c) {
+  resize_large(pixels, std::size_t(w) * h * c);
+}
 
 void Image::sample(double x, double y, float* out) const {
   // Pixel centres sit at half-integers.
