@@ -3,6 +3,7 @@
 plus a colour-stealing picture and a contact sheet of everything, then runs every
 samples/<area>/make_gallery.py (volumes, POV-Ray scenes, terrains, ...), whose make(out)
 writes into out/<area>/. Run by samples/gallery.sh."""
+import argparse
 import importlib.util
 import sys
 import time
@@ -62,7 +63,10 @@ def areas(out):
 
 
 def main(argv):
-    out = Path(argv[1] if len(argv) > 1 else "out").resolve()
+    parser = argparse.ArgumentParser(description="Render the sample gallery (every system, then every "
+                                     "samples/<area>/make_gallery.py).")
+    parser.add_argument("out", nargs="?", default="out", help="output folder (default: out)")
+    out = Path(parser.parse_args(argv[1:]).out).resolve()
     out.mkdir(parents=True, exist_ok=True)
     print(f"ifsforge gallery -> {out}")
     print("images:")
