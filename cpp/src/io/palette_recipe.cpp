@@ -1,14 +1,14 @@
 #include "ifsforge/io/palette_recipe.h"
 
-#include "recipe_json.h"
+#include "json_reader.h"
 #include "ifsforge/io/text_file.h"
 #include "ifsforge/interpolation/vertical_scaling.h"
 
 namespace ifsforge {
 
 PaletteRecipe parse_palette_recipe(const std::string& text, const std::string& source) {
-  const detail::RecipeReader r(source);
-  const detail::json j = r.parse(text, "ifsforge-palette/1");
+  const detail::JsonReader r(source);
+  const detail::json j = r.document(text, "ifsforge-palette/1");
   r.only(j, "", {"format", "name", "description", "space", "stops", "positions", "roughness", "entries"});
   PaletteRecipe recipe;
   if (j.contains("name")) recipe.name = r.text(j["name"], "/name");
