@@ -47,7 +47,7 @@ py::array_t<float> image_to_numpy(const Image& image) {
 std::optional<Up> up_argument(const py::object& up) {
   if (up.is_none()) return std::nullopt;
   if (py::isinstance<Up>(up)) return up.cast<Up>();
-  if (py::isinstance<py::str>(up)) return up_from_string(up.cast<std::string>());
+  if (py::isinstance<py::str>(up)) return parse_name<Up>(up.cast<std::string>());
   throw InputError("up is 'y', 'z' or None, not " + py::repr(up).cast<std::string>());
 }
 
@@ -68,6 +68,8 @@ std::vector<std::array<T, N>> rows(const std::optional<py::array>& array, const 
 }  // namespace
 
 void bind_io(py::module_& m) {
+  add_choices<Up>(m, "up");
+  add_choices<PovQuality>(m, "quality");
   m.def("write_bytes", [](const std::string& path, const py::object& data) {
     if (!py::isinstance<py::bytes>(data) && !py::isinstance<py::str>(data))
       throw InputError("write_bytes: " + path + ": the data must be bytes or str");
@@ -171,7 +173,7 @@ void bind_io(py::module_& m) {
           o.environment.floor = floor.value_or(list.spatial_dims == 3);
           o.environment.sky = sky.value_or(list.spatial_dims == 3);
           o.environment.background = background;
-          o.environment.quality = parse_pov_quality(quality);
+          o.environment.quality = parse_name<PovQuality>(quality);
           o.bounded_by = bounded_by;
           o.threads = threads;
           o.progress = wrap_progress(progress);

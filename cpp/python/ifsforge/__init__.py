@@ -5,6 +5,7 @@ this package re-exports it under the same names as the C++ API.
 """
 from ifsforge._core import (  # noqa: F401
     FORMAT_VERSION,
+    choices,  # the names of every enumerated setting, e.g. choices["density"] (one table in C++)
     AffineMap,
     BoxCounting,
     ChannelLayout,

@@ -15,7 +15,7 @@ PaletteRecipe parse_palette_recipe(const std::string& text, const std::string& s
   if (j.contains("description")) recipe.description = r.text(j["description"], "/description");
   if (j.contains("space")) {
     try {
-      recipe.spec.space = colour_space(r.text(j["space"], "/space"));
+      recipe.spec.space = parse_name<ColourSpace>(r.text(j["space"], "/space"));
     } catch (const InputError& e) {
       r.fail("/space", e.what());
     }
@@ -36,7 +36,7 @@ PaletteRecipe parse_palette_recipe(const std::string& text, const std::string& s
     std::uint64_t seed = 0;
     if (rough.contains("signs")) {
       try {
-        signs = sign_pattern(r.text(rough["signs"], "/roughness/signs"));
+        signs = parse_name<SignPattern>(r.text(rough["signs"], "/roughness/signs"));
       } catch (const InputError& e) {
         r.fail("/roughness/signs", e.what());
       }

@@ -87,7 +87,7 @@ TerrainRecipe parse_terrain_recipe(const std::string& text, const std::string& s
   if (j.contains("name")) recipe.name = r.text(j["name"], "/name");
   if (j.contains("description")) recipe.description = r.text(j["description"], "/description");
   if (!j.contains("grid")) r.fail("/grid", "missing: regular, irregular or circular");
-  c.grid = r.at("/grid", [&] { return terrain_grid(r.text(j["grid"], "/grid")); });
+  c.grid = r.at("/grid", [&] { return parse_name<TerrainGrid>(r.text(j["grid"], "/grid")); });
   // The radii come first: heights sampled from a map need them on a circular grid.
   if (j.contains("radii")) c.radii = r.numbers(j["radii"], "/radii");
   if (j.contains("shift") && j["shift"].is_object() && !j["shift"].contains("random")) {
@@ -118,7 +118,7 @@ TerrainRecipe parse_terrain_recipe(const std::string& text, const std::string& s
     const json& g = j["roughness"];
     r.only(g, "/roughness", {"u", "v", "shift", "signs", "seed"});
     SignPattern signs = SignPattern::Random;
-    if (g.contains("signs")) signs = r.at("/roughness/signs", [&] { return sign_pattern(r.text(g["signs"], "/roughness/signs")); });
+    if (g.contains("signs")) signs = r.at("/roughness/signs", [&] { return parse_name<SignPattern>(r.text(g["signs"], "/roughness/signs")); });
     const std::uint64_t seed = g.contains("seed") ? r.seed(g["seed"], "/roughness/seed") : 0;
     if (g.contains("u")) c.a22_u = read_roughness(r, g["u"], "/roughness/u", maps_u, signs, seed, 1);
     if (g.contains("v")) c.a22_v = read_roughness(r, g["v"], "/roughness/v", rows - 1, signs, seed, 2);
