@@ -214,8 +214,14 @@ void bind_vector(py::module_& m) {
         "the attractor (False: the values as given, clamped to [0, 1]).");
   m.def("default_instance_depth", &default_instance_depth, py::arg("maps"), py::arg("max_instances") = 50000);
 
-  m.def("string_rewriting", &string_rewriting, py::arg("ifs"), py::arg("depth"),
-        "The seed's string-rewriting algorithm (5.6): the N^depth addresses as 'a0.a1...' in its order.");
+  add_choices<AddressSpelling>(m, "spelling");
+  m.def("string_rewriting",
+        [](const Ifs& ifs, int depth, const std::string& spelling) {
+          return string_rewriting(ifs, depth, parse_name<AddressSpelling>(spelling, "spelling"));
+        },
+        py::arg("ifs"), py::arg("depth"), py::arg("spelling") = name_of(AddressSpelling::Digits),
+        "The seed's string-rewriting algorithm (5.6): the N^depth addresses in its order, spelled "
+        "'a0.a1...' (digits) or 'w2w1...' (seed).");
   m.def("tesseral_synecdoche",
         [](const Ifs& ifs, int depth, double min_probability, const py::object& start, int threads, const py::object& progress) {
           const std::vector<double> s = optional_vector(start).value_or(std::vector<double>{});
