@@ -62,7 +62,7 @@ from ifsforge._core import (  # noqa: F401  (pifs: fractal image compression, se
     PifsCode, pifs_encode, pifs_from_bytes, read_pifs, write_pifs,
 )
 from ifsforge._core import (  # noqa: F401  (inverse problem: collage theorem, fitting)
-    attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance, tops, tops_warp,
+    FitOptions, attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance, tops, tops_warp,
 )
 from ifsforge._core import (  # noqa: F401  (the settings structs: every default lives in C++, once)
     DrawOptions, GltfInstanceOptions, InstanceOptions, PovRenderOptions, RenderOptions, SvgOptions, ToneOptions,
