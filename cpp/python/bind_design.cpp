@@ -18,6 +18,7 @@ py::array_t<T> view(const std::vector<T>& data, std::vector<py::ssize_t> shape, 
 }  // namespace
 
 void bind_design(py::module_& m) {
+  add_choices<PreviewColoring>(m, "coloring");
   py::class_<PreviewCloud>(m, "PreviewCloud",
                            "Points of the attractor with colours, and the collage frames, for a viewport preview.")
       .def_readonly("count", &PreviewCloud::count)
@@ -49,7 +50,7 @@ void bind_design(py::module_& m) {
         const auto& c = self.cast<const PreviewCloud&>();
         return view(c.frame_pieces, {static_cast<py::ssize_t>(c.frame_pieces.size())}, self);
       }, "per end point: the map index, or len(system) for the bounding box")
-      .def_property_readonly("coloring", [](const PreviewCloud& c) { return std::string(to_string(c.coloring)); });
+      .def_property_readonly("coloring", [](const PreviewCloud& c) { return std::string(name_of(c.coloring)); });
 
   m.def("preview_cloud",
         [](const Ifs& ifs, std::size_t count, std::uint64_t seed, const std::string& coloring, int highlight,
@@ -57,7 +58,7 @@ void bind_design(py::module_& m) {
           PreviewOptions o;
           o.count = count;
           o.seed = seed;
-          o.coloring = preview_coloring_from_string(coloring);
+          o.coloring = parse_name<PreviewColoring>(coloring);
           o.highlight = highlight;
           o.threads = threads;
           py::gil_scoped_release release;

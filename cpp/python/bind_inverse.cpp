@@ -88,21 +88,27 @@ void bind_inverse(py::module_& m) {
     return pixel_set_to_numpy(collage_pixels(t, pixel_maps(ifs, target_frame(ifs, t, window_from(window))), 0));
   }, py::arg("ifs"), py::arg("target"), py::arg("window") = py::none(), py::arg("threshold") = 0.5,
         "bool (h, w): the collage U w_i(target) on the target's grid (what lands outside is dropped).");
-  m.def("fit", [](const py::array& target, int maps, int raster, double max_contraction, int restarts,
-                  int generations, int attractor_generations, int refine_generations, double time_limit, std::uint64_t seed, int threads,
-                  double threshold, const py::object& progress) {
-    FitOptions o;
-    o.maps = maps;
-    o.raster = raster;
-    o.max_contraction = max_contraction;
-    o.restarts = restarts;
-    o.generations = generations;
-    o.attractor_generations = attractor_generations;
-    o.refine_generations = refine_generations;
-    o.time_limit = time_limit;
-    o.seed = seed;
-    o.threads = threads;
-    o.progress = wrap_progress(progress);
+  options_class<FitOptions>(m, "FitOptions", "The settings of fit(); its keywords are these fields, their defaults these.")
+      .def_readwrite("maps", &FitOptions::maps, "N, the number of maps")
+      .def_readwrite("raster", &FitOptions::raster, "cells along the target's long side during the search")
+      .def_readwrite("max_contraction", &FitOptions::max_contraction, "every map's s_i (Eq. 8-9) stays at most this")
+      .def_readwrite("overlap_weight", &FitOptions::overlap_weight, "weight of the copies' overlap in the collage proxy")
+      .def_readwrite("restarts", &FitOptions::restarts, "CMA-ES runs, each from its own initial collage")
+      .def_readwrite("generations", &FitOptions::generations, "CMA-ES generations per run")
+      .def_readwrite("attractor_generations", &FitOptions::attractor_generations,
+                     "generations per run on the attractor after the collage proxy")
+      .def_readwrite("refine_generations", &FitOptions::refine_generations, "generations of the final refinement")
+      .def_readwrite("refine_raster", &FitOptions::refine_raster,
+                     "cells along the long side during the refinement (at most the picture's)")
+      .def_readwrite("time_limit", &FitOptions::time_limit,
+                     "seconds; 0: none (only then is the run independent of speed)")
+      .def_readwrite("seed", &FitOptions::seed)
+      .def_readwrite("threads", &FitOptions::threads, "0: every core; the result never depends on it")
+      .def_property("progress", [](const FitOptions&) { return py::none(); },
+                    [](FitOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
+                    "progress(fraction) returning False cancels (write-only)");
+  m.def("fit", [](const py::array& target, double threshold, const py::kwargs& kwargs) {
+    const FitOptions o = options_from<FitOptions>("fit", kwargs);
     const PixelSet t = pixel_set_from_numpy(target, threshold);
     FitResult r;
     {
@@ -117,12 +123,8 @@ void bind_inverse(py::module_& m) {
     d["restarts"] = r.restarts;
     d["time_limited"] = r.time_limited;
     return d;
-  }, py::arg("target"), py::arg("maps") = FitOptions{}.maps, py::arg("raster") = FitOptions{}.raster,
-        py::arg("max_contraction") = FitOptions{}.max_contraction, py::arg("restarts") = FitOptions{}.restarts,
-        py::arg("generations") = FitOptions{}.generations,
-        py::arg("attractor_generations") = FitOptions{}.attractor_generations,
-        py::arg("refine_generations") = FitOptions{}.refine_generations, py::arg("time_limit") = 0.0,
-        py::arg("seed") = 0, py::arg("threads") = 0, py::arg("threshold") = 0.5, py::arg("progress") = py::none(),
+  }, py::arg("target"), py::arg("threshold") = 0.5,
+        "The FitOptions given as keywords. "
         "An IFS of `maps` maps whose attractor resembles the target (a bool mask or a picture): CMA-ES "
         "restarts on a collage proxy over a `raster`-cell grid, then refinement on the attractor. The system "
         "carries render.window and the target's size. Returns a dict: system, iou (on the search raster), "

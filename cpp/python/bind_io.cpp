@@ -48,7 +48,7 @@ py::array_t<float> image_to_numpy(const Image& image) {
 std::optional<Up> up_argument(const py::object& up) {
   if (up.is_none()) return std::nullopt;
   if (py::isinstance<Up>(up)) return up.cast<Up>();
-  if (py::isinstance<py::str>(up)) return up_from_string(up.cast<std::string>());
+  if (py::isinstance<py::str>(up)) return parse_name<Up>(up.cast<std::string>());
   throw InputError("up is 'y', 'z' or None, not " + py::repr(up).cast<std::string>());
 }
 
@@ -69,6 +69,8 @@ std::vector<std::array<T, N>> rows(const std::optional<py::array>& array, const 
 }  // namespace
 
 void bind_io(py::module_& m) {
+  add_choices<Up>(m, "up");
+  add_choices<PovQuality>(m, "quality");
   m.def("write_bytes", [](const std::string& path, const py::object& data) {
     if (!py::isinstance<py::bytes>(data) && !py::isinstance<py::str>(data))
       throw InputError("write_bytes: " + path + ": the data must be bytes or str");
@@ -187,18 +189,22 @@ void bind_io(py::module_& m) {
           o.environment.floor = floor.value_or(list.spatial_dims == 3);
           o.environment.sky = sky.value_or(list.spatial_dims == 3);
           o.environment.background = background;
-          o.environment.quality = parse_pov_quality(quality);
+          o.environment.quality = parse_name<PovQuality>(quality);
           o.bounded_by = bounded_by;
           o.threads = threads;
           o.progress = wrap_progress(progress);
           py::gil_scoped_release release;
           write_pov_scene(path, list, o);
         },
-        py::arg("path"), py::arg("instances"), py::arg("title") = "", py::arg("width") = 800, py::arg("height") = 600,
-        py::arg("view") = std::array<double, 2>{30.0, 25.0}, py::arg("orthographic") = false, py::arg("fov") = 40.0,
-        py::arg("margin") = 0.05, py::arg("floor") = py::none(), py::arg("sky") = py::none(),
-        py::arg("background") = std::array<float, 3>{1, 1, 1}, py::arg("quality") = "normal",
-        py::arg("bounded_by") = false, py::arg("threads") = 0, py::arg("progress") = py::none(),
+        // The defaults are PovSceneOptions' (its view and environment): written once, in C++.
+        py::arg("path"), py::arg("instances"), py::arg("title") = PovSceneOptions{}.title,
+        py::arg("width") = PovSceneOptions{}.width, py::arg("height") = PovSceneOptions{}.height,
+        py::arg("view") = std::array<double, 2>{PovView{}.yaw, PovView{}.pitch},
+        py::arg("orthographic") = PovView{}.orthographic, py::arg("fov") = PovView{}.fov,
+        py::arg("margin") = PovView{}.margin, py::arg("floor") = py::none(), py::arg("sky") = py::none(),
+        py::arg("background") = PovEnvironment{}.background,
+        py::arg("quality") = name_of(PovEnvironment{}.quality), py::arg("bounded_by") = PovSceneOptions{}.bounded_by,
+        py::arg("threads") = PovSceneOptions{}.threads, py::arg("progress") = py::none(),
         "A POV-Ray 3.7 scene (+ ifsforge.inc beside it): one union of the instances, camera and lights framed "
         "for width x height from the instances' bounds. view = (yaw, pitch) as `render --view` (2D lists: from "
         "above). floor/sky default to on for 3D lists. quality: draft, normal, high. bounded_by adds a manual "

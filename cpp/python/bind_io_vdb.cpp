@@ -13,8 +13,8 @@ namespace {
 
 void bind_io_vdb(py::module_& m) {
   options_class<VdbWriteOptions>(m, "VdbWriteOptions", "The settings of write_vdb() (keywords of the same names).")
-      .def_property("color_scale", [](const VdbWriteOptions& o) { return std::string(to_string(o.color_scale)); },
-                    [](VdbWriteOptions& o, const std::string& s) { o.color_scale = color_scale_from_string(s); },
+      .def_property("color_scale", [](const VdbWriteOptions& o) { return std::string(name_of(o.color_scale)); },
+                    [](VdbWriteOptions& o, const std::string& s) { o.color_scale = parse_name<ColorScale>(s); },
                     "auto, range or clamp")
       .def_readwrite("metadata", &VdbWriteOptions::metadata, "extra file metadata (string values)")
       .def_readwrite("half", &VdbWriteOptions::half, "16-bit halves for the [0, 1] grids")
@@ -55,8 +55,8 @@ void bind_io_vdb(py::module_& m) {
       .def_readwrite("iso", &IsoSurfaceOptions::iso, "the surface's level of the occupancy (or density)")
       .def_readwrite("use_density", &IsoSurfaceOptions::use_density, "the density grid's level instead of the occupancy")
       .def_readwrite("adaptivity", &IsoSurfaceOptions::adaptivity, "0: every voxel-sized polygon; up to 1: merge flat areas")
-      .def_property("color_scale", [](const IsoSurfaceOptions& o) { return std::string(to_string(o.color_scale)); },
-                    [](IsoSurfaceOptions& o, const std::string& s) { o.color_scale = color_scale_from_string(s); },
+      .def_property("color_scale", [](const IsoSurfaceOptions& o) { return std::string(name_of(o.color_scale)); },
+                    [](IsoSurfaceOptions& o, const std::string& s) { o.color_scale = parse_name<ColorScale>(s); },
                     "auto, range or clamp");
   m.def("volume_to_mesh",
         [](const Volume& volume, const py::kwargs& kwargs) {

@@ -143,6 +143,7 @@ void bind_model_extensions(py::module_& m, py::class_<Ifs>& ifs) {
 }  // namespace
 
 void bind_model(py::module_& m) {
+  add_choices<Classification>(m, "classification");
   py::class_<AffineMap>(m, "AffineMap", "An affine map x' = A x + b on R^n (n = 1..8).")
       .def(py::init(&map_from_numpy), py::arg("matrix"), py::arg("offset"))
       .def(py::init<int>(), py::arg("dim"), "The identity on R^dim.")
@@ -225,7 +226,7 @@ void bind_model(py::module_& m) {
       .def("contraction_ratio", &Ifs::contraction_ratio, "max_i s_i (Eq. 10)")
       .def("average_log_contraction", &Ifs::average_log_contraction, "sum_i p_i log s_i (Eq. 14: < 0)")
       .def("lyapunov_exponent", &Ifs::lyapunov_exponent, py::arg("steps") = 20000, py::arg("seed") = 1)
-      .def("classify", [](const Ifs& s) { return std::string(to_string(s.classify())); },
+      .def("classify", [](const Ifs& s) { return std::string(name_of(s.classify())); },
            "'hyperbolic', 'average-contractive', 'eventually-contractive' or 'divergent'")
       .def("summary", [](const Ifs& s) {
              // What `ifsforge info` prints, as plain Python values: no numpy (its import would

@@ -11,12 +11,6 @@
 namespace ifsforge::python {
 namespace {
 
-PifsDecoder decoder_named(const std::string& name) {
-  if (name == "hierarchical") return PifsDecoder::Hierarchical;
-  if (name == "iterative") return PifsDecoder::Iterative;
-  throw InputError("decoder must be 'hierarchical' or 'iterative', not '" + name + "'");
-}
-
 py::bytes to_bytes(const PifsCode& code) {
   std::vector<std::uint8_t> b;
   {
@@ -57,12 +51,14 @@ py::dict cost(const PifsCode& code) {
 }  // namespace
 
 void bind_pifs(py::module_& m) {
+  add_choices<PifsDecoder>(m, "decoder");
+  add_choices<PifsColour>(m, "colour");
   py::class_<PifsCode>(m, "PifsCode", "A partitioned IFS code of an image (seed 3.3.2); decodes at any size.")
       .def_readonly("width", &PifsCode::width)
       .def_readonly("height", &PifsCode::height)
       .def_readonly("channels", &PifsCode::channels)
       .def_property_readonly("colour", [](const PifsCode& c) {
-        return c.colour == PifsColour::YCbCr420 ? "ycbcr420" : "direct";
+        return std::string(name_of(c.colour));
       })
       .def_property_readonly("min_block", [](const PifsCode& c) { return 1 << c.min_log; })
       .def_property_readonly("max_block", [](const PifsCode& c) { return 1 << c.max_log; })
@@ -87,7 +83,7 @@ void bind_pifs(py::module_& m) {
           o.width = size->first;
           o.height = size->second;
         }
-        o.decoder = decoder_named(decoder);
+        o.decoder = parse_name<PifsDecoder>(decoder);
         o.iterations = iterations;
         o.deblock = deblock;
         o.threads = threads;

@@ -161,9 +161,6 @@ void bind_render(py::module_& m) {
     return out;
   }, py::arg("algorithm"), "(name, default, description) of every setting the algorithm reads from `parameters`");
 
-  m.def("rewrite_strings", &rewrite_strings, py::arg("ifs"), py::arg("length"),
-        "The seed's string rewriting (5.6): every address string of `length` maps, 'w2w1w3' ...");
-
   m.def("proximity_bound", [](const Ifs& s, int width, std::optional<int> height, std::optional<std::array<double, 4>> window) {
     const Frame frame = Frame::fit(s, width, height.value_or(width), window_argument(window));
     return proximity_bound(s, frame);

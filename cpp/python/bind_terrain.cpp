@@ -45,6 +45,8 @@ TerrainMeshOptions mesh_options(bool solid, std::optional<double> base, const st
 }  // namespace
 
 void bind_terrain(py::module_& m) {
+  add_choices<TerrainGrid>(m, "grid");
+  add_choices<SignPattern>(m, "signs");
   py::class_<FractalInterpolation>(m, "FractalInterpolation",
                                    "The continuous function through (x_i, F_i) whose graph is the attractor of the "
                                    "maps of Eq. 94; a22 are the vertical scaling factors (|a22| < 1).")
@@ -79,14 +81,14 @@ void bind_terrain(py::module_& m) {
 
   m.def("vertical_scaling", [](std::size_t maps, double roughness, const std::string& signs, std::uint64_t seed,
                                std::uint64_t stream) {
-    return vertical_scaling(maps, roughness, sign_pattern(signs), seed, stream);
+    return vertical_scaling(maps, roughness, parse_name<SignPattern>(signs), seed, stream);
   }, py::arg("maps"), py::arg("roughness"), py::arg("signs") = "random", py::arg("seed") = 0, py::arg("stream") = 0,
      "a22 factors of magnitude |roughness| with signs 'constant', 'alternating' or 'random' (seeded)");
 
   py::class_<TerrainControls>(m, "TerrainControls", "Step 1 of 6.1.3.4: control heights, displacements, roughness.")
       .def(py::init<>())
-      .def_property("grid", [](const TerrainControls& c) { return std::string(to_string(c.grid)); },
-                    [](TerrainControls& c, const std::string& g) { c.grid = terrain_grid(g); })
+      .def_property("grid", [](const TerrainControls& c) { return std::string(name_of(c.grid)); },
+                    [](TerrainControls& c, const std::string& g) { c.grid = parse_name<TerrainGrid>(g); })
       .def_readwrite("heights", &TerrainControls::heights, "rows x columns control heights")
       .def_readwrite("shift_u", &TerrainControls::shift_u, "displacement along the leading vectors (control spacings)")
       .def_readwrite("shift_v", &TerrainControls::shift_v, "displacement across them (control spacings)")
@@ -97,12 +99,12 @@ void bind_terrain(py::module_& m) {
       .def_readwrite("size_x", &TerrainControls::size_x)
       .def_readwrite("size_y", &TerrainControls::size_y)
       .def("__repr__", [](const TerrainControls& c) {
-        return "TerrainControls(grid='" + std::string(to_string(c.grid)) + "', " + std::to_string(c.heights.size()) +
+        return "TerrainControls(grid='" + std::string(name_of(c.grid)) + "', " + std::to_string(c.heights.size()) +
                " x " + std::to_string(c.heights.empty() ? 0 : c.heights[0].size()) + ")";
       });
 
   py::class_<Terrain>(m, "Terrain", "Heights on a rows x columns lattice (leading vectors along the columns).")
-      .def_property_readonly("grid", [](const Terrain& t) { return std::string(to_string(t.grid)); })
+      .def_property_readonly("grid", [](const Terrain& t) { return std::string(name_of(t.grid)); })
       .def_readonly("columns", &Terrain::columns)
       .def_readonly("rows", &Terrain::rows)
       .def_readonly("min_height", &Terrain::min_height)
@@ -163,8 +165,8 @@ void bind_terrain(py::module_& m) {
   options_class<TerrainControlsOptions>(m, "TerrainControlsOptions",
                                         "What make_terrain_controls builds: the settings of a terrain without a "
                                         "recipe file (keywords of the same names).")
-      .def_property("grid", [](const TerrainControlsOptions& o) { return std::string(to_string(o.grid)); },
-                    [](TerrainControlsOptions& o, const std::string& g) { o.grid = terrain_grid(g); },
+      .def_property("grid", [](const TerrainControlsOptions& o) { return std::string(name_of(o.grid)); },
+                    [](TerrainControlsOptions& o, const std::string& g) { o.grid = parse_name<TerrainGrid>(g); },
                     "regular, irregular or circular")
       .def_readwrite("rows", &TerrainControlsOptions::rows, "control rows (circular: circles); 0: 9 (circular 6)")
       .def_readwrite("columns", &TerrainControlsOptions::columns, "control columns (circular: per circle); 0: 9 (12)")
@@ -182,8 +184,8 @@ void bind_terrain(py::module_& m) {
       .def_readwrite("radii", &TerrainControlsOptions::radii, "circular: radii (empty: evenly to size_x / 2)")
       .def_readwrite("shift", &TerrainControlsOptions::shift, "random displacement amplitude (0: none)")
       .def_readwrite("roughness", &TerrainControlsOptions::roughness, "(along, across) |a22|, or None: 0")
-      .def_property("signs", [](const TerrainControlsOptions& o) { return std::string(to_string(o.signs)); },
-                    [](TerrainControlsOptions& o, const std::string& s) { o.signs = sign_pattern(s); },
+      .def_property("signs", [](const TerrainControlsOptions& o) { return std::string(name_of(o.signs)); },
+                    [](TerrainControlsOptions& o, const std::string& s) { o.signs = parse_name<SignPattern>(s); },
                     "random, alternating or constant")
       .def_readwrite("size_x", &TerrainControlsOptions::size_x)
       .def_readwrite("size_y", &TerrainControlsOptions::size_y);
@@ -193,12 +195,12 @@ void bind_terrain(py::module_& m) {
      "The TerrainControls the TerrainControlsOptions (keywords) describe, every random draw from `seed`: the "
      "one builder behind `ifsforge terrain` and the Blender add-on (one seed, one terrain).");
   m.def("set_roughness", [](TerrainControls& c, double along, double across, const std::string& signs,
-                            std::uint64_t seed) { set_roughness(c, along, across, sign_pattern(signs), seed); },
+                            std::uint64_t seed) { set_roughness(c, along, across, parse_name<SignPattern>(signs), seed); },
         py::arg("controls"), py::arg("along"), py::arg("across"), py::arg("signs"), py::arg("seed"),
         "a22 of |along| and |across| with the sign pattern (random signs from the seed's streams 1 and 2)");
   m.def("random_heights", [](const std::string& grid, int rows, int columns, std::vector<double> base,
                              double amplitude, std::uint64_t seed) {
-    return random_heights(terrain_grid(grid), rows, columns, base, amplitude, seed);
+    return random_heights(parse_name<TerrainGrid>(grid), rows, columns, base, amplitude, seed);
   }, py::arg("grid"), py::arg("rows"), py::arg("columns"), py::arg("base") = std::vector<double>{0.5},
      py::arg("amplitude") = 0.5, py::arg("seed") = 0, "base[r] + amplitude * uniform(-1, 1), seeded");
   m.def("random_shifts", &random_shifts, py::arg("controls"), py::arg("amplitude"), py::arg("seed") = 0,

@@ -75,6 +75,8 @@ std::optional<std::vector<double>> optional_vector(const py::object& o) {
 }  // namespace
 
 void bind_vector(py::module_& m) {
+  add_choices<Normalisation>(m, "normalisation");
+  add_choices<ColorSource>(m, "color_source");
   py::class_<Primitive>(m, "Primitive",
                         "A graphics primitive placed by vector IFS instances, in the instance's frame (x along the "
                         "vector, one unit = its length d).")
@@ -176,16 +178,16 @@ void bind_vector(py::module_& m) {
                     },
                     [](InstanceOptions& o, const py::object& spec) { o.primitives = primitives_from(spec); },
                     "'sphere', 'sphere,box,cone', a list of names or Primitives")
-      .def_property("normalisation", [](const InstanceOptions& o) { return std::string(to_string(o.normalisation)); },
-                    [](InstanceOptions& o, const std::string& n) { o.normalisation = parse_normalisation(n); },
+      .def_property("normalisation", [](const InstanceOptions& o) { return std::string(name_of(o.normalisation)); },
+                    [](InstanceOptions& o, const std::string& n) { o.normalisation = parse_name<Normalisation>(n); },
                     "proportional (Eq. 60) or constant")
       .def_readwrite("scale_factor", &InstanceOptions::scale_factor, "sf of Eq. 60")
       .def_readwrite("length", &InstanceOptions::length, "constant normalisation: the vector length (0: automatic)")
       .def_readwrite("base_point", &InstanceOptions::base_point, "q0 (empty: the centre of the attractor's bounds)")
       .def_readwrite("base_vector", &InstanceOptions::base_vector, "q1 - q0 (empty: (R, 0[, 0]))")
       .def_readwrite("base_up", &InstanceOptions::base_up, "the frame's second axis before mapping (empty: y)")
-      .def_property("color_source", [](const InstanceOptions& o) { return std::string(to_string(o.color_source)); },
-                    [](InstanceOptions& o, const std::string& c) { o.color_source = parse_color_source(c); },
+      .def_property("color_source", [](const InstanceOptions& o) { return std::string(name_of(o.color_source)); },
+                    [](InstanceOptions& o, const std::string& c) { o.color_source = parse_name<ColorSource>(c); },
                     "auto, channels, first-map, last-map or constant")
       .def_readwrite("normalize_colors", &InstanceOptions::normalize_colors, "Eq. 101's stretch of each colour channel")
       .def_readwrite("color", &InstanceOptions::color, "RGBA for color_source constant")
@@ -212,8 +214,14 @@ void bind_vector(py::module_& m) {
         "the attractor (False: the values as given, clamped to [0, 1]).");
   m.def("default_instance_depth", &default_instance_depth, py::arg("maps"), py::arg("max_instances") = 50000);
 
-  m.def("string_rewriting", &string_rewriting, py::arg("ifs"), py::arg("depth"),
-        "The seed's string-rewriting algorithm (5.6): the N^depth addresses as 'a0.a1...' in its order.");
+  add_choices<AddressSpelling>(m, "spelling");
+  m.def("string_rewriting",
+        [](const Ifs& ifs, int depth, const std::string& spelling) {
+          return string_rewriting(ifs, depth, parse_name<AddressSpelling>(spelling, "spelling"));
+        },
+        py::arg("ifs"), py::arg("depth"), py::arg("spelling") = name_of(AddressSpelling::Digits),
+        "The seed's string-rewriting algorithm (5.6): the N^depth addresses in its order, spelled "
+        "'a0.a1...' (digits) or 'w2w1...' (seed).");
   m.def("tesseral_synecdoche",
         [](const Ifs& ifs, int depth, double min_probability, const py::object& start, int threads, const py::object& progress) {
           const std::vector<double> s = optional_vector(start).value_or(std::vector<double>{});

@@ -41,6 +41,9 @@ py::array_t<float> attribute_array(const VolumeAttribute& a, std::size_t voxels)
 }  // namespace
 
 void bind_volume(py::module_& m) {
+  add_choices<VolumeDensity>(m, "density");
+  add_choices<ColorScale>(m, "color_scale");
+  add_choices<EscapeNorm>(m, "escape_norm");
   py::class_<Volume>(m, "Volume",
                      "A sparse volume: the occupied voxels of a grid, sorted by (i, j, k), with a density and "
                      "the mean of every extra channel per voxel.")
@@ -66,7 +69,7 @@ void bind_volume(py::module_& m) {
       .def_readonly("channel_lo", &Volume::channel_lo)
       .def_readonly("channel_hi", &Volume::channel_hi)
       .def_property_readonly("color_model", [](const Volume& v) { return color_model_name(v.color_model); })
-      .def_property_readonly("density_mode", [](const Volume& v) { return std::string(to_string(v.density_mode)); })
+      .def_property_readonly("density_mode", [](const Volume& v) { return std::string(name_of(v.density_mode)); })
       .def_property_readonly("origin", [](const Volume& v) { return v.grid.origin; },
                              "world position of voxel (0, 0, 0)'s low corner")
       .def_property_readonly("voxel_size", [](const Volume& v) { return v.grid.voxel_size; })
@@ -78,7 +81,7 @@ void bind_volume(py::module_& m) {
       .def_readonly("points", &Volume::points, "leaves, random points, mapped voxels or search steps")
       .def("attributes", [](const Volume& v, const std::optional<std::string>& scale) {
         py::dict out;
-        const auto attributes = scale ? volume_attributes(v, color_scale_from_string(*scale)) : volume_attributes(v);
+        const auto attributes = scale ? volume_attributes(v, parse_name<ColorScale>(*scale)) : volume_attributes(v);
         for (const auto& a : attributes)
           out[py::str(a.name)] = attribute_array(a, v.size());
         return out;
@@ -114,16 +117,16 @@ void bind_volume(py::module_& m) {
                                "The settings of render_volume(); its keywords are these fields, their defaults these.")
       .def_readwrite("resolution", &VolumeOptions::resolution, "voxels along the longest side of the grid's box")
       .def_readwrite("bounds", &VolumeOptions::bounds, "(xmin, ymin, zmin, xmax, ymax, zmax); None: the attractor's box")
-      .def_property("density", [](const VolumeOptions& o) { return std::string(to_string(o.density)); },
-                    [](VolumeOptions& o, const std::string& d) { o.density = volume_density_from_string(d); },
+      .def_property("density", [](const VolumeOptions& o) { return std::string(name_of(o.density)); },
+                    [](VolumeOptions& o, const std::string& d) { o.density = parse_name<VolumeDensity>(d); },
                     "binary, hits or measure")
       .def_readwrite("depth", &VolumeOptions::depth, "prr recursion depth / dia levels (0: until occupancy stops changing)")
       .def_property("iterations", [](const VolumeOptions& o) { return o.iterations; },
                     [](VolumeOptions& o, long long v) { o.iterations = count_argument(v, "iterations"); },
                     "ria points (0: doubled until occupancy stops changing)")
       .def_readwrite("escape_bound", &VolumeOptions::escape_bound, "eta: steps a voxel must survive (0: from the resolution)")
-      .def_property("escape_norm", [](const VolumeOptions& o) { return std::string(to_string(o.escape_norm)); },
-                    [](VolumeOptions& o, const std::string& n) { o.escape_norm = escape_norm_from_string(n); },
+      .def_property("escape_norm", [](const VolumeOptions& o) { return std::string(name_of(o.escape_norm)); },
+                    [](VolumeOptions& o, const std::string& n) { o.escape_norm = parse_name<EscapeNorm>(n); },
                     "eta: euclidean or linear (Eq. 55)")
       .def_readwrite("escape_pick_max", &VolumeOptions::escape_pick_max, "eta: Eq. 56's largest delta")
       .def_readwrite("seed", &VolumeOptions::seed, "ria only")

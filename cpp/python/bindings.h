@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/names.h"
 #include "ifsforge/core/progress.h"
 #include "ifsforge/geometry/axes.h"
 #include "ifsforge/model/ifs.h"
@@ -34,6 +35,15 @@ void bind_pifs(py::module_& m);
 void bind_design(py::module_& m);
 void bind_inverse(py::module_& m);
 void bind_distributed(py::module_& m);
+
+/// @brief Publishes the names of enum E (EnumNames) as `_core.choices[key]`, a list in table
+/// order: the CLI's choices and the property setters read the same table.
+template <typename E>
+void add_choices(py::module_& m, const char* key) {
+  if (!py::hasattr(m, "choices")) m.attr("choices") = py::dict();
+  py::dict choices = m.attr("choices");
+  choices[key] = names_of<E>();
+}
 
 /// @brief A C++ progress callback around a Python callable f(fraction) -> bool | None
 /// (False cancels). Ctrl-C also cancels. Empty when `callback` is None.

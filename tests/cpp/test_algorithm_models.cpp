@@ -134,7 +134,7 @@ TEST(Algorithms, GrowthFromFixedPointsEndsAtTheMinimalPlottingSet) {
 
 TEST(Algorithms, StringRewritingWritesEveryAddress) {
   const Ifs ifs = sample("sierpinski_triangle");
-  const auto strings = rewrite_strings(ifs, 3);
+  const auto strings = string_rewriting(ifs, 3, AddressSpelling::Seed);
   ASSERT_EQ(strings.size(), 27u);
   EXPECT_EQ(strings.front(), "w1w1w1");
   EXPECT_EQ(strings[1], "w2w1w1");  // the seed writes the new map in front
@@ -153,7 +153,7 @@ TEST(Algorithms, StringRewritingIsOneProcedureSpelledTwoWays) {
   EXPECT_THROW(rewrite_map_strings({"a"}, "", 0), InputError);
   // The renderer's "w2w1" and the vector layer's "1.0" are the same addresses in the same order.
   const Ifs ifs = sample("sierpinski_tetrahedron");
-  const auto seed = rewrite_strings(ifs, 3);
+  const auto seed = string_rewriting(ifs, 3, AddressSpelling::Seed);
   const auto addresses = string_rewriting(ifs, 3);
   ASSERT_EQ(seed.size(), addresses.size());
   for (std::size_t i = 0; i < seed.size(); ++i) {

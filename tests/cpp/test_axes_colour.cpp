@@ -75,9 +75,9 @@ TEST(Axes, FormatsHaveTheirReadersUpAxis) {
   EXPECT_EQ(default_up("a/b.GLB"), Up::y);
   EXPECT_EQ(default_up("b.obj"), Up::y);
   EXPECT_EQ(default_up("b.ply"), Up::z);
-  EXPECT_EQ(up_from_string("y"), Up::y);
-  EXPECT_EQ(up_from_string("z"), Up::z);
-  EXPECT_THROW(up_from_string("x", "--up"), InputError);
+  EXPECT_EQ(parse_name<Up>("y"), Up::y);
+  EXPECT_EQ(parse_name<Up>("z"), Up::z);
+  EXPECT_THROW(parse_name<Up>("x", "--up"), InputError);
   // y up is a rotation (determinant +1): triangles keep their winding.
   const auto x = oriented(1, 0, 0, Up::y), y = oriented(0, 1, 0, Up::y), z = oriented(0, 0, 1, Up::y);
   EXPECT_EQ(z, (std::array<float, 3>{0, 1, 0}));
@@ -88,7 +88,7 @@ TEST(Axes, FormatsHaveTheirReadersUpAxis) {
 TEST(Axes, GlbIsYUpWithLinearColoursByDefaultAndZUpOnRequest) {
   const TriangleMesh m = steeple();
   for (const Up up : {Up::y, Up::z}) {
-    const std::string path = temp(std::string("steeple_") + to_string(up) + ".glb");
+    const std::string path = temp(std::string("steeple_") + name_of(up) + ".glb");
     MeshWriteOptions options;
     if (up == Up::z) options.up = Up::z;
     write_mesh(path, m, options);
@@ -159,7 +159,7 @@ TEST(Axes, GltfInstancesPlaceEachFrameInEitherAxes) {
   for (const Up up : {Up::y, Up::z}) {
     GltfInstanceOptions g;
     g.up = up;
-    const std::string path = temp(std::string("instances_") + to_string(up) + ".glb");
+    const std::string path = temp(std::string("instances_") + name_of(up) + ".glb");
     write_gltf_instances(path, list, g);
     const tinygltf::Model model = load_glb(path);
     ASSERT_EQ(model.nodes.size(), 1 + list.size());
@@ -179,7 +179,7 @@ TEST(Axes, GltfInstancesPlaceEachFrameInEitherAxes) {
         const auto frame = oriented(f[3 * axis], f[3 * axis + 1], f[3 * axis + 2], up);
         for (int row = 0; row < 3; ++row) {
           const double image = r[row][0] * local[0] + r[row][1] * local[1] + r[row][2] * local[2];
-          EXPECT_NEAR(image, frame[row], 1e-5) << to_string(up) << " instance " << i << " axis " << axis;
+          EXPECT_NEAR(image, frame[row], 1e-5) << name_of(up) << " instance " << i << " axis " << axis;
         }
       }
     }

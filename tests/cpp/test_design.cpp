@@ -188,7 +188,7 @@ TEST(PreviewCloud, RefusesWhatItCannotShow) {
   o.coloring = PreviewColoring::Auto;
   o.count = 0;
   EXPECT_THROW(preview_cloud(sierpinski(), o), InputError);
-  EXPECT_THROW(preview_coloring_from_string("rainbow"), InputError);
+  EXPECT_THROW(parse_name<PreviewColoring>("rainbow"), InputError);
 }
 
 TEST(Morph, EndPointsAreTheSystems) {

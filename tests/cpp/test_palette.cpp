@@ -144,5 +144,5 @@ TEST(Palette, RefusesBadInput) {
   PaletteSpec short_range = s;
   short_range.positions = {0, 0.2, 0.4, 0.8, 0.9};
   EXPECT_THROW(make_palette(short_range, 16), InputError);
-  EXPECT_THROW(colour_space("cmyk"), InputError);
+  EXPECT_THROW(parse_name<ColourSpace>("cmyk"), InputError);
 }

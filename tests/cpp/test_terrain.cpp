@@ -204,7 +204,7 @@ TEST(VerticalScaling, PatternsAndSeeds) {
   EXPECT_GT(negatives, 16);
   EXPECT_LT(negatives, 48);
   EXPECT_THROW(vertical_scaling(3, 1.0), InputError);
-  EXPECT_THROW(sign_pattern("sometimes"), InputError);
+  EXPECT_THROW(parse_name<SignPattern>("sometimes"), InputError);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -44,6 +44,17 @@ def test_every_chapter_five_algorithm_is_registered_with_its_parameters():
     assert [(key, default) for key, default, _ in ifsforge.renderer_parameters("prr")] == [("cut", "1")]
 
 
+def test_string_rewriting_and_tsa_have_one_name_each():
+    # 5.6 and 5.7 are reached as the renderers "string-rewriting" and "tsa" and, for their
+    # addresses, ifsforge.string_rewriting / ifsforge.tesseral_synecdoche: no other spelling.
+    fern = load("barnsley_fern")
+    for other in ("srwa", "strings", "tesseral-synecdoche"):
+        with pytest.raises(ifsforge.InputError, match=other):
+            ifsforge.render(fern, other, 16)
+    assert not hasattr(ifsforge, "rewrite_strings")
+    assert ifsforge.choices["spelling"] == ["digits", "seed"]
+
+
 def test_parameters_pass_as_numbers_or_text_and_unknown_ones_are_refused():
     system = load("sierpinski_triangle")
     a = ifsforge.render(system, "tsa", 64, window=window(system), parameters={"threshold": 1e-4})
@@ -115,7 +126,7 @@ def test_condensation_sets_and_growth_frames():
 
 def test_strings_bounds_and_colour_bounds():
     fern = load("barnsley_fern")
-    strings = ifsforge.rewrite_strings(fern, 2)
+    strings = ifsforge.string_rewriting(fern, 2, spelling="seed")
     assert len(strings) == 16 and strings[:2] == ["w1w1", "w2w1"]
     # The vector layer's spelling of the same rewriting: "1.0" for "w2w1", in the same order.
     assert ifsforge.string_rewriting(fern, 2) == [

@@ -5,6 +5,7 @@ this package re-exports it under the same names as the C++ API.
 """
 from ifsforge._core import (  # noqa: F401
     FORMAT_VERSION,
+    choices,  # the names of every enumerated setting, e.g. choices["density"] (one table in C++)
     AffineMap,
     BoxCounting,
     ChannelLayout,
@@ -45,7 +46,7 @@ from ifsforge._core import (  # noqa: F401  (terrain: fractal interpolation, ter
     sample_heights, vertical_scaling, write_terrain_mesh, write_terrain_pov,
 )
 from ifsforge._core import (  # noqa: F401  (algorithms: recurrent/super IFS, condensation, chapter-5 extras)
-    Condensation, colour_bounds, growth_frames, make_super_ifs, proximity_bound, renderer_parameters, rewrite_strings,
+    Condensation, colour_bounds, growth_frames, make_super_ifs, proximity_bound, renderer_parameters,
 )
 from ifsforge._core import (  # noqa: F401  (vector: instance lists, addresses, POV-Ray/SVG/glTF)
     AddressLeaves, AddressTable, InstanceList, Primitive, apply_address, count_leaves, default_instance_depth,
@@ -61,7 +62,7 @@ from ifsforge._core import (  # noqa: F401  (pifs: fractal image compression, se
     PifsCode, pifs_encode, pifs_from_bytes, read_pifs, write_pifs,
 )
 from ifsforge._core import (  # noqa: F401  (inverse problem: collage theorem, fitting)
-    attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance, tops, tops_warp,
+    FitOptions, attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance, tops, tops_warp,
 )
 from ifsforge._core import (  # noqa: F401  (the settings structs: every default lives in C++, once)
     DrawOptions, GltfInstanceOptions, InstanceOptions, PovRenderOptions, RenderOptions, SvgOptions, ToneOptions,

@@ -14,7 +14,7 @@ def add_system_argument(parser):
 
 def add_up_argument(parser):
     """--up for every command that writes meshes (default: what each format's reader expects)."""
-    parser.add_argument("--up", choices=["y", "z"], default=None,
+    parser.add_argument("--up", choices=ifsforge.choices["up"], default=None,
                         help="the mesh files' up axis (default: the format's: .glb/.obj y, .ply z, so that "
                         "Blender's importers stand the mesh upright)")
 

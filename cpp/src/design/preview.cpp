@@ -115,22 +115,6 @@ void iterate(const Orbit& orbit, int spatial, std::size_t job, const Sink& sink)
 
 }  // namespace
 
-const char* to_string(PreviewColoring c) {
-  switch (c) {
-    case PreviewColoring::Auto: return "auto";
-    case PreviewColoring::Pieces: return "pieces";
-    case PreviewColoring::Channels: return "channels";
-  }
-  return "auto";
-}
-
-PreviewColoring preview_coloring_from_string(const std::string& name) {
-  if (name == "auto") return PreviewColoring::Auto;
-  if (name == "pieces") return PreviewColoring::Pieces;
-  if (name == "channels") return PreviewColoring::Channels;
-  throw InputError("unknown preview colouring '" + name + "' (auto, pieces or channels)");
-}
-
 void piece_color(std::size_t index, bool dim, float* rgba) {
   // Golden-angle hue steps keep consecutive maps far apart on the colour wheel.
   const double hue = std::fmod(0.08 + 0.6180339887498949 * static_cast<double>(index), 1.0);

@@ -8,22 +8,6 @@
 
 namespace ifsforge {
 
-SignPattern sign_pattern(const std::string& name) {
-  if (name == "constant") return SignPattern::Constant;
-  if (name == "alternating") return SignPattern::Alternating;
-  if (name == "random") return SignPattern::Random;
-  throw InputError("unknown sign pattern '" + name + "' (use constant, alternating or random)");
-}
-
-const char* to_string(SignPattern pattern) {
-  switch (pattern) {
-    case SignPattern::Constant: return "constant";
-    case SignPattern::Alternating: return "alternating";
-    case SignPattern::Random: return "random";
-  }
-  return "?";
-}
-
 std::vector<double> vertical_scaling(std::size_t maps, double roughness, SignPattern signs, std::uint64_t seed,
                                      std::uint64_t stream) {
   check_vertical_scaling({roughness}, "the roughness");

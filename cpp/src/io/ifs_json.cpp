@@ -10,83 +10,23 @@
 #include "ifsforge/model/map_params.h"
 #include "ifsforge/model/recurrent.h"
 #include "ifsforge/model/super_ifs.h"
-#include "json_document.h"
+#include "json_reader.h"
 
 namespace ifsforge {
 namespace {
 
 using nlohmann::json;
 
-/// Reads fields of one JSON object and names the path of anything wrong in it.
-class Reader {
- public:
-  Reader(std::string source) : source_(std::move(source)) {}
+using detail::JsonReader;
 
-  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
-    throw InputError(source_ + ": " + (path.empty() ? "/" : path) + ": " + what);
-  }
-
-  double number(const json& j, const std::string& path) const {
-    if (!j.is_number()) fail(path, "expected a number, found " + describe(j));
-    const double v = j.get<double>();
-    if (!std::isfinite(v)) fail(path, "the number is not finite");
-    return v;
-  }
-
-  std::vector<double> numbers(const json& j, const std::string& path, std::size_t count) const {
-    if (!j.is_array()) fail(path, "expected an array of " + std::to_string(count) + " numbers, found " + describe(j));
-    if (j.size() != count)
-      fail(path, "expected " + std::to_string(count) + " numbers, found " + std::to_string(j.size()));
-    std::vector<double> out;
-    for (std::size_t i = 0; i < j.size(); ++i) out.push_back(number(j[i], path + "/" + std::to_string(i)));
-    return out;
-  }
-
-  /// `numbers`, each within +-kMaxCoefficient (a map's matrix row, offset or channel row).
-  std::vector<double> coefficients(const json& j, const std::string& path, std::size_t count) const {
-    std::vector<double> out = numbers(j, path, count);
-    for (std::size_t i = 0; i < out.size(); ++i)
-      if (std::fabs(out[i]) > kMaxCoefficient)
-        fail(path + "/" + std::to_string(i), "a map coefficient must lie within +-1e9 (iterating it would "
-                                             "escape to infinity), found " + describe(j[i]));
-    return out;
-  }
-
-  /// One number for every component, or an array of `count`.
-  std::vector<double> per_axis(const json& j, const std::string& path, std::size_t count) const {
-    if (j.is_number()) return std::vector<double>(count, number(j, path));
-    return numbers(j, path, count);
-  }
-
-  std::string text(const json& j, const std::string& path) const {
-    if (!j.is_string()) fail(path, "expected a string, found " + describe(j));
-    return j.get<std::string>();
-  }
-
-  static std::string describe(const json& j) {
-    std::string s = j.dump();
-    if (s.size() > 40) s = s.substr(0, 37) + "...";
-    return std::string(j.type_name()) + " " + s;
-  }
-
- private:
-  std::string source_;
-};
-
-AffineMap read_map(const Reader& r, const json& m, const std::string& path, const ChannelLayout& layout) {
-  if (!m.is_object()) r.fail(path, "a map must be an object, found " + Reader::describe(m));
+AffineMap read_map(const JsonReader& r, const json& m, const std::string& path, const ChannelLayout& layout) {
+  if (!m.is_object()) r.fail(path, "a map must be an object, found " + JsonReader::describe(m));
   const int n = layout.dim(), k = layout.spatial_dims();
   static const char* kParamKeys[] = {"scale", "rotation", "shear", "reflect", "translation"};
   bool has_params = false;
   for (const char* key : kParamKeys) has_params |= m.contains(key);
-  for (auto it = m.begin(); it != m.end(); ++it) {
-    static const char* kKnown[] = {"matrix", "offset", "probability", "channels", "scale",
-                                   "rotation", "shear", "reflect", "translation", "name"};
-    bool known = false;
-    for (const char* key : kKnown) known |= it.key() == key;
-    if (!known) r.fail(path + "/" + it.key(), "unknown field (a map has matrix + offset, or scale, "
-                                              "rotation, shear, reflect, translation)");
-  }
+  r.only(m, path, {"matrix", "offset", "probability", "channels", "scale", "rotation", "shear", "reflect", "translation", "name"},
+         "a map has matrix + offset, or scale, rotation, shear, reflect, translation");
   if (m.contains("matrix")) {
     if (has_params) r.fail(path, "give either matrix + offset or parameters, not both");
     const json& rows = m["matrix"];
@@ -164,7 +104,7 @@ AffineMap read_map(const Reader& r, const json& m, const std::string& path, cons
 
 /// The maps of one system (`obj` holds "maps" and maybe "probabilities"), as an Ifs. A
 /// recurrent system takes its map frequencies from its transitions, so its maps carry none.
-Ifs read_maps(const Reader& r, const json& obj, const std::string& at, const ChannelLayout& layout,
+Ifs read_maps(const JsonReader& r, const json& obj, const std::string& at, const ChannelLayout& layout,
               const std::string& name, const std::string& source, bool recurrent) {
   if (!obj.contains("maps") || !obj["maps"].is_array() || obj["maps"].empty())
     r.fail(at + "/maps", "expected a non-empty array of maps");
@@ -180,7 +120,7 @@ Ifs read_maps(const Reader& r, const json& obj, const std::string& at, const Cha
         r.fail(path + "/probability", "a recurrent system's map frequencies come from its transitions; remove it");
       ++with_probability;
       const double p = r.number(list[i]["probability"], path + "/probability");
-      if (p < 0) r.fail(path + "/probability", "a probability must be 0 or more, found " + Reader::describe(list[i]["probability"]));
+      if (p < 0) r.fail(path + "/probability", "a probability must be 0 or more, found " + JsonReader::describe(list[i]["probability"]));
       probabilities.push_back(p);
     }
   }
@@ -203,7 +143,7 @@ Ifs read_maps(const Reader& r, const json& obj, const std::string& at, const Cha
 }
 
 /// "systems": [{"name", "probability", "maps", "probabilities"}...] and "variability" (3.3.5).
-Ifs read_super_ifs(const Reader& r, const json& doc, const ChannelLayout& layout, const std::string& name,
+Ifs read_super_ifs(const JsonReader& r, const json& doc, const ChannelLayout& layout, const std::string& name,
                    const std::string& source) {
   if (doc.contains("maps")) r.fail("/maps", "a super IFS lists its maps inside \"systems\"");
   if (doc.contains("probabilities")) r.fail("/probabilities", "a super IFS gives probabilities per member system");
@@ -216,9 +156,8 @@ Ifs read_super_ifs(const Reader& r, const json& doc, const ChannelLayout& layout
     const std::string at = "/systems/" + std::to_string(n);
     const json& member = list[n];
     if (!member.is_object()) r.fail(at, "a member system must be an object");
-    for (auto it = member.begin(); it != member.end(); ++it)
-      if (it.key() != "name" && it.key() != "probability" && it.key() != "maps" && it.key() != "probabilities")
-        r.fail(at + "/" + it.key(), "unknown field (a member has name, probability, maps, probabilities)");
+    r.only(member, at, {"name", "probability", "maps", "probabilities"},
+           "a member has name, probability, maps, probabilities");
     const std::string member_name =
         member.contains("name") ? r.text(member["name"], at + "/name") : "member " + std::to_string(n + 1);
     members.push_back(read_maps(r, member, at, layout, member_name, source, false));
@@ -230,14 +169,10 @@ Ifs read_super_ifs(const Reader& r, const json& doc, const ChannelLayout& layout
     if (v != std::floor(v) || v < 1 || v > 64) r.fail("/variability", "expected a whole number V in 1..64");
     variability = static_cast<int>(v);
   }
-  try {
-    return make_super_ifs(name, members, probabilities, variability);
-  } catch (const InputError& e) {
-    r.fail("/systems", e.what());
-  }
+  return r.at("/systems", [&] { return make_super_ifs(name, members, probabilities, variability); });
 }
 
-Condensation::Path read_path(const Reader& r, const json& j, const std::string& path) {
+Condensation::Path read_path(const JsonReader& r, const json& j, const std::string& path) {
   if (!j.is_array()) r.fail(path, "expected an array of [x, y] points");
   Condensation::Path out;
   for (std::size_t i = 0; i < j.size(); ++i) {
@@ -248,7 +183,7 @@ Condensation::Path read_path(const Reader& r, const json& j, const std::string& 
 }
 
 /// "condensation": {"polylines": [[[x, y], ...]], "polygons": [...], "channels": [...], "probability": p0}
-Condensation read_condensation(const Reader& r, const json& j, int channels) {
+Condensation read_condensation(const JsonReader& r, const json& j, int channels) {
   if (!j.is_object()) r.fail("/condensation", "expected an object with polylines and/or polygons");
   Condensation c;
   for (auto it = j.begin(); it != j.end(); ++it) {
@@ -272,26 +207,15 @@ Condensation read_condensation(const Reader& r, const json& j, int channels) {
 }  // namespace
 
 Ifs parse_ifs_json(const std::string& text, const std::string& source) {
-  json doc = detail::parse_json_document(text, source);
-  const Reader r(source);
+  const JsonReader r(source);
+  const json doc = r.document(text);
   if (!doc.is_object()) r.fail("", "expected a JSON object holding one system");
   if (doc.contains("format") && r.text(doc["format"], "/format") != kFormatVersion)
     r.fail("/format", "unsupported format '" + doc["format"].get<std::string>() + "' (this is " + kFormatVersion + ")");
-  for (auto it = doc.begin(); it != doc.end(); ++it) {
-    static const char* kKnown[] = {"format", "name", "description", "layout", "maps", "probabilities", "render",
-                                   "transitions", "condensation", "systems", "variability"};
-    bool known = false;
-    for (const char* key : kKnown) known |= it.key() == key;
-    if (!known) r.fail("/" + it.key(), "unknown field");
-  }
+  r.only(doc, "", {"format", "name", "description", "layout", "maps", "probabilities", "render", "transitions",
+                   "condensation", "systems", "variability"});
   ChannelLayout layout("xy");
-  if (doc.contains("layout")) {
-    try {
-      layout = ChannelLayout(r.text(doc["layout"], "/layout"));
-    } catch (const InputError& e) {
-      r.fail("/layout", e.what());
-    }
-  }
+  if (doc.contains("layout")) layout = r.at("/layout", [&] { return ChannelLayout(r.text(doc["layout"], "/layout")); });
   std::string name = doc.contains("name") ? r.text(doc["name"], "/name") : "untitled";
   Ifs ifs;
   if (doc.contains("systems")) {
@@ -310,20 +234,10 @@ Ifs parse_ifs_json(const std::string& text, const std::string& source) {
       auto row = r.numbers(rows[i], "/transitions/" + std::to_string(i), n);
       values.insert(values.end(), row.begin(), row.end());
     }
-    try {
-      ifs.set_transitions(TransitionMatrix(n, values));
-    } catch (const InputError& e) {
-      r.fail("/transitions", e.what());
-    }
+    r.at("/transitions", [&] { ifs.set_transitions(TransitionMatrix(n, values)); });
   }
-  if (doc.contains("condensation")) {
-    try {
-      ifs.set_condensation(read_condensation(r, doc["condensation"], ifs.dim() - ifs.spatial_dims()));
-    } catch (const InputError& e) {
-      if (std::string(e.what()).rfind(source, 0) == 0) throw;
-      r.fail("/condensation", e.what());
-    }
-  }
+  if (doc.contains("condensation"))
+    r.at("/condensation", [&] { ifs.set_condensation(read_condensation(r, doc["condensation"], ifs.dim() - ifs.spatial_dims())); });
   if (doc.contains("description")) ifs.set_description(r.text(doc["description"], "/description"));
   if (doc.contains("render")) {
     const json& j = doc["render"];

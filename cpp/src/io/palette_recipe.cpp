@@ -1,21 +1,21 @@
 #include "ifsforge/io/palette_recipe.h"
 
-#include "recipe_json.h"
+#include "json_reader.h"
 #include "ifsforge/io/text_file.h"
 #include "ifsforge/interpolation/vertical_scaling.h"
 
 namespace ifsforge {
 
 PaletteRecipe parse_palette_recipe(const std::string& text, const std::string& source) {
-  const detail::RecipeReader r(source);
-  const detail::json j = r.parse(text, "ifsforge-palette/1");
+  const detail::JsonReader r(source);
+  const detail::json j = r.document(text, "ifsforge-palette/1");
   r.only(j, "", {"format", "name", "description", "space", "stops", "positions", "roughness", "entries"});
   PaletteRecipe recipe;
   if (j.contains("name")) recipe.name = r.text(j["name"], "/name");
   if (j.contains("description")) recipe.description = r.text(j["description"], "/description");
   if (j.contains("space")) {
     try {
-      recipe.spec.space = colour_space(r.text(j["space"], "/space"));
+      recipe.spec.space = parse_name<ColourSpace>(r.text(j["space"], "/space"));
     } catch (const InputError& e) {
       r.fail("/space", e.what());
     }
@@ -36,7 +36,7 @@ PaletteRecipe parse_palette_recipe(const std::string& text, const std::string& s
     std::uint64_t seed = 0;
     if (rough.contains("signs")) {
       try {
-        signs = sign_pattern(r.text(rough["signs"], "/roughness/signs"));
+        signs = parse_name<SignPattern>(r.text(rough["signs"], "/roughness/signs"));
       } catch (const InputError& e) {
         r.fail("/roughness/signs", e.what());
       }

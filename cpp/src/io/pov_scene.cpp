@@ -62,17 +62,6 @@ char* pov_unit(char* out, float value) {
   return out;
 }
 
-PovQuality parse_pov_quality(const std::string& text) {
-  if (text == "draft") return PovQuality::Draft;
-  if (text == "normal") return PovQuality::Normal;
-  if (text == "high") return PovQuality::High;
-  throw InputError("unknown POV-Ray quality '" + text + "': choose draft, normal or high");
-}
-
-const char* to_string(PovQuality q) {
-  return q == PovQuality::Draft ? "draft" : q == PovQuality::High ? "high" : "normal";
-}
-
 std::string pov_preamble(const std::string& title, const std::string& extra_comment,
                          const PovFraming& framing, const PovEnvironment& environment, int width, int height) {
   const int quality = environment.quality == PovQuality::Draft ? 0 : environment.quality == PovQuality::High ? 2 : 1;

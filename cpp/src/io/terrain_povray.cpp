@@ -67,7 +67,7 @@ std::vector<std::string> write_terrain_pov(const std::string& path, const Terrai
 
   Text s;
   s.raw("// " + pov_comment(o.title) + "\n");
-  s.line("// ifsforge terrain: %s grid, %d x %d samples, heights %.6g to %.6g.", to_string(t.grid), t.columns, t.rows,
+  s.line("// ifsforge terrain: %s grid, %d x %d samples, heights %.6g to %.6g.", name_of(t.grid), t.columns, t.rows,
          lo, hi);
   s.line("// Axes: x east, y up, z north. Render: povray +I<this file> +O<image>.png +W<w> +H<h> +A");
   s.line("#version 3.7;");

@@ -6,31 +6,20 @@
 #include "ifsforge/io/png.h"
 #include "ifsforge/terrain/terrain_controls.h"
 #include "ifsforge/interpolation/vertical_scaling.h"
-#include "recipe_json.h"
+#include "json_reader.h"
 
 namespace ifsforge {
 namespace {
 
 using detail::json;
-using detail::RecipeReader;
+using detail::JsonReader;
 
 std::string resolve(const std::string& folder, const std::string& name) {
   const std::filesystem::path p(name);
   return p.is_absolute() ? name : (std::filesystem::path(folder) / p).string();
 }
 
-/// Runs `step` and re-throws its InputError at `path` of the recipe.
-template <typename Step>
-auto at(const RecipeReader& r, const std::string& path, Step step) -> decltype(step()) {
-  try {
-    return step();
-  } catch (const InputError& e) {
-    if (std::string(e.what()).rfind(r.source(), 0) == 0) throw;
-    r.fail(path, e.what());
-  }
-}
-
-void read_heights(const RecipeReader& r, const json& j, TerrainControls& c, const std::string& folder) {
+void read_heights(const JsonReader& r, const json& j, TerrainControls& c, const std::string& folder) {
   if (j.is_array()) {
     c.heights = r.matrix(j, "/heights");
     return;
@@ -48,7 +37,7 @@ void read_heights(const RecipeReader& r, const json& j, TerrainControls& c, cons
     if (g.contains("base")) base = g["base"].is_array() ? r.numbers(g["base"], p + "/base") : std::vector<double>{r.number(g["base"], p + "/base")};
     const double amplitude = g.contains("amplitude") ? r.number(g["amplitude"], p + "/amplitude") : 0.5;
     const std::uint64_t seed = g.contains("seed") ? r.seed(g["seed"], p + "/seed") : 0;
-    c.heights = at(r, p, [&] { return random_heights(c.grid, rows, columns, base, amplitude, seed); });
+    c.heights = r.at(p, [&] { return random_heights(c.grid, rows, columns, base, amplitude, seed); });
     return;
   }
   const json& m = j["map"];
@@ -65,32 +54,32 @@ void read_heights(const RecipeReader& r, const json& j, TerrainControls& c, cons
   const double low = m.contains("low") ? r.number(m["low"], p + "/low") : 0.0;
   const double high = m.contains("high") ? r.number(m["high"], p + "/high") : 1.0;
   const std::string file = resolve(folder, r.text(m["file"], p + "/file"));
-  const Image image = at(r, p + "/file", [&] { return read_png(file); });
-  at(r, p, [&] {
+  const Image image = r.at(p + "/file", [&] { return read_png(file); });
+  r.at(p, [&] {
     sample_heights(c, rows, columns, image, window, low, high);
     return 0;
   });
 }
 
-std::vector<double> read_roughness(const RecipeReader& r, const json& j, const std::string& path, std::size_t maps,
+std::vector<double> read_roughness(const JsonReader& r, const json& j, const std::string& path, std::size_t maps,
                                    SignPattern signs, std::uint64_t seed, std::uint64_t stream) {
   if (j.is_array()) {
     std::vector<double> a22 = r.numbers(j, path);
-    at(r, path, [&] {
+    r.at(path, [&] {
       check_vertical_scaling(a22, "a22");
       return 0;
     });
     return a22;
   }
   const double roughness = r.number(j, path);
-  return at(r, path, [&] { return vertical_scaling(maps, roughness, signs, seed, stream); });
+  return r.at(path, [&] { return vertical_scaling(maps, roughness, signs, seed, stream); });
 }
 
 }  // namespace
 
 TerrainRecipe parse_terrain_recipe(const std::string& text, const std::string& source, const std::string& folder) {
-  const RecipeReader r(source);
-  const json j = r.parse(text, "ifsforge-terrain/1");
+  const JsonReader r(source);
+  const json j = r.document(text, "ifsforge-terrain/1");
   r.only(j, "", {"format", "name", "description", "grid", "heights", "radii", "shift", "roughness", "size",
                  "resolution", "palette"});
   TerrainRecipe recipe;
@@ -98,7 +87,7 @@ TerrainRecipe parse_terrain_recipe(const std::string& text, const std::string& s
   if (j.contains("name")) recipe.name = r.text(j["name"], "/name");
   if (j.contains("description")) recipe.description = r.text(j["description"], "/description");
   if (!j.contains("grid")) r.fail("/grid", "missing: regular, irregular or circular");
-  c.grid = at(r, "/grid", [&] { return terrain_grid(r.text(j["grid"], "/grid")); });
+  c.grid = r.at("/grid", [&] { return parse_name<TerrainGrid>(r.text(j["grid"], "/grid")); });
   // The radii come first: heights sampled from a map need them on a circular grid.
   if (j.contains("radii")) c.radii = r.numbers(j["radii"], "/radii");
   if (j.contains("shift") && j["shift"].is_object() && !j["shift"].contains("random")) {
@@ -117,7 +106,7 @@ TerrainRecipe parse_terrain_recipe(const std::string& text, const std::string& s
       if (!s["random"].contains("amplitude")) r.fail("/shift/random/amplitude", "missing");
       const double amplitude = r.number(s["random"]["amplitude"], "/shift/random/amplitude");
       const std::uint64_t seed = s["random"].contains("seed") ? r.seed(s["random"]["seed"], "/shift/random/seed") : 0;
-      at(r, "/shift/random", [&] {
+      r.at("/shift/random", [&] {
         random_shifts(c, amplitude, seed);
         return 0;
       });
@@ -129,7 +118,7 @@ TerrainRecipe parse_terrain_recipe(const std::string& text, const std::string& s
     const json& g = j["roughness"];
     r.only(g, "/roughness", {"u", "v", "shift", "signs", "seed"});
     SignPattern signs = SignPattern::Random;
-    if (g.contains("signs")) signs = at(r, "/roughness/signs", [&] { return sign_pattern(r.text(g["signs"], "/roughness/signs")); });
+    if (g.contains("signs")) signs = r.at("/roughness/signs", [&] { return parse_name<SignPattern>(r.text(g["signs"], "/roughness/signs")); });
     const std::uint64_t seed = g.contains("seed") ? r.seed(g["seed"], "/roughness/seed") : 0;
     if (g.contains("u")) c.a22_u = read_roughness(r, g["u"], "/roughness/u", maps_u, signs, seed, 1);
     if (g.contains("v")) c.a22_v = read_roughness(r, g["v"], "/roughness/v", rows - 1, signs, seed, 2);
@@ -162,7 +151,7 @@ TerrainRecipe parse_terrain_recipe(const std::string& text, const std::string& s
     }
   }
   // Everything make_terrain checks (counts, displacements, radii), reported against the file.
-  at(r, "", [&] { return make_terrain(c, 3, 2, 1); });
+  r.at("", [&] { return make_terrain(c, 3, 2, 1); });
   return recipe;
 }
 

@@ -133,7 +133,7 @@ void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOpti
   openvdb::MetaMap meta;
   meta.insertMeta("creator", openvdb::StringMetadata("ifsforge"));
   meta.insertMeta("ifsforge_algorithm", openvdb::StringMetadata(volume.algorithm));
-  meta.insertMeta("ifsforge_density", openvdb::StringMetadata(to_string(volume.density_mode)));
+  meta.insertMeta("ifsforge_density", openvdb::StringMetadata(name_of(volume.density_mode)));
   meta.insertMeta("ifsforge_depth", openvdb::Int64Metadata(volume.depth));
   meta.insertMeta("ifsforge_points", openvdb::Int64Metadata(static_cast<std::int64_t>(volume.points)));
   meta.insertMeta("ifsforge_voxel_size", openvdb::DoubleMetadata(volume.grid.voxel_size));

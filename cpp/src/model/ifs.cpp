@@ -11,16 +11,6 @@
 
 namespace ifsforge {
 
-const char* to_string(Classification c) {
-  switch (c) {
-    case Classification::Hyperbolic: return "hyperbolic";
-    case Classification::AverageContractive: return "average-contractive";
-    case Classification::EventuallyContractive: return "eventually-contractive";
-    case Classification::Divergent: return "divergent";
-  }
-  return "?";
-}
-
 std::vector<double> jacobian_probabilities(const std::vector<AffineMap>& maps, int spatial_dims) {
   std::vector<double> p(maps.size());
   double largest = 0.0;

@@ -41,8 +41,8 @@ const std::vector<Entry>& registry() {
     e.push_back({std::make_unique<MinimalPlotting>(), {"minimal-plotting"}, {"5.3", 0.5e6}});
     e.push_back({std::make_unique<ConstantMass>(), {"constant-mass"}, {"5.4", 100e6}});
     e.push_back({std::make_unique<EscapeTime>(), {"escape-time"}, {"5.5", 1.28e9}});
-    e.push_back({std::make_unique<StringRewriting>(), {"srwa", "strings"}, {"5.6", 781250}});
-    e.push_back({std::make_unique<TesseralSynecdoche>(), {"tesseral-synecdoche"}, {"5.7", 0.8e6}});
+    e.push_back({std::make_unique<StringRewriting>(), {}, {"5.6", 781250}});
+    e.push_back({std::make_unique<TesseralSynecdoche>(), {}, {"5.7", 0.8e6}});
     e.push_back({std::make_unique<PointRecursive>(), {"point-recursive"}, {"5.8.1", 390625}});
     e.push_back({std::make_unique<ImageBased>(), {"image-based"}, {"5.9", 1e6}});
     e.push_back({std::make_unique<AccurateFractal>(), {"accurate-fractal"}, {"5.10", 780000}});

@@ -26,14 +26,6 @@ std::vector<std::string> rewrite_map_strings(const std::vector<std::string>& sym
   return string_a;
 }
 
-std::vector<std::string> rewrite_strings(const Ifs& ifs, int length) {
-  if (std::pow(static_cast<double>(ifs.size()), length) > static_cast<double>(1u << 22))
-    throw InputError(std::to_string(ifs.size()) + "^" + std::to_string(length) + " strings are too many (at most 2^22)");
-  std::vector<std::string> maps;  // the seed's w1 ... wN
-  for (std::size_t k = 1; k <= ifs.size(); ++k) maps.push_back("w" + std::to_string(k));
-  return rewrite_map_strings(maps, "", length);
-}
-
 namespace {
 
 /// String_A or String_B: each string as its composed map w_s1 o ... o w_sL (flat) and its

@@ -13,22 +13,6 @@
 
 namespace ifsforge {
 
-TerrainGrid terrain_grid(const std::string& name) {
-  if (name == "regular") return TerrainGrid::Regular;
-  if (name == "irregular") return TerrainGrid::Irregular;
-  if (name == "circular") return TerrainGrid::Circular;
-  throw InputError("unknown terrain grid '" + name + "' (use regular, irregular or circular)");
-}
-
-const char* to_string(TerrainGrid grid) {
-  switch (grid) {
-    case TerrainGrid::Regular: return "regular";
-    case TerrainGrid::Irregular: return "irregular";
-    case TerrainGrid::Circular: return "circular";
-  }
-  return "?";
-}
-
 std::array<double, 4> Terrain::extent() const {
   if (grid == TerrainGrid::Circular) {
     const double r = radii.empty() ? 0.0 : radii.back();
@@ -88,7 +72,7 @@ void validate(const TerrainControls& c, int columns, int rows) {
   const bool circular = c.grid == TerrainGrid::Circular;
   const std::size_t cr = c.heights.size(), cc = cr ? c.heights[0].size() : 0;
   if (!circular && (cr < 5 || cc < 5))
-    fail(std::string(to_string(c.grid)) + " grids need at least 5 x 5 control heights, got " + std::to_string(cr) +
+    fail(std::string(name_of(c.grid)) + " grids need at least 5 x 5 control heights, got " + std::to_string(cr) +
          " x " + std::to_string(cc));
   if (circular && (cr < 3 || cc < 4))
     fail("circular grids need at least 3 leading circles (the centre included) of 4 control heights, got " +

@@ -16,22 +16,6 @@
 
 namespace ifsforge {
 
-ColourSpace colour_space(const std::string& name) {
-  if (name == "rgb") return ColourSpace::Rgb;
-  if (name == "hls") return ColourSpace::Hls;
-  if (name == "hsi") return ColourSpace::Hsi;
-  throw InputError("unknown colour space '" + name + "' (use rgb, hls or hsi)");
-}
-
-const char* to_string(ColourSpace space) {
-  switch (space) {
-    case ColourSpace::Rgb: return "rgb";
-    case ColourSpace::Hls: return "hls";
-    case ColourSpace::Hsi: return "hsi";
-  }
-  return "?";
-}
-
 void hls_to_rgb(double hue, double lightness, double saturation, float* rgb) {
   const double h = hue / 360.0 - std::floor(hue / 360.0);
   const double l = std::clamp(lightness, 0.0, 1.0), s = std::clamp(saturation, 0.0, 1.0);

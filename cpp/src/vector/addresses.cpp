@@ -85,12 +85,13 @@ std::uint64_t count_leaves(const Ifs& ifs, int depth, double min_probability) {
   return detail::job_offsets(ifs, shape, 0).back();
 }
 
-std::vector<std::string> string_rewriting(const Ifs& ifs, int depth) {
+std::vector<std::string> string_rewriting(const Ifs& ifs, int depth, AddressSpelling spelling) {
   const std::uint64_t leaves = count_leaves(ifs, depth, 0.0);
   check_memory(leaves * (2.0 * sizeof(std::string) + 4.0 * depth + 16.0), std::to_string(leaves) + " address strings");
-  std::vector<std::string> maps;  // 0-based digits, joined by '.' (this file's convention)
-  for (std::size_t k = 0; k < ifs.size(); ++k) maps.push_back(std::to_string(k));
-  return rewrite_map_strings(maps, ".", depth);
+  const bool seed = spelling == AddressSpelling::Seed;
+  std::vector<std::string> maps;  // 0-based digits joined by '.', or the seed's w1 ... wN
+  for (std::size_t k = 0; k < ifs.size(); ++k) maps.push_back(seed ? "w" + std::to_string(k + 1) : std::to_string(k));
+  return rewrite_map_strings(maps, seed ? "" : ".", depth);
 }
 
 AddressLeaves tesseral_synecdoche(const Ifs& ifs, int depth, double min_probability,

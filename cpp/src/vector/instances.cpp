@@ -12,32 +12,6 @@
 
 namespace ifsforge {
 
-const char* to_string(Normalisation n) { return n == Normalisation::Constant ? "constant" : "proportional"; }
-
-Normalisation parse_normalisation(const std::string& text) {
-  if (text == "proportional") return Normalisation::Proportional;
-  if (text == "constant") return Normalisation::Constant;
-  throw InputError("unknown normalisation '" + text + "': choose proportional (d = sf |q1 - q0|, Eq. 60) or constant");
-}
-
-const char* to_string(ColorSource c) {
-  switch (c) {
-    case ColorSource::Auto: return "auto";
-    case ColorSource::Channels: return "channels";
-    case ColorSource::FirstMap: return "first-map";
-    case ColorSource::LastMap: return "last-map";
-    case ColorSource::Constant: return "constant";
-  }
-  return "?";
-}
-
-ColorSource parse_color_source(const std::string& text) {
-  for (ColorSource c : {ColorSource::Auto, ColorSource::Channels, ColorSource::FirstMap, ColorSource::LastMap,
-                        ColorSource::Constant})
-    if (text == to_string(c)) return c;
-  throw InputError("unknown colour source '" + text + "': choose auto, channels, first-map, last-map or constant");
-}
-
 int default_instance_depth(std::size_t maps, std::uint64_t max_instances) {
   if (maps < 2) return 1;
   int depth = 1;

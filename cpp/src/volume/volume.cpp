@@ -7,38 +7,6 @@
 
 namespace ifsforge {
 
-const char* to_string(VolumeDensity d) {
-  switch (d) {
-    case VolumeDensity::Binary: return "binary";
-    case VolumeDensity::Hits: return "hits";
-    case VolumeDensity::Measure: return "measure";
-  }
-  return "?";
-}
-
-VolumeDensity volume_density_from_string(const std::string& name) {
-  if (name == "binary") return VolumeDensity::Binary;
-  if (name == "hits") return VolumeDensity::Hits;
-  if (name == "measure") return VolumeDensity::Measure;
-  throw InputError("unknown density '" + name + "'; choose one of: binary, hits, measure");
-}
-
-ColorScale color_scale_from_string(const std::string& name) {
-  if (name == "auto") return ColorScale::Auto;
-  if (name == "range") return ColorScale::Range;
-  if (name == "clamp") return ColorScale::Clamp;
-  throw InputError("unknown colour scale '" + name + "'; choose one of: auto, range, clamp");
-}
-
-const char* to_string(ColorScale s) {
-  switch (s) {
-    case ColorScale::Auto: return "auto";
-    case ColorScale::Range: return "range";
-    case ColorScale::Clamp: return "clamp";
-  }
-  return "?";
-}
-
 std::size_t Volume::find(std::uint64_t key) const {
   const auto it = std::lower_bound(keys.begin(), keys.end(), key);
   return it != keys.end() && *it == key ? static_cast<std::size_t>(it - keys.begin()) : keys.size();

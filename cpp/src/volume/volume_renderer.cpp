@@ -36,14 +36,6 @@ const std::vector<Entry>& registry() {
 
 }  // namespace
 
-EscapeNorm escape_norm_from_string(const std::string& name) {
-  if (name == "euclidean") return EscapeNorm::Euclidean;
-  if (name == "linear") return EscapeNorm::Linear;
-  throw InputError("unknown escape-time norm '" + name + "'; choose euclidean or linear (Eq. 55)");
-}
-
-const char* to_string(EscapeNorm n) { return n == EscapeNorm::Linear ? "linear" : "euclidean"; }
-
 const VolumeRenderer& volume_renderer(const std::string& name) {
   return find_named(registry(), name, "volume algorithm");
 }

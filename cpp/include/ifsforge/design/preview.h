@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/model/ifs.h"
 
 namespace ifsforge {
@@ -18,9 +19,14 @@ namespace ifsforge {
 /// RGBA), normalised as Eq. 101 when they leave [0, 1]. Auto: Channels when the layout has
 /// colour channels, else Pieces.
 enum class PreviewColoring { Auto, Pieces, Channels };
-const char* to_string(PreviewColoring c);
-/// @brief "auto", "pieces" or "channels"; InputError otherwise.
-PreviewColoring preview_coloring_from_string(const std::string& name);
+template <>
+struct EnumNames<PreviewColoring> {
+  static constexpr const char* what = "preview colouring";
+  static constexpr NamedValue<PreviewColoring> values[] = {
+      {PreviewColoring::Auto, "auto"},
+      {PreviewColoring::Pieces, "pieces"},
+      {PreviewColoring::Channels, "channels"}};
+};
 
 struct PreviewOptions {
   std::size_t count = 200000;  ///< points in the cloud

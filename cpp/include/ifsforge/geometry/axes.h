@@ -8,15 +8,18 @@
 #include <optional>
 #include <string>
 
+#include "ifsforge/core/names.h"
+
 namespace ifsforge {
 
 struct TriangleMesh;
 
 enum class Up { y, z };
-
-/// @brief "y" or "z"; InputError naming `what` otherwise.
-Up up_from_string(const std::string& text, const std::string& what = "up");
-const char* to_string(Up up);
+template <>
+struct EnumNames<Up> {
+  static constexpr const char* what = "up axis";
+  static constexpr NamedValue<Up> values[] = {{Up::y, "y"}, {Up::z, "z"}};
+};
 
 /// @brief The up axis a reader of `path` expects by its extension: .glb/.gltf/.obj y, else z.
 Up default_up(const std::string& path);

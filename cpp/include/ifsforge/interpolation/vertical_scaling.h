@@ -5,16 +5,22 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/names.h"
+
 namespace ifsforge {
 
 /// @brief How the signs of a22_i = ±roughness are chosen. The magnitude sets the amplitude of
 /// the detail; the signs shape it (all positive repeats the data's trend at every scale,
 /// alternating and random signs fold it).
 enum class SignPattern { Constant, Alternating, Random };
-
-/// @brief "constant", "alternating" or "random"; InputError names the accepted words.
-SignPattern sign_pattern(const std::string& name);
-const char* to_string(SignPattern pattern);
+template <>
+struct EnumNames<SignPattern> {
+  static constexpr const char* what = "sign pattern";
+  static constexpr NamedValue<SignPattern> values[] = {
+      {SignPattern::Random, "random"},
+      {SignPattern::Alternating, "alternating"},
+      {SignPattern::Constant, "constant"}};
+};
 
 /// @brief `maps` factors of magnitude |roughness| (< 1) with the given sign pattern; Random
 /// draws the signs from Rng(seed, stream), so each direction or component can use its stream.

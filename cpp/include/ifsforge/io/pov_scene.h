@@ -6,6 +6,7 @@
 #include <array>
 #include <string>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/io/pov_camera.h"
 #include "ifsforge/io/pov_text.h"
 
@@ -20,8 +21,14 @@ char* pov_vector(char* out, float x, float y, float z);
 char* pov_unit(char* out, float value);
 
 enum class PovQuality { Draft, Normal, High };
-PovQuality parse_pov_quality(const std::string& text);  ///< "draft", "normal", "high"
-const char* to_string(PovQuality q);
+template <>
+struct EnumNames<PovQuality> {
+  static constexpr const char* what = "POV-Ray quality";
+  static constexpr NamedValue<PovQuality> values[] = {
+      {PovQuality::Draft, "draft"},
+      {PovQuality::Normal, "normal"},
+      {PovQuality::High, "high"}};
+};
 
 /// @brief The surroundings of a scene.
 struct PovEnvironment {

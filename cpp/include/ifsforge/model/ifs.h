@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/model/affine_map.h"
 #include "ifsforge/model/channel_layout.h"
 #include "ifsforge/model/condensation.h"
@@ -17,7 +18,15 @@ namespace ifsforge {
 /// contractive: neither, but the random matrix products contract (negative top Lyapunov
 /// exponent), so random iteration still converges. Divergent: none of these.
 enum class Classification { Hyperbolic, AverageContractive, EventuallyContractive, Divergent };
-const char* to_string(Classification c);
+template <>
+struct EnumNames<Classification> {
+  static constexpr const char* what = "classification";
+  static constexpr NamedValue<Classification> values[] = {
+      {Classification::Hyperbolic, "hyperbolic"},
+      {Classification::AverageContractive, "average-contractive"},
+      {Classification::EventuallyContractive, "eventually-contractive"},
+      {Classification::Divergent, "divergent"}};
+};
 
 /// @brief Optional rendering hints stored with a system (the JSON "render" object).
 struct RenderDefaults {

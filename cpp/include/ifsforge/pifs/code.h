@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "ifsforge/core/names.h"
+
 namespace ifsforge {
 
 /// @brief One range cell and its transform. Eq. 29, r = s·φ(d) + o, is stored with o expressed
@@ -26,6 +28,13 @@ struct PifsPlane {
 
 /// @brief Colour handling of a code (the seed's Steps 1-2 for colour textures).
 enum class PifsColour : std::uint8_t { Direct = 0, YCbCr420 = 1 };
+template <>
+struct EnumNames<PifsColour> {
+  static constexpr const char* what = "colour coding";
+  static constexpr NamedValue<PifsColour> values[] = {
+      {PifsColour::Direct, "direct"},
+      {PifsColour::YCbCr420, "ycbcr420"}};
+};
 
 struct PifsCode {
   int width = 0, height = 0, channels = 0;  ///< the image: 1 gray, 2 gray+alpha, 3 RGB, 4 RGBA

@@ -2,6 +2,7 @@
 /// @file PIFS decoding at any resolution (seed 3.3.2.2): Baharav's hierarchical decoding (the
 /// coarsest level iterated to its fixed point, then one pass per doubling) and the iterative
 /// deterministic decoding (DIA) at the output scale as the reference.
+#include "ifsforge/core/names.h"
 #include "ifsforge/core/progress.h"
 #include "ifsforge/pifs/code.h"
 #include "ifsforge/pifs/domain_search.h"
@@ -10,6 +11,13 @@
 namespace ifsforge {
 
 enum class PifsDecoder { Hierarchical, Iterative };
+template <>
+struct EnumNames<PifsDecoder> {
+  static constexpr const char* what = "decoder";
+  static constexpr NamedValue<PifsDecoder> values[] = {
+      {PifsDecoder::Hierarchical, "hierarchical"},
+      {PifsDecoder::Iterative, "iterative"}};
+};
 
 struct PifsDecodeOptions {
   double scale = 1.0;           ///< output size = image size × scale (rounded), when width = 0

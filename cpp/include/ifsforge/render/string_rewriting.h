@@ -11,7 +11,7 @@ namespace ifsforge {
 /// N successors, breadth first, String_A and String_B taking turns. A string s stands for the
 /// piece w_s1 o ... o w_sL (A) of the attractor and is kept as its composed map, so writing a
 /// successor costs one map composition. The seed writes the new map in front
-/// (new_string = w @ string(k) @ STR_J, see rewrite_strings()); here it goes at the end,
+/// (new_string = w @ string(k) @ STR_J, see string_rewriting()); here it goes at the end,
 /// STR w_k. Strings of one length form the same set either way, but written at the end a
 /// string's successors are the sub-pieces of its piece, so a string can be finished early
 /// without losing any of the attractor. With `depth` > 0 every string is rewritten to exactly
@@ -38,10 +38,5 @@ class StringRewriting : public Renderer {
 /// N^length strings come by the old string, then the new map. Callers bound the count.
 std::vector<std::string> rewrite_map_strings(const std::vector<std::string>& symbols,
                                              const std::string& separator, int length);
-
-/// @brief The seed's String_A after length - 1 rewrites: every address string of `length` maps,
-/// written "w2w1w3" (maps numbered from 1, the newest map first), in the order the procedure
-/// writes them. InputError beyond 2^22 strings.
-std::vector<std::string> rewrite_strings(const Ifs& ifs, int length);
 
 }  // namespace ifsforge

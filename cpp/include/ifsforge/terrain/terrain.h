@@ -16,15 +16,20 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/core/progress.h"
 
 namespace ifsforge {
 
 enum class TerrainGrid { Regular, Irregular, Circular };
-
-/// @brief "regular", "irregular" or "circular"; InputError otherwise.
-TerrainGrid terrain_grid(const std::string& name);
-const char* to_string(TerrainGrid grid);
+template <>
+struct EnumNames<TerrainGrid> {
+  static constexpr const char* what = "terrain grid";
+  static constexpr NamedValue<TerrainGrid> values[] = {
+      {TerrainGrid::Regular, "regular"},
+      {TerrainGrid::Irregular, "irregular"},
+      {TerrainGrid::Circular, "circular"}};
+};
 
 /// @brief Step 1: the control data of a terrain.
 struct TerrainControls {

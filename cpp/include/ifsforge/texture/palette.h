@@ -8,16 +8,21 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/core/progress.h"
 #include "ifsforge/core/image.h"
 
 namespace ifsforge {
 
 enum class ColourSpace { Rgb, Hls, Hsi };
-
-/// @brief "rgb", "hls" or "hsi"; InputError otherwise.
-ColourSpace colour_space(const std::string& name);
-const char* to_string(ColourSpace space);
+template <>
+struct EnumNames<ColourSpace> {
+  static constexpr const char* what = "colour space";
+  static constexpr NamedValue<ColourSpace> values[] = {
+      {ColourSpace::Rgb, "rgb"},
+      {ColourSpace::Hls, "hls"},
+      {ColourSpace::Hsi, "hsi"}};
+};
 
 struct PaletteSpec {
   ColourSpace space = ColourSpace::Rgb;

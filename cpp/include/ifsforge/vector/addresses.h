@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/core/progress.h"
 #include "ifsforge/model/ifs.h"
 
@@ -45,13 +46,24 @@ struct AddressLeaves {
   std::vector<double> points;
 };
 
-/// @brief The seed's string-rewriting algorithm (5.6), rewrite_map_strings() with the maps
-/// spelled "0" ... "N-1" and joined by '.': each of the depth - 1 rewrites replaces every string
-/// s by "0.s", "1.s", ..., "(N-1).s" (a new outermost map). The N^depth strings come in the
-/// seed's order (by the old string, then the new map): the same addresses as
+/// How string_rewriting() spells an address: Digits "1.0.3" (maps from 0, joined by '.', this
+/// layer's addresses), Seed "w2w1w4" (the seed's 5.6 spelling, maps from 1).
+enum class AddressSpelling { Digits, Seed };
+template <>
+struct EnumNames<AddressSpelling> {
+  static constexpr const char* what = "address spelling";
+  static constexpr NamedValue<AddressSpelling> values[] = {{AddressSpelling::Digits, "digits"},
+                                                           {AddressSpelling::Seed, "seed"}};
+};
+
+/// @brief The seed's string-rewriting algorithm (5.6), rewrite_map_strings() over the maps'
+/// symbols: each of the depth - 1 rewrites replaces every string s by "0.s", "1.s", ...,
+/// "(N-1).s" (a new outermost map; "w1s" ... "wNs" spelled as the seed). The N^depth strings
+/// come in the seed's order (by the old string, then the new map): the same addresses as
 /// tesseral_synecdoche(ifs, depth) without pruning, in another order. Refuses what the address
 /// tree refuses (count_leaves()).
-std::vector<std::string> string_rewriting(const Ifs& ifs, int depth);
+std::vector<std::string> string_rewriting(const Ifs& ifs, int depth,
+                                          AddressSpelling spelling = AddressSpelling::Digits);
 
 /// @brief The tesseral synecdoche algorithm (5.7, with its comparison signs corrected): descend the address
 /// tree from the outermost map in, multiplying the probability by p_i; a branch stops, and

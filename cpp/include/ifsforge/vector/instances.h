@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/core/progress.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/vector/addresses.h"
@@ -22,14 +23,27 @@ namespace ifsforge {
 ///    its piece of the attractor (times sf).
 ///  - Constant: d = length for every instance, whatever the contraction along its address.
 enum class Normalisation { Proportional, Constant };
-const char* to_string(Normalisation n);
-Normalisation parse_normalisation(const std::string& text);
+template <>
+struct EnumNames<Normalisation> {
+  static constexpr const char* what = "normalisation";
+  static constexpr NamedValue<Normalisation> values[] = {
+      {Normalisation::Proportional, "proportional"},
+      {Normalisation::Constant, "constant"}};
+};
 
 /// Where instance colours come from. Auto: Channels when the layout has colour channels
 /// (gray, rgb, hsi, rgba, alpha), else FirstMap.
 enum class ColorSource { Auto, Channels, FirstMap, LastMap, Constant };
-const char* to_string(ColorSource c);
-ColorSource parse_color_source(const std::string& text);
+template <>
+struct EnumNames<ColorSource> {
+  static constexpr const char* what = "colour source";
+  static constexpr NamedValue<ColorSource> values[] = {
+      {ColorSource::Auto, "auto"},
+      {ColorSource::Channels, "channels"},
+      {ColorSource::FirstMap, "first-map"},
+      {ColorSource::LastMap, "last-map"},
+      {ColorSource::Constant, "constant"}};
+};
 
 struct InstanceOptions {
   int depth = 0;                 ///< recursion depth L (0: default_instance_depth)

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/model/channel_layout.h"
 #include "ifsforge/volume/voxel_grid.h"
 
@@ -14,16 +15,27 @@ namespace ifsforge {
 /// @brief What the density grid holds: 1 per occupied voxel, the number of points (leaves,
 /// random points, source voxels) that landed in it, or its share of the invariant measure.
 enum class VolumeDensity { Binary, Hits, Measure };
-const char* to_string(VolumeDensity d);
-/// @brief "binary", "hits" or "measure"; InputError otherwise.
-VolumeDensity volume_density_from_string(const std::string& name);
+template <>
+struct EnumNames<VolumeDensity> {
+  static constexpr const char* what = "density";
+  static constexpr NamedValue<VolumeDensity> values[] = {
+      {VolumeDensity::Binary, "binary"},
+      {VolumeDensity::Hits, "hits"},
+      {VolumeDensity::Measure, "measure"}};
+};
 
 /// @brief How channel values become [0, 1] for output. Auto: values are kept (clamped) when the
 /// attractor's range of the channel lies inside [0, 1], else Range. Range: Eq. 101,
 /// (v - min) / (max - min) over the attractor's range. Clamp: values clamped to [0, 1].
 enum class ColorScale { Auto, Range, Clamp };
-ColorScale color_scale_from_string(const std::string& name);
-const char* to_string(ColorScale s);
+template <>
+struct EnumNames<ColorScale> {
+  static constexpr const char* what = "colour scale";
+  static constexpr NamedValue<ColorScale> values[] = {
+      {ColorScale::Auto, "auto"},
+      {ColorScale::Range, "range"},
+      {ColorScale::Clamp, "clamp"}};
+};
 
 /// A sparse volume: only occupied voxels are stored, sorted by key (x, then y, then z).
 struct Volume {

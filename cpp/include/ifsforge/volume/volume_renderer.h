@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/core/progress.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/volume/volume.h"
@@ -16,8 +17,13 @@ namespace ifsforge {
 
 /// Escape time (5.5): which delta of Eq. 55-56 picks the inverse map.
 enum class EscapeNorm { Euclidean, Linear };
-EscapeNorm escape_norm_from_string(const std::string& name);
-const char* to_string(EscapeNorm n);
+template <>
+struct EnumNames<EscapeNorm> {
+  static constexpr const char* what = "escape-time norm (Eq. 55)";
+  static constexpr NamedValue<EscapeNorm> values[] = {
+      {EscapeNorm::Euclidean, "euclidean"},
+      {EscapeNorm::Linear, "linear"}};
+};
 
 /// What a range of a renderer's jobs produces: the sorted integer sums of their voxels (which
 /// merge exactly with any other range's), the points they plotted and the deepest level reached.

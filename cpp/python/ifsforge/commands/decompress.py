@@ -17,7 +17,7 @@ def register(subparsers):
     p.add_argument("--iterations", type=int, default=0,
                    help="fixed-point iterations (coarsest level, or every level with --decoder iterative); "
                    "0: the default")
-    p.add_argument("--decoder", choices=["hierarchical", "iterative"], default="hierarchical")
+    p.add_argument("--decoder", choices=ifsforge.choices["decoder"], default="hierarchical")
     p.add_argument("--no-deblock", action="store_true", help="skip the range-block edge filter")
     p.add_argument("--bits", type=int, choices=[8, 16], default=8, help="PNG bits per sample")
     p.add_argument("--threads", type=int, default=0)

@@ -16,33 +16,33 @@ AUTO_MAP_COST = 0.01            # IoU a map must buy to be kept under --maps aut
 
 
 def register(subparsers):
+    o = ifsforge.FitOptions()  # every default is the core's, written once in C++
     p = subparsers.add_parser("fit", help="fit an IFS to a target picture (collage theorem, CMA-ES)",
                               description=__doc__.split("\n\n")[1].replace("\n", " "))
     p.add_argument("target", help="a PNG picture; its shape is the pixels unlike the border (gray: thresholded)")
     p.add_argument("-o", "--output", required=True, help="the system to write (.json)")
-    p.add_argument("--maps", default="3", help="number of maps, or 'auto' (tries %s)" % ", ".join(map(str, AUTO_MAPS)))
-    p.add_argument("--time-limit", type=float, default=0.0,
+    p.add_argument("--maps", default=str(o.maps), help="number of maps, or 'auto' (tries %s)" % ", ".join(map(str, AUTO_MAPS)))
+    p.add_argument("--time-limit", type=float, default=o.time_limit,
                    help="seconds (0: none); a search cut short depends on the machine's speed")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--threads", type=int, default=0, help="0: every core (the result does not depend on it)")
-    p.add_argument("--restarts", type=int, default=6, help="CMA-ES runs per map count")
-    p.add_argument("--raster", type=int, default=64, help="cells along the long side during the search")
-    p.add_argument("--max-contraction", type=float, default=0.9, help="largest contraction factor of a map")
+    p.add_argument("--seed", type=int, default=o.seed)
+    p.add_argument("--threads", type=int, default=o.threads, help="0: every core (the result does not depend on it)")
+    p.add_argument("--restarts", type=int, default=o.restarts, help="CMA-ES runs per map count")
+    p.add_argument("--raster", type=int, default=o.raster, help="cells along the long side during the search")
+    p.add_argument("--max-contraction", type=float, default=o.max_contraction, help="largest contraction factor of a map")
     p.add_argument("--threshold", type=float, default=0.5, help="luminance splitting shape from background")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(run=run)
 
 
-def fit_picture(picture, maps=3, time_limit=0.0, seed=0, threads=0, restarts=6, raster=64,
-                max_contraction=0.9, threshold=0.5, progress=None):
+def fit_picture(picture, maps, threshold, time_limit=None, **options):
     """fit() for one map count, or the best of AUTO_MAPS for maps='auto' (each extra map must
-    raise the IoU by AUTO_MAP_COST). Returns the dict of ifsforge.fit plus 'maps'."""
+    raise the IoU by AUTO_MAP_COST); `options` are FitOptions fields. Returns the dict of
+    ifsforge.fit plus 'maps'."""
     counts = AUTO_MAPS if maps == "auto" else (int(maps),)
     best = None
     for n in counts:
-        limit = time_limit / len(counts) if time_limit else 0.0
-        result = ifsforge.fit(picture, maps=n, raster=raster, max_contraction=max_contraction, restarts=restarts,
-                              time_limit=limit, seed=seed, threads=threads, threshold=threshold, progress=progress)
+        limit = time_limit / len(counts) if time_limit else time_limit
+        result = ifsforge.fit(picture, threshold=threshold, maps=n, time_limit=limit, **options)
         result["maps"] = n
         if best is None or result["iou"] - AUTO_MAP_COST * n > best["iou"] - AUTO_MAP_COST * best["maps"]:
             best = result
@@ -59,8 +59,9 @@ def run(args):
     picture = ifsforge.read_png(args.target)
     bar = ProgressBar("fit", enabled=False if args.json else None)
     try:
-        result = fit_picture(picture, args.maps, args.time_limit, args.seed, args.threads, args.restarts,
-                             args.raster, args.max_contraction, args.threshold, progress=bar)
+        result = fit_picture(picture, args.maps, args.threshold, time_limit=args.time_limit, seed=args.seed,
+                             threads=args.threads, restarts=args.restarts, raster=args.raster,
+                             max_contraction=args.max_contraction, progress=bar)
     except ifsforge.InputError as error:
         raise ifsforge.InputError(f"{args.target}: {error}") from None
     system = result["system"]

@@ -25,7 +25,7 @@ def register(subparsers):
     g.add_argument("--primitive", default=",".join(d.primitives),
                    help="primitive, or a comma list the k channel picks from: line, circle, triangle, square "
                    "(each also -outline), sphere, box, cone, cylinder, torus, mesh:PATH (default %(default)s)")
-    g.add_argument("--normalisation", choices=["proportional", "constant"], default=d.normalisation,
+    g.add_argument("--normalisation", choices=ifsforge.choices["normalisation"], default=d.normalisation,
                    help="proportional: d = sf |q1 - q0| (Eq. 60); constant: d = --length for all")
     g.add_argument("--scale-factor", type=float, default=d.scale_factor, help="sf of Eq. 60 (default %(default)s)")
     g.add_argument("--length", type=float, default=d.length, help="constant normalisation: the vector length (0: automatic)")
@@ -36,7 +36,7 @@ def register(subparsers):
     g.add_argument("--base-up", type=float, nargs=3, metavar="X", help="3D: the frame's second axis (default 0 1 0)")
     g.add_argument("--min-probability", type=float, default=d.min_probability,
                    help="pv of the TSA (5.7): a branch less probable than this stops early")
-    g.add_argument("--color-by", choices=["auto", "channels", "first-map", "last-map", "constant"], default=d.color_source,
+    g.add_argument("--color-by", choices=ifsforge.choices["color_source"], default=d.color_source,
                    help="auto: the colour channels if the layout has them, else the first map of the address")
     g.add_argument("--color", type=float, nargs="+", metavar="V", default=list(d.color[:3]),
                    help="--color-by constant: R G B [A] in [0, 1]")
@@ -62,7 +62,7 @@ def register(subparsers):
     s.add_argument("--sky", action=argparse.BooleanOptionalAction, default=None, help="POV-Ray: a sky sphere (default: 3D systems)")
     s.add_argument("--background", type=float, nargs=3, metavar="V", default=[1.0, 1.0, 1.0],
                    help="background colour without sky (default white)")
-    s.add_argument("--quality", choices=["draft", "normal", "high"], default="normal",
+    s.add_argument("--quality", choices=ifsforge.choices["quality"], default="normal",
                    help="POV-Ray: draft (no shadows), normal, high (soft shadows, radiosity)")
     s.add_argument("--bounded-by", action="store_true",
                    help="POV-Ray: add bounded_by to the union (POV-Ray 3.7 then traces far slower)")

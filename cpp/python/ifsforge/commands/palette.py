@@ -18,13 +18,13 @@ def register(subparsers):
     p.add_argument("-o", "--output", action="append", default=[],
                    help="file to write, by extension: .png (the palette, entries wide, --rows high), "
                    ".inc (a POV-Ray #declare of a color_map); repeat for several")
-    p.add_argument("--space", choices=["rgb", "hls", "hsi"], help="colour space of the stops (default rgb)")
+    p.add_argument("--space", choices=ifsforge.choices["space"], help="colour space of the stops (default rgb)")
     p.add_argument("--stops", nargs="+", metavar="A,B,C",
                    help="colour stops, three comma-separated components each (hls/hsi: hue in degrees)")
     p.add_argument("--positions", type=float, nargs="+", help="stop positions from 0 to 1 (default even)")
     p.add_argument("--roughness", type=float, nargs=3, metavar=("R1", "R2", "R3"),
                    help="|a22| of each component (overrides the recipe's)")
-    p.add_argument("--signs", choices=["random", "alternating", "constant"], default="random")
+    p.add_argument("--signs", choices=ifsforge.choices["signs"], default="random")
     p.add_argument("--seed", type=int, default=0, help="seed of the random signs")
     p.add_argument("--entries", type=int, help="palette entries (default the recipe's, or 256)")
     p.add_argument("--rows", type=int, default=1, help="PNG rows: 1 for a strip, more for an N x M texture")

@@ -22,7 +22,7 @@ def register(subparsers):
                    help="file to write, by extension: .png (16-bit height field), .glb/.obj/.ply (mesh), "
                    ".pov (POV-Ray scene; a height_field also writes <name>_height.png); repeat for several")
     g = p.add_argument_group("controls (without a recipe)")
-    g.add_argument("--grid", choices=["regular", "irregular", "circular"], help="default regular")
+    g.add_argument("--grid", choices=ifsforge.choices["grid"], help="default regular")
     g.add_argument("--controls", type=int, nargs=2, metavar=("ROWS", "COLUMNS"),
                    help="control lattice (default 9 9; circular: 6 circles of 12)")
     g.add_argument("--amplitude", type=float, default=t.amplitude, help=f"random heights: {t.base} +- amplitude")
@@ -38,7 +38,7 @@ def register(subparsers):
     r = p.add_argument_group("roughness (overrides the recipe's)")
     r.add_argument("--roughness", type=float, nargs="+", metavar="A22",
                    help="|a22| along the leading vectors, then across them (one value: both)")
-    r.add_argument("--signs", choices=["random", "alternating", "constant"], default=t.signs,
+    r.add_argument("--signs", choices=ifsforge.choices["signs"], default=t.signs,
                    help="signs of the a22 factors (default random)")
     r.add_argument("--seed", type=int, default=0, help="seed of random controls, shifts and signs")
     o = p.add_argument_group("output")

@@ -31,17 +31,17 @@ def register(subparsers):
     p.add_argument("--algorithm", "-a", default="prr",
                    help="prr (point recursive, default), ria (random iteration), dia (deterministic "
                    "iteration), eta (escape time)")
-    p.add_argument("--density", default=o.density, choices=["binary", "hits", "measure"],
+    p.add_argument("--density", default=o.density, choices=ifsforge.choices["density"],
                    help="what the density grid holds (default binary: 1 per occupied voxel)")
     p.add_argument("--depth", type=common.int_option(0, 64), default=o.depth,
                    help="prr: recursion depth; dia: rewriting levels (0: until occupancy stops changing)")
     p.add_argument("--iterations", type=common.int_option(0, 10**12), default=o.iterations, help="ria: points (0: until occupancy stops changing)")
     p.add_argument("--escape-bound", type=int, default=o.escape_bound, help="eta: steps a voxel must survive (0: from --res)")
-    p.add_argument("--escape-norm", default=o.escape_norm, choices=["euclidean", "linear"], help="eta: Eq. 55 delta")
+    p.add_argument("--escape-norm", default=o.escape_norm, choices=ifsforge.choices["escape_norm"], help="eta: Eq. 55 delta")
     p.add_argument("--escape-max", action="store_true", help="eta: try the largest delta first (Eq. 56)")
     p.add_argument("--seed", type=int, default=o.seed, help="ria: random seed")
     p.add_argument("--threads", type=common.int_option(0, 1024), default=o.threads, help="0: every core (the volume never depends on it)")
-    p.add_argument("--color-scale", default=vdb.color_scale, choices=["auto", "range", "clamp"],
+    p.add_argument("--color-scale", default=vdb.color_scale, choices=ifsforge.choices["color_scale"],
                    help="channels to [0, 1]: auto keeps values already in [0, 1], else range (Eq. 101)")
     p.add_argument("--full-precision", action="store_true",
                    help="store colour grids as 32-bit floats (default: 16-bit halves, error <= 2^-11)")
