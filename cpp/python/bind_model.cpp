@@ -261,7 +261,7 @@ void bind_model(py::module_& m) {
                maps.append(map);
              }
              out["maps"] = maps;
-             out["classification"] = to_string(kind);
+             out["classification"] = std::string(name_of(kind));
              out["contraction_ratio"] = *std::max_element(factors.begin(), factors.end());
              out["average_log_contraction"] = s.average_log_contraction();
              out["lyapunov_exponent"] = s.lyapunov_exponent();
