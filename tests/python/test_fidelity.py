@@ -66,30 +66,45 @@ def test_default_prr_renders_every_sample_at_1024():
     assert rendered >= 20
 
 
-# The pixel-grid algorithms and IBR against the PRR reference at 512^2 (default settings).
+# The pixel-grid algorithms and IBR against the PRR reference at 512^2, every planar sample in
+# its own frame (its render window, as the CLI and the gallery draw it), default settings.
 PIXEL_GRID = ["dia", "dia-s", "mpa", "cma", "self-congruent", "photocopy", "ibr"]
-IOU_SAMPLES = ["sierpinski_triangle.json", "barnsley_fern.json", "heighway_dragon.json", "koch_curve.json",
-               "cantor_dust.json", "crystal.json", "levy_c_curve.json"]
-# IBR still loses pieces of disconnected or thin sets (texture sampling, not the grid).
-IBR_BELOW = {"cantor_dust.json", "koch_curve.json", "levy_c_curve.json"}
-# Open: on the Levy C curve every pixel-grid algorithm agrees with the others but reaches IoU
-# 0.896 with PRR (PRR's box-centre leaves, an area-filling curve); the 0.9 is not met.
-GRID_BELOW = {"levy_c_curve.json"}
+PLANAR = [os.path.basename(p) for p in SAMPLES if p.endswith(".json")
+          and ifsforge.load(p).spatial_dims == 2 and not ifsforge.load(p).recurrent
+          and ifsforge.load(p).condensation is None]
+# Open, measured: below 0.9 with PRR, each with its floor (a drop below it is a regression).
+# The tree: every grid algorithm 0.87-0.89 (its flattened trunk map; PRR against a 10^9-point
+# chaos game 0.94). The superfractal pair: PRR falls back to a fixed depth (its pieces shrink
+# too slowly for the pixel stop) and covers less than random iteration; dia-s draws members
+# one at a time. The spiral: IBR 0.89 (pre-images of its thin arms).
+BELOW = {("tree.json", name): 0.85 for name in PIXEL_GRID}
+BELOW.update({("superfractal_pair.json", name): 0.73 for name in PIXEL_GRID})
+BELOW[("superfractal_pair.json", "dia-s")] = 0.15
+BELOW[("spiral.json", "ibr")] = 0.87
 
 
-@pytest.mark.parametrize("sample", IOU_SAMPLES)
+@pytest.mark.parametrize("sample", PLANAR)
 def test_pixel_grid_algorithms_agree_with_prr(sample):
     system = ifsforge.load(os.path.join(HERE, "..", "..", "samples", "systems", sample))
-    reference = ifsforge.render(system, "prr", 512, binary=True)
+    window = system.render_defaults.get("window")
+    reference = ifsforge.render(system, "prr", 512, binary=True, window=window)
     for name in PIXEL_GRID:
-        raster = ifsforge.render(system, name, 512, binary=True)
-        agreement = iou(raster.mask, reference.mask)
-        if name == "ibr" and sample in IBR_BELOW:
-            assert agreement < 0.9, f"{name} on {sample} now agrees ({agreement:.3f}): remove it from IBR_BELOW"
-        elif sample in GRID_BELOW:
-            assert 0.88 <= agreement < 0.9, f"{name} on {sample}: IoU {agreement:.3f} (update GRID_BELOW)"
-        else:
+        agreement = iou(ifsforge.render(system, name, 512, binary=True, window=window).mask, reference.mask)
+        floor = BELOW.get((sample, name))
+        if floor is None:
             assert agreement >= 0.9, f"{name} on {sample}: IoU {agreement:.3f}"
+        else:
+            assert floor <= agreement < 0.9, f"{name} on {sample}: IoU {agreement:.3f} (update BELOW)"
+
+
+def test_ibr_keeps_the_cantor_dust_on_its_tight_frame():
+    # On the attractor's own box (3^5 < 512 < 3^6 pixels) bilinear texture sampling at one
+    # pre-image per pixel kept 1,024 of the 10,404 pixels; sampling each pre-image on a grid
+    # finer than a source pixel keeps them all.
+    system = ifsforge.load(os.path.join(HERE, "..", "..", "samples", "systems", "cantor_dust.json"))
+    reference = ifsforge.render(system, "prr", 512, binary=True).mask
+    assert reference.sum() == 10404
+    assert iou(ifsforge.render(system, "ibr", 512, binary=True).mask, reference) == 1.0
 
 
 def test_every_algorithm_renders_every_2d_sample_it_accepts():
@@ -108,10 +123,6 @@ def test_every_algorithm_renders_every_2d_sample_it_accepts():
             except ifsforge.InputError as error:
                 assert system.recurrent or system.condensation is not None or name == "afra", \
                     f"{name} refused {os.path.basename(path)}: {error}"
-                continue
-            # Known: IBR blanks the spiral (its texture sampling loses the thin arms).
-            if name == "ibr" and path.endswith("spiral.json"):
-                assert raster.covered() == 0, "ibr now draws the spiral: drop this exception"
                 continue
             assert raster.covered() > 0, (name, path)
 

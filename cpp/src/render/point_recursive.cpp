@@ -254,10 +254,16 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     raster.points += list.pixel.size();
   };
   auto fall_back = [&] {
-    // The pixel-size stop would split for ever (or nearly): the seed's PRR at Eq. 59's depth
-    // (N^L >= H V leaves) ends every branch, whatever the system.
+    // The pixel-size stop would split for ever (or nearly): a fixed depth ends every branch,
+    // whatever the system. Eq. 59's N^L >= H V leaves, one per pixel on average, leaves most
+    // of a thin attractor's pixels empty (the maple leaf kept 52% of them): the depth whose
+    // N^L leaves match random iteration's count for coverage (Eq. 45) covers as it does. The
+    // leaves carry exact masses, so the measure needs no more of them.
     RenderOptions fixed = options;
-    fixed.depth = setup.eq59;
+    const double leaves = static_cast<double>(default_iterations(frame.width(), frame.height(), true, 0.0));
+    fixed.depth = ifs.size() < 2 ? setup.eq59
+                                 : std::max(setup.eq59, static_cast<int>(std::ceil(std::log(leaves) /
+                                                                                   std::log(double(ifs.size())))));
     return render(ifs, fixed);
   };
   if (options.distribute) {
