@@ -1,4 +1,6 @@
 """Rendering through Python: determinism, colour stealing, progress, PNG round trip."""
+import math
+
 import numpy as np
 import pytest
 
@@ -64,12 +66,17 @@ def test_density_image_is_log_scaled(sierpinski):
     assert raster.density.sum() == pytest.approx(1.0, abs=1e-5)
 
 
-def test_prr_falls_back_to_eq59_when_pieces_never_fit_a_pixel():
+def test_prr_falls_back_to_a_fixed_depth_when_pieces_never_fit_a_pixel():
     # A fractal interpolation graph with vertical factors 0.97: pieces thin to 1/5^k wide but
-    # stay tall; the pixel-size stop would split for ever. PRR renders at Eq. 59's depth instead.
+    # stay tall; the pixel-size stop would split for ever. PRR renders at the fixed depth whose
+    # 5^L leaves match Eq. 45's coverage count (H V ln(mu H V)), at least Eq. 59's.
     maps = [ifsforge.AffineMap([[0.2, 0], [0.1 * (i % 2) - 0.05, 0.97]], [0.2 * i, 0.05 * (i % 2)]) for i in range(5)]
     rough = ifsforge.Ifs(maps, name="rough")
     fallback = ifsforge.render(rough, "prr", 256)
-    fixed = ifsforge.render(rough, "prr", 256, depth=ifsforge.default_depth(5, 256, 256))
+    pixels = 256 * 256
+    depth = math.ceil(math.log(pixels * math.log(1.78107 * pixels)) / math.log(5))
+    assert depth == 9 and depth > ifsforge.default_depth(5, 256, 256)
+    fixed = ifsforge.render(rough, "prr", 256, depth=depth)
     np.testing.assert_array_equal(fallback.density, fixed.density)
+    assert fallback.points == 5 ** 9
     assert ifsforge.render(rough, "chaos", 256, binary=True).covered() > 256
