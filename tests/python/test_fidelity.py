@@ -50,8 +50,8 @@ def accepted_by_prr(system):
 
 
 def test_default_prr_renders_every_sample_at_1024():
-    # Systems whose pieces shrink too slowly for the pixel-size stop (maple leaf, the
-    # superfractal pair's members, the sponge from its default view) fall back to Eq. 59's depth.
+    # Systems whose pieces shrink too slowly for the pixel-size stop (the superfractal pair's
+    # overlapping union) fall back to Eq. 59's depth or deeper, never to an error.
     rendered = 0
     for path in SAMPLES:
         system = ifsforge.load(path)
@@ -72,29 +72,40 @@ PIXEL_GRID = ["dia", "dia-s", "mpa", "cma", "self-congruent", "photocopy", "ibr"
 PLANAR = [os.path.basename(p) for p in SAMPLES if p.endswith(".json")
           and ifsforge.load(p).spatial_dims == 2 and not ifsforge.load(p).recurrent
           and ifsforge.load(p).condensation is None]
-# Open, measured: below 0.9 with PRR, each with its floor (a drop below it is a regression).
-# The tree: every grid algorithm 0.87-0.89 (its flattened trunk map; PRR against a 10^9-point
-# chaos game 0.94). The superfractal pair: PRR falls back to a fixed depth (its pieces shrink
-# too slowly for the pixel stop) and covers less than random iteration; dia-s draws members
-# one at a time. The spiral: IBR 0.89 (pre-images of its thin arms).
-BELOW = {("tree.json", name): 0.85 for name in PIXEL_GRID}
-BELOW.update({("superfractal_pair.json", name): 0.73 for name in PIXEL_GRID})
-BELOW[("superfractal_pair.json", "dia-s")] = 0.15
-BELOW[("spiral.json", "ibr")] = 0.87
+# PRR cannot be the reference where its pieces overlap so much that no pixel-stop walk ends:
+# the superfractal pair's union of two trees has similarity dimension about 3.3 (sum of r^D = 1
+# over its 0.6 and 0.7 branches), so PRR falls back to a fixed depth and finds 0.90 of the
+# pixels. There the reference is a long chaos game; dia-s draws one 2-variable member of the
+# superfractal, not the union, and is not compared.
+CHAOS_REFERENCE = {"superfractal_pair.json"}
+
+
+def reference_mask(system, sample, window):
+    if sample in CHAOS_REFERENCE:
+        return ifsforge.render(system, "chaos", 512, binary=True, window=window, iterations=30_000_000, seed=3).mask
+    return ifsforge.render(system, "prr", 512, binary=True, window=window).mask
 
 
 @pytest.mark.parametrize("sample", PLANAR)
 def test_pixel_grid_algorithms_agree_with_prr(sample):
     system = ifsforge.load(os.path.join(HERE, "..", "..", "samples", "systems", sample))
     window = system.render_defaults.get("window")
-    reference = ifsforge.render(system, "prr", 512, binary=True, window=window)
+    reference = reference_mask(system, sample, window)
     for name in PIXEL_GRID:
-        agreement = iou(ifsforge.render(system, name, 512, binary=True, window=window).mask, reference.mask)
-        floor = BELOW.get((sample, name))
-        if floor is None:
-            assert agreement >= 0.9, f"{name} on {sample}: IoU {agreement:.3f}"
-        else:
-            assert floor <= agreement < 0.9, f"{name} on {sample}: IoU {agreement:.3f} (update BELOW)"
+        if sample in CHAOS_REFERENCE and name == "dia-s":
+            continue
+        agreement = iou(ifsforge.render(system, name, 512, binary=True, window=window).mask, reference)
+        assert agreement >= 0.9, f"{name} on {sample}: IoU {agreement:.3f}"
+
+
+def test_prr_falls_back_and_still_covers_the_superfractal_union():
+    system = ifsforge.load(os.path.join(HERE, "..", "..", "samples", "systems", "superfractal_pair.json"))
+    window = system.render_defaults.get("window")
+    reference = reference_mask(system, "superfractal_pair.json", window)
+    prr = ifsforge.render(system, "prr", 512, binary=True, window=window).mask
+    # Measured 0.896: the fallback's leaves spread over points of their pieces (their fixed
+    # points' images), not the centres of their boxes, which fell in holes (0.786).
+    assert iou(prr, reference) >= 0.88
 
 
 def test_ibr_keeps_the_cantor_dust_on_its_tight_frame():

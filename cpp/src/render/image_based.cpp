@@ -13,7 +13,10 @@
 namespace ifsforge {
 
 namespace {
-constexpr float kCoveredSample = 0.8f;
+// A covered texel's bilinear sample: 1 at its centre, falling to 0 a texel away. Measured at
+// 512^2 against PRR over the planar samples: 0.80 also kept neighbours of the spiral's thin
+// arms (IoU 0.894), 0.84 lost the tree's twigs (0.891); 0.82 keeps both at 0.91.
+constexpr float kCoveredSample = 0.82f;
 constexpr int kMaxSubsamples = 8;
 }  // namespace
 

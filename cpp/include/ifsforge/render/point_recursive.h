@@ -26,10 +26,10 @@ class PointRecursive : public Renderer {
                        std::uint64_t last) const override;
   bool distributable() const override { return true; }
   std::vector<RendererParameter> parameters() const override {
-    return {{"cut", "1",
+    return {{"cut", "",
              "pixels: a piece smaller than this that straddles pixel edges is not split further but "
-             "spread over its sub-pieces (1/8 brings the measure within about 0.02 in L1 of a long chaos "
-             "game, for several times the work)"}};
+             "spread over its sub-pieces; automatic: 1 for the measure (1/8 brings it within about 0.02 "
+             "in L1 of a long chaos game, for several times the work), 1/2 for coverage (binary)"}};
   }
 };
 
