@@ -41,7 +41,10 @@ def test_every_chapter_five_algorithm_is_registered_with_its_parameters():
                      "prr", "ibr", "afra", "self-congruent", "photocopy", "probabilistic-domain", "tops"]
     eta = {key: default for key, default, _ in ifsforge.renderer_parameters("eta")}
     assert eta["norm"] == "euclidean" and eta["rule"] == "min"
-    assert [(key, default) for key, default, _ in ifsforge.renderer_parameters("prr")] == [("cut", "1")]
+    # PRR's cut is automatic: half a pixel for coverage, one pixel for the measure.
+    prr = ifsforge.renderer_parameters("prr")
+    assert [(key, default) for key, default, _ in prr] == [("cut", "")]
+    assert "1/2 for coverage" in prr[0][2] and "1 for the measure" in prr[0][2]
 
 
 def test_string_rewriting_and_tsa_have_one_name_each():
