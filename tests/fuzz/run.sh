@@ -12,7 +12,7 @@ cmake --build "$build" -j "$(nproc)" >/dev/null
 
 # Seeds: the samples, and the inputs of tests/python/test_hostile*.py.
 seeds="$build/seeds"
-rm -rf "$seeds" && mkdir -p "$seeds"/{ifs_json,fractint,recipes,mesh,png,vdb_info} "$build/crashes"
+rm -rf "$seeds" && mkdir -p "$seeds"/{ifs_json,fractint,recipes,mesh,png,vdb_info,pifs} "$build/crashes"
 cp "$here"/samples/systems/*.json "$seeds/ifs_json/"
 cp "$here"/samples/systems/*.ifs "$seeds/fractint/"
 cp "$here"/samples/terrain/*.json "$seeds/recipes/"
@@ -38,12 +38,24 @@ put("mesh", "slash_corner_obj", b"\x01v 0 0 0\nv 1 0 0\nv 0 1 0\nf /1 2 3\n")
 put("mesh", "triangle_off", b"\x02OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
 put("vdb_info", "empty", b"")
 PY
+# A .pifs seed: a small gradient coded by the project itself (its Python module, when built).
+if [ -d "$here/build/python" ] && PYTHONPATH="$here/build/python" /usr/bin/python3 -c "import ifsforge" 2>/dev/null; then
+  PYTHONPATH="$here/build/python" /usr/bin/python3 - "$seeds/pifs" <<'PY'
+import sys
+import numpy as np
+import ifsforge
+y, x = np.mgrid[0:48, 0:64]
+image = np.stack([(x * 4) % 256, (y * 5) % 256, ((x + y) * 3) % 256], axis=-1).astype(np.uint8)
+ifsforge.write_pifs(sys.argv[1] + "/gradient.pifs", ifsforge.pifs_encode(image, ratio=8))
+ifsforge.write_pifs(sys.argv[1] + "/gray.pifs", ifsforge.pifs_encode(np.ascontiguousarray(image[:, :, 0]), ratio=4))
+PY
+fi
 if python3 -c "import pyopenvdb" 2>/dev/null; then
   python3 -c "import pyopenvdb as v; g = v.FloatGrid(); g.name = 'density'; g.fill((0,0,0),(3,3,3),1.0); v.write('$seeds/vdb_info/cube.vdb', grids=[g])"
 fi
 
 status=0
-for target in ifs_json fractint recipes mesh png vdb_info; do
+for target in ifs_json fractint recipes mesh png vdb_info pifs; do
   corpus="$build/corpus/$target"
   mkdir -p "$corpus"
   echo "fuzz_$target: ${seconds} s"
