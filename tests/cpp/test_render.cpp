@@ -1,9 +1,12 @@
 // The 2D renderers: dimensions of known attractors, determinism across threads, bad input.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
 #include "ifsforge/render/box_counting.h"
 #include "ifsforge/render/renderer.h"
 #include "ifsforge/render/tone_map.h"
@@ -196,9 +199,40 @@ TEST(Renderers, RefuseBadInput) {
 TEST(Renderers, ProgressCanCancel) {
   RenderOptions o = size(256);
   o.iterations = 50'000'000;
-  int calls = 0;
-  o.progress = [&](double) { return ++calls < 2; };
+  o.progress = [&](double) { return false; };
   EXPECT_THROW(renderer("chaos").render(sierpinski(), o), Cancelled);
+}
+
+TEST(Parallel, CancellingReachesInsideALongJob) {
+  // One job that would run for a minute unless it sees the stop: the caller's callback, not
+  // the end of the job, decides when the work ends.
+  bool saw_stop = false;
+  int calls = 0;
+  auto job = [&](std::size_t, int) {
+    for (int k = 0; k < 60000 && !saw_stop; ++k) {
+      if (stop_requested()) saw_stop = true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    if (saw_stop) throw Cancelled();
+  };
+  EXPECT_THROW(parallel_jobs(1, 2, job, [&](double) { return ++calls < 3; }), Cancelled);
+  EXPECT_TRUE(saw_stop);
+  EXPECT_EQ(calls, 3);
+  EXPECT_FALSE(stop_requested());  // outside a job, nothing is stopping
+}
+
+TEST(Renderers, FixedDepthOverTenToTheTwelveLeavesIsRefusedByName) {
+  RenderOptions o = size(64);
+  o.depth = 60;
+  try {
+    renderer("prr").render(sierpinski(), o);
+    FAIL() << "3^60 leaves were accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("depth: 3^60"), std::string::npos) << e.what();
+  }
+  o.depth = 25;  // 3^25 = 8.5e11: allowed (cancelled at once here)
+  o.progress = [](double) { return false; };
+  EXPECT_THROW(renderer("prr").render(sierpinski(), o), Cancelled);
 }
 
 TEST(ToneMap, HsiPrimaries) {

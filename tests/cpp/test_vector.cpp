@@ -314,8 +314,8 @@ TEST(VectorInstances, BadInputIsRefusedWithAClearMessage) {
   o.scale_factor = 0;
   EXPECT_NE(message(o).find("scale factor"), std::string::npos);
   o = InstanceOptions{};
-  o.depth = 40;  // 4^40 > 10^18
-  EXPECT_NE(message(o).find("10^18"), std::string::npos);
+  o.depth = 40;  // 4^40 = 10^24 leaves
+  EXPECT_NE(message(o).find("depth: 4^40 = 10^24 leaves, more than 10^12"), std::string::npos);
   EXPECT_THROW(parse_primitive("dodecahedron"), InputError);
   EXPECT_THROW(parse_primitive("sphere-outline"), InputError);
   EXPECT_THROW(parse_primitive("mesh:/nonexistent/leaf.ply"), FileError);

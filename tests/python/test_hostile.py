@@ -1,8 +1,10 @@
 """Hostile input (issue 18): every case refuses with exit 2, no signal, no traceback, no output
 file, a message naming its file and place, and a peak memory within the budget."""
 import os
+import signal
 import stat
 import subprocess
+import time
 
 import pytest
 
@@ -175,6 +177,47 @@ def test_python_callers_get_input_errors_not_type_errors():
         ifsforge.render(system, "prr", 16, depth=-3)
 
 
+@pytest.mark.parametrize("args", [
+    ["render", SAMPLES / "barnsley_fern.json", "-a", "prr", "--depth", "60", "-o", "f.png"],
+    ["render", SAMPLES / "barnsley_fern.json", "-a", "tsa", "--depth", "30", "-o", "f.png"],
+    ["volume", SAMPLES / "menger_sponge.json", "--depth", "12", "-o", "v.vdb"],
+    ["instances", SAMPLES / "tree.json", "--depth", "40", "--pov", "t.pov"],
+])
+def test_a_fixed_depth_of_more_than_a_trillion_leaves_is_refused(tmp_path, args):
+    # PRR at --depth 60 used to run on past 3.5 GB: 4^60 leaves would take longer than the sun.
+    refused(tmp_path, *args, names=("--depth:", "more than 10^12"))
+    assert not any(tmp_path.iterdir())
+
+
+def interrupt_after(tmp_path, seconds, *args):
+    """Starts the CLI, sends SIGINT after `seconds`; returns (exit code, stderr, seconds to stop)."""
+    env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON))
+    process = subprocess.Popen(["/usr/bin/python3", "-m", "ifsforge", *map(str, args)], cwd=tmp_path, env=env,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    time.sleep(seconds)
+    assert process.poll() is None, "finished before the interrupt: make the case larger"
+    sent = time.monotonic()
+    process.send_signal(signal.SIGINT)
+    err = process.communicate(timeout=120)[1].decode(errors="replace")
+    return process.returncode, err, time.monotonic() - sent
+
+
+@pytest.mark.parametrize("args", [
+    # One address prefix of the fern holds most of a large PRR image (30 s at 6000^2): the
+    # walk itself must hear the interrupt, not only the end of a job.
+    ["render", SAMPLES / "barnsley_fern.json", "-a", "prr", "--size", "5000", "-o", "f.png"],
+    # Deterministic iteration's first passes map every one of 16 M pixels.
+    ["render", SAMPLES / "barnsley_fern.json", "-a", "dia", "--size", "4000", "-o", "f.png"],
+    ["render", SAMPLES / "barnsley_fern.json", "--iterations", "100000000000", "-o", "f.png"],
+    ["volume", SAMPLES / "menger_sponge.json", "--res", "729", "-o", "v.vdb"],
+])
+def test_ctrl_c_stops_a_long_command_within_a_second(tmp_path, args):
+    code, err, stop = interrupt_after(tmp_path, 2.0, *args)
+    assert code == 130 and "interrupted" in err and "Traceback" not in err, err
+    assert stop < 1.0, f"{stop:.1f} s to stop"
+    assert not any(tmp_path.iterdir())
+
+
 def test_budget_refuses_a_huge_raster_before_allocating(tmp_path):
     refused(tmp_path, "render", SAMPLES / "sierpinski_triangle.json", "-a", "prr", "--size", "4000",
             "-o", "big.png", names=("4000x4000 raster", "budget"))
@@ -184,6 +227,25 @@ def test_budget_refuses_a_huge_raster_before_allocating(tmp_path):
 def test_budget_refuses_deep_string_rewriting(tmp_path):
     refused(tmp_path, "render", SAMPLES / "barnsley_fern.json", "-a", "string-rewriting", "--depth", "14",
             "--size", "64", "-o", "s.png", names=("string rewriting to depth 14", "budget"))
+
+
+@pytest.mark.parametrize("algorithm, name", [("prr", "point-recursive volume"), ("ria", "random iteration"),
+                                             ("eta", "escape time"), ("dia", "deterministic iteration")])
+def test_budget_refuses_a_huge_volume_before_the_first_voxel(tmp_path, algorithm, name):
+    # ETA used to run on past 800 MB, RIA to refuse only when its table grew past 680 MB.
+    refused(tmp_path, "volume", SAMPLES / "menger_sponge.json", "-a", algorithm, "--res", "1024", "-o", "v.vdb",
+            names=(name, "budget"))
+    assert not (tmp_path / "v.vdb").exists()
+
+
+def test_volume_estimate_measures_the_set_before_refusing(tmp_path):
+    # The sponge at 300^3 holds 10 M voxels (0.5 GB at peak). The bound from the maps alone
+    # (8 res^D, D = log 20 / log 3) asked 2.7 GB; two pilot renders measure 0.9 GB instead.
+    env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON), IFSFORGE_MEMORY_BUDGET_MB="1500")
+    result = subprocess.run(["/usr/bin/python3", "-m", "ifsforge", "volume", str(SAMPLES / "menger_sponge.json"),
+                             "--res", "300", "-o", "v.vdb"], capture_output=True, env=env, cwd=tmp_path)
+    assert result.returncode == 0, result.stderr.decode()
+    assert "10,030,400 occupied" in result.stdout.decode()
 
 
 @pytest.mark.skipif(os.geteuid() != 0 or not os.path.exists("/dev/full"), reason="needs /dev/full")

@@ -38,13 +38,22 @@ def requested_command(argv):
     return None
 
 
+def as_option(message, args):
+    """The core names a setting as Python does ("depth: ..."); on the command line it is the
+    option the user typed ("--depth: ...")."""
+    name, colon, rest = message.partition(": ")
+    if colon and name.isidentifier() and hasattr(args, name) and name != "command":
+        return f"--{name.replace('_', '-')}: {rest}"
+    return message
+
+
 def main(argv=None):
     parser = build_parser(only=requested_command(argv))
     args = parser.parse_args(argv)
     try:
         return args.run(args) or 0
     except ifsforge.Error as error:
-        print(f"ifsforge {args.command}: error: {error}", file=sys.stderr)
+        print(f"ifsforge {args.command}: error: {as_option(str(error), args)}", file=sys.stderr)
         return 2
     except OSError as error:
         print(f"ifsforge {args.command}: error: {error}", file=sys.stderr)

@@ -7,6 +7,7 @@
 #endif
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -62,6 +63,8 @@ void validate(const TriangleMesh& mesh) {
 }
 
 void write_with_openmesh(const std::string& path, const std::string& ext, const TriangleMesh& mesh, Up up) {
+  // OpenMesh's writers log "[OBJWriter] : write file" to stderr: noise in a command's output.
+  omlog().disable();
   OMesh om;
   std::vector<OMesh::VertexHandle> handles;
   handles.reserve(mesh.positions.size());

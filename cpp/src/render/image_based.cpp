@@ -159,6 +159,7 @@ Raster ImageBased::render(const Ifs& ifs, const RenderOptions& options) const {
   };
   for (int iteration = 0; iteration < iterations; ++iteration) {
     if (coverage) build_area();
+    const double done = static_cast<double>(iteration) / iterations;
     parallel_jobs(jobs, options.threads, [&](std::size_t job, int) {
       std::uint64_t count = 0;
       float texel[1 + kMaxDim];
@@ -241,7 +242,7 @@ Raster ImageBased::render(const Ifs& ifs, const RenderOptions& options) const {
         }
       }
       samples[job] = count;
-    });
+    }, progress_span(options.progress, done, done + 1.0 / iterations));
     for (std::uint64_t c : samples) operations += c;
     // Maps with no inverse: splat the picture forwards, in pixel order (deterministic).
     for (std::size_t i = 0; i < n; ++i) {

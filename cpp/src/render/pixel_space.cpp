@@ -230,6 +230,38 @@ PixelScatter::PixelScatter(std::size_t pixels, int values, int workers)
 }
 
 void PixelScatter::merge(std::vector<std::uint64_t>& sums, std::vector<std::uint32_t>& touched) {
+  std::size_t count = 0;
+  for (const Worker& w : workers_) count += w.count;
+  const std::size_t pixels = workers_.empty() ? 0 : workers_[0].flag.size();
+  if (workers_.size() > 1 && count > pixels / 16) {
+    // Most pixels touched (the first passes of DIA map every pixel): the workers' flags read
+    // in runs of pixels on every core beat a walk of their lists in random order (1.7 s of
+    // one core at 6000^2). Runs in order give the list increasing, as below.
+    constexpr std::size_t kRun = std::size_t(1) << 16;
+    std::vector<std::vector<std::uint32_t>> runs((pixels + kRun - 1) / kRun);
+    parallel_jobs(runs.size(), static_cast<int>(workers_.size()), [&](std::size_t run, int) {
+      for (std::size_t p = run * kRun, end = std::min(pixels, p + kRun); p < end; ++p) {
+        bool any = false;
+        for (Worker& w : workers_) {
+          if (!w.flag[p]) continue;
+          any = true;
+          w.flag[p] = 0;
+          std::uint64_t* s = w.sums.data() + p * values_;
+          std::uint64_t* t = sums.data() + p * values_;
+          for (int c = 0; c < values_; ++c) {
+            t[c] += s[c];
+            s[c] = 0;
+          }
+        }
+        if (any) runs[run].push_back(static_cast<std::uint32_t>(p));
+      }
+    });
+    touched.clear();
+    touched.reserve(count);
+    for (const auto& run : runs) touched.insert(touched.end(), run.begin(), run.end());
+    for (Worker& w : workers_) w.count = 0;
+    return;
+  }
   for (Worker& w : workers_) {
     for (std::size_t k = 0; k < w.count; ++k) {
       const std::uint32_t p = w.touched[k];
@@ -276,7 +308,8 @@ PixelSet condensation_set(const Ifs& ifs, const PixelSpace& space) {
 }
 
 PixelSet hutchinson(const PixelSpace& space, const std::vector<SetImage>& terms, const PixelSet* extra,
-                    PixelScatter& scatter, int threads, std::uint64_t& operations) {
+                    PixelScatter& scatter, int threads, std::uint64_t& operations,
+                    const ProgressCallback& progress) {
   if (scatter.values() != (space.channels ? 1 + space.channels : 0))
     throw std::logic_error("hutchinson: the scatter must come from set_scatter()");
   // Terms reading the same source are done together: each source pixel is visited once.
@@ -352,7 +385,7 @@ PixelSet hutchinson(const PixelSpace& space, const std::vector<SetImage>& terms,
         out.add(static_cast<std::uint32_t>(target), codes);
       }
     }
-  });
+  }, progress);
   if (extra) {
     std::uint64_t codes[kMaxDim + 1];
     codes[0] = 1;

@@ -3,9 +3,22 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ifsforge/core/error.h"
+#include "ifsforge/render/parameters.h"
+
 namespace ifsforge {
 
+void check_leaf_count(std::size_t maps, int depth) {
+  if (maps < 2 || depth <= 0) return;
+  const double log_leaves = depth * std::log(static_cast<double>(maps));
+  if (log_leaves > std::log(static_cast<double>(kMaxIterations)))
+    throw InputError("depth: " + std::to_string(maps) + "^" + std::to_string(depth) + " = 10^" +
+                     std::to_string(static_cast<int>(log_leaves / std::log(10.0))) +
+                     " leaves, more than 10^12; choose a smaller depth, or 0 (automatic)");
+}
+
 RecursionPlan plan_recursion(const Ifs& ifs, int depth, int auto_depth) {
+  check_leaf_count(ifs.size(), depth);
   RecursionPlan plan;
   plan.max_depth = std::clamp(depth > 0 ? depth : auto_depth, 1, 64);
   const Bounds b = ifs.attractor_bounds(1u << 16);

@@ -27,7 +27,7 @@ struct ProbabilityStop {
 };
 
 /// @brief Validates depth (1..kMaxAddressDepth) and pv ([0, 1)), refuses 65535 maps or more,
-/// more than 10^18 leaves, and recurrent systems or condensation sets (every map may follow every
+/// more than 10^12 leaves (check_leaf_count), and recurrent systems or condensation sets (every map may follow every
 /// other in the address tree), and plans the jobs.
 TreeShape plan_tree(const Ifs& ifs, int depth, double min_probability);
 

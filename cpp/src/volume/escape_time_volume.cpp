@@ -6,6 +6,7 @@
 
 #include "ifsforge/core/cells.h"
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 
 namespace ifsforge {
@@ -137,6 +138,11 @@ Volume EscapeTimeVolume::render(const Ifs& ifs, const VolumeOptions& options) co
                      " grid has more than 2^32; use prr or a smaller --res");
   const int n = ifs.dim();
   const int channels = n - 3;
+  // Rows' lists, then their merge and the volume: refused before the first voxel.
+  const double per_voxel = 2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels;
+  check_memory(expected_voxels(ifs, options, setup, per_voxel, 0.0) * per_voxel,
+               "escape time (5.5) on a " + std::to_string(grid.dims[0]) + "x" + std::to_string(grid.dims[1]) + "x" +
+                   std::to_string(grid.dims[2]) + " grid");
   std::vector<Affine3> forward, inverse;
   double slowest = 0.0;
   for (std::size_t i = 0; i < ifs.size(); ++i) {

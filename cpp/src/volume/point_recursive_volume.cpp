@@ -301,9 +301,7 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
   const int dim = ifs.dim();
   const double log_n = std::log(std::max<double>(2.0, static_cast<double>(n)));
   const bool fixed = options.depth > 0;
-  if (fixed && options.depth * log_n > std::log(1e13))
-    throw InputError("recursion depth " + std::to_string(options.depth) + " gives " + std::to_string(n) + "^" +
-                     std::to_string(options.depth) + " leaves, more than 10^13: choose a smaller depth");
+  if (fixed) check_leaf_count(n, options.depth);
 
   RecursionPlan plan;
   plan.center = setup.center;
@@ -346,10 +344,10 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
     side *= shrink;
   }
 
-  // A set of box-counting dimension D occupies about res^D voxels.
   const int channels = dim - 3;
-  const double dimension = shrink > 0.0 && shrink < 1.0 ? std::min(3.0, log_n / -std::log(shrink)) : 3.0;
-  double expected = std::min(grid.cells(), 8.0 * std::pow(static_cast<double>(options.resolution), dimension));
+  const double per_voxel = 2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels;
+  const double scratch_bytes = setup.threads * VoxelAccumulator::bytes(channels);
+  double expected = expected_voxels(ifs, options, setup, per_voxel, scratch_bytes);
   if (fixed) expected = std::min(expected, std::pow(static_cast<double>(n), options.depth));  // the leaves
   // A cluster worker running a range of the jobs holds their share of the voxels only; a
   // render merging a cluster's results (no jobs here) checks the voxels it receives instead.
@@ -359,8 +357,7 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
   if (count == 0) return out;
   const bool part = count < plan.jobs;
   const double share = part ? static_cast<double>(count) / static_cast<double>(plan.jobs) : 1.0;
-  check_memory(share * expected * (2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels) +
-                   setup.threads * VoxelAccumulator::bytes(channels),
+  check_memory(share * expected * per_voxel + scratch_bytes,
                "a " + std::to_string(options.resolution) + "^3 point-recursive volume" +
                    (part ? " (jobs " + std::to_string(first) + ".." + std::to_string(last - 1) + ")" : ""));
   std::vector<VoxelAccumulator> scratch(std::min<std::uint64_t>(setup.threads, count),

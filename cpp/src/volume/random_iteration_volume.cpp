@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/random.h"
 #include "ifsforge/model/fixed_maps.h"
@@ -65,6 +66,12 @@ ChaosJob chaos_job_for(int dim) {
 Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& options) const {
   const VolumeSetup setup = prepare_volume(ifs, options);
   const int channels = ifs.dim() - 3;
+  // Each thread's table (at most half full) may meet every voxel; then the running total, the
+  // merge and the volume. Refused before the first point, not when a table grows past it.
+  const double per_voxel =
+      setup.threads * 2.0 * VoxelList::entry_bytes(channels) + 2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels;
+  check_memory(expected_voxels(ifs, options, setup, per_voxel, 0.0) * per_voxel,
+               "random iteration into a " + std::to_string(options.resolution) + "^3 volume");
   const MapSampler sampler(ifs.probabilities());
   const ChaosJob run = chaos_job_for(ifs.dim());
   std::vector<VoxelTable> tables(setup.threads, VoxelTable(channels));

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
 #include "ifsforge/core/named.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/render/recursion.h"
@@ -52,6 +53,36 @@ VolumeJobsResult VolumeRenderer::run_jobs(const Ifs&, const VolumeOptions&, std:
 
 Volume render_volume(const Ifs& ifs, const std::string& algorithm, const VolumeOptions& options) {
   return volume_renderer(algorithm).render(ifs, options);
+}
+
+double expected_voxels(const Ifs& ifs, const VolumeOptions& options, const VolumeSetup& setup,
+                       double bytes_per_voxel, double fixed_bytes) {
+  const double cells = setup.grid.cells();
+  const double n = std::max<double>(2.0, static_cast<double>(ifs.size()));
+  double shrink = 0.0;
+  for (double s : ifs.spatial_contraction_factors()) shrink = std::max(shrink, s);
+  const double dimension = shrink > 0.0 && shrink < 1.0 ? std::min(3.0, std::log(n) / -std::log(shrink)) : 3.0;
+  const double res = options.resolution;
+  const double bound = std::min(cells, 8.0 * std::pow(res, dimension));
+  constexpr int kPilot = 64;
+  if (bound * bytes_per_voxel + fixed_bytes <= static_cast<double>(memory_budget()) || options.resolution <= kPilot)
+    return bound;
+  // The pilots see the same box (the attractor's, or options.bounds) at two resolutions.
+  VolumeOptions pilot;
+  pilot.bounds = options.bounds;
+  pilot.threads = options.threads;
+  auto count = [&](int resolution) {
+    pilot.resolution = resolution;
+    try {
+      return static_cast<double>(volume_renderer("prr").render(ifs, pilot).size());
+    } catch (const InputError&) {  // a system PRR does not take
+      return static_cast<double>(volume_renderer("ria").render(ifs, pilot).size());
+    }
+  };
+  const double coarse = std::max(1.0, count(kPilot / 2)), fine = std::max(1.0, count(kPilot));
+  const double slope = std::clamp(std::log2(fine / coarse), 0.0, 3.0);
+  // A quarter more: the slope at 32-64 voxels is an estimate of the dimension, not its value.
+  return std::min(bound, 1.25 * fine * std::pow(res / kPilot, slope));
 }
 
 namespace {

@@ -190,9 +190,10 @@ struct SetImage {
 /// source pixel's centre mapped and rounded to the pixel holding it), united with `extra` (may
 /// be null). A pixel's channel values are the mean of the values mapped into it. Work is split
 /// into fixed chunks; the result does not depend on `threads`. Adds the map applications to
-/// `operations`.
+/// `operations`. `progress` (optional) hears the fraction of this pass done, and cancels it.
 PixelSet hutchinson(const PixelSpace& space, const std::vector<SetImage>& terms, const PixelSet* extra,
-                    PixelScatter& scatter, int threads, std::uint64_t& operations);
+                    PixelScatter& scatter, int threads, std::uint64_t& operations,
+                    const ProgressCallback& progress = nullptr);
 
 /// @brief A raster for `space` with the system's channel metadata, density 0 everywhere.
 Raster empty_raster(const Ifs& ifs, const PixelSpace& space);

@@ -14,6 +14,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/render/frame.h"
 
@@ -35,7 +37,12 @@ struct RecursionNode {
   int length;                       ///< k
 };
 
-/// @brief A plan for `ifs`. depth > 0: exactly that depth (the seed's PRR: N^depth leaves).
+/// @brief InputError naming `depth` when a fixed depth gives `maps`^depth leaves, more than
+/// 10^12 (the limit on chaos game points, kMaxIterations): work that would run for hours.
+void check_leaf_count(std::size_t maps, int depth);
+
+/// @brief A plan for `ifs`. depth > 0: exactly that depth (the seed's PRR: N^depth leaves;
+/// check_leaf_count).
 /// depth == 0: `auto_depth`, which should be deep enough for the renderer's stop test to end
 /// every branch; pass default_depth() (Eq. 59) or more. Jobs: at least 64 (load balance), with
 /// at most ~2^20 leaves each at fixed depth (memory of per-job results).
@@ -100,6 +107,7 @@ struct Walker {
   Stop& stop;
   Leaf& leaf;
   std::uint32_t address[64];
+  std::uint32_t visits = 0;
   std::vector<AffineMap> maps;  // maps[k]: the composition of the first k maps of `address`
 
   /// Sets maps[length + 1] = maps[length] o w_i (reserved: references to it stay valid).
@@ -112,6 +120,8 @@ struct Walker {
     for (std::uint32_t i = 0; i < ifs.size(); ++i) {
       address[length] = i;
       descend(length, i);
+      // A job may hold most of a render (the fern's densest prefix): Ctrl-C reaches it here.
+      if ((++visits & 0xfff) == 0 && stop_requested()) throw Cancelled();
       const RecursionNode node{maps[length + 1], mass * ifs.probabilities()[i], address, length + 1};
       if (node.length >= plan.max_depth || stop(node))
         leaf(node);

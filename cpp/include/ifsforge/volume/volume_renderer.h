@@ -101,6 +101,16 @@ struct VolumeSetup {
 /// InputError / DivergentSystemError name what is wrong.
 VolumeSetup prepare_volume(const Ifs& ifs, const VolumeOptions& options);
 
+/// @brief About how many voxels the attractor occupies on `setup.grid`, estimated before any
+/// large allocation so that a render over the memory budget is refused first. A set of
+/// box-counting dimension D occupies about res^D voxels: with D from the maps (N pieces
+/// shrinking by at most s: D <= log N / -log s) the bound 8 res^D is cheap but loose; when
+/// that bound times `bytes_per_voxel` (plus `fixed_bytes`) would not fit the budget, two pilot
+/// renders at 32^3 and 64^3 measure the count and its slope instead (the Menger sponge at
+/// 729^3: 64 M voxels, where the bound said 1.4 G).
+double expected_voxels(const Ifs& ifs, const VolumeOptions& options, const VolumeSetup& setup,
+                       double bytes_per_voxel, double fixed_bytes);
+
 /// @brief The attractor's bounds per channel (Ifs::attractor_bounds). `extremes` (optional)
 /// receives a few attractor points at its corners (see VolumeSetup).
 Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes = nullptr);
