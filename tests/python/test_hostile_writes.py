@@ -45,6 +45,16 @@ def test_volume_with_mesh_commits_none_when_the_mesh_fails(cli, tmp_path, full_d
     assert not [p for p in os.listdir(tmp_path) if p.startswith(".ifsforge")]
 
 
+def test_instances_commit_none_when_one_output_fails(cli, tmp_path, full_disk):
+    # The scene, SVG and CSV fit; the 2.6 MB glTF does not: none of the four is kept.
+    result = cli("instances", SAMPLES / "tree.json", "--pov", tmp_path / "t.pov", "--svg", tmp_path / "t.svg",
+                 "--csv", tmp_path / "t.csv", "--gltf", full_disk / "t.glb")
+    assert result.returncode == 2, result.stderr
+    assert "none of the 4 outputs was written" in result.stderr and "Traceback" not in result.stderr
+    assert not list(tmp_path.glob("t.*")) and os.listdir(full_disk) == []
+    assert not [p for p in os.listdir(tmp_path) if p.startswith(".ifsforge")]
+
+
 def test_same_volume_same_bytes(cli, tmp_path):
     for name, threads in (("a.vdb", 1), ("b.vdb", 2)):
         cli("volume", SYSTEM, "--res", "48", "--threads", threads, "-o", tmp_path / name, check=True)

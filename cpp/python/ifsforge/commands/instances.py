@@ -101,34 +101,36 @@ def run(args):
     print(f"{system.name}: {len(instances)} instances of {names}, depth {instances.addresses.depth}, "
           f"{time.perf_counter() - start:.2f} s")
 
-    if args.pov:
-        ifsforge.write_pov_scene(
-            args.pov, instances, width=width, height=height, view=view, orthographic=args.orthographic,
-            fov=args.fov, floor=args.floor, sky=args.sky, background=args.background, quality=args.quality,
-            bounded_by=args.bounded_by, threads=args.threads, progress=ProgressBar("POV-Ray scene"))
-        print(f"{args.pov}: POV-Ray 3.7 scene framed for {width}x{height} (+ ifsforge.inc)")
-    if args.render:
-        start = time.perf_counter()
-        ifsforge.render_povray(args.pov, args.render, width, height, antialias=args.antialias)
-        print(f"{args.render}: rendered by POV-Ray in {time.perf_counter() - start:.1f} s")
-    if args.svg:
-        ifsforge.write_svg(args.svg, instances, width=width,
-                           background=None if args.background == [1.0, 1.0, 1.0] else args.background)
-        print(f"{args.svg}: SVG, {width} px wide")
-    if args.gltf:
-        ifsforge.write_gltf_instances(args.gltf, instances, up=args.up)
-        print(f"{args.gltf}: glTF, one node per instance")
-    if args.npy:
-        array = instances.to_numpy()
-        atomic_save_npy(args.npy, array)
-        print(f"{args.npy}: numpy structured array, {array.dtype.itemsize} bytes per instance")
-    if args.csv:
-        ifsforge.write_address_csv(args.csv, instances.addresses)
-        print(f"{args.csv}: {len(instances)} addresses")
-    if args.png:
-        image = ifsforge.draw_instances(instances, width, height, view=view,
-                                        background=list(args.background) + [1.0], threads=args.threads)
-        ifsforge.write_png(args.png, image)
-        print(f"{args.png}: {width}x{height} drawing")
+    # Several files: all of them or none (a failure or Ctrl-C on the last keeps no other).
+    with common.all_or_none(outputs) as staged:
+        if args.pov:
+            ifsforge.write_pov_scene(
+                staged[args.pov], instances, width=width, height=height, view=view, orthographic=args.orthographic,
+                fov=args.fov, floor=args.floor, sky=args.sky, background=args.background, quality=args.quality,
+                bounded_by=args.bounded_by, threads=args.threads, progress=ProgressBar("POV-Ray scene"))
+            print(f"{args.pov}: POV-Ray 3.7 scene framed for {width}x{height} (+ ifsforge.inc)")
+        if args.render:
+            start = time.perf_counter()
+            ifsforge.render_povray(staged[args.pov], staged[args.render], width, height, antialias=args.antialias)
+            print(f"{args.render}: rendered by POV-Ray in {time.perf_counter() - start:.1f} s")
+        if args.svg:
+            ifsforge.write_svg(staged[args.svg], instances, width=width,
+                               background=None if args.background == [1.0, 1.0, 1.0] else args.background)
+            print(f"{args.svg}: SVG, {width} px wide")
+        if args.gltf:
+            ifsforge.write_gltf_instances(staged[args.gltf], instances, up=args.up)
+            print(f"{args.gltf}: glTF, one node per instance")
+        if args.npy:
+            array = instances.to_numpy()
+            atomic_save_npy(staged[args.npy], array)
+            print(f"{args.npy}: numpy structured array, {array.dtype.itemsize} bytes per instance")
+        if args.csv:
+            ifsforge.write_address_csv(staged[args.csv], instances.addresses)
+            print(f"{args.csv}: {len(instances)} addresses")
+        if args.png:
+            image = ifsforge.draw_instances(instances, width, height, view=view,
+                                            background=list(args.background) + [1.0], threads=args.threads)
+            ifsforge.write_png(staged[args.png], image)
+            print(f"{args.png}: {width}x{height} drawing")
     if not outputs:
         print("no output asked: add --pov, --svg, --gltf, --npy, --csv or --png")
