@@ -29,7 +29,7 @@ def default_map(index=0, count=1, layout="xy"):
     channel_layout = ifsforge.ChannelLayout(layout)
     n, s = channel_layout.dim, channel_layout.spatial_dims
     angle = 2 * np.pi * index / max(count, 1)
-    colour = ifsforge.piece_color(index)
+    color = ifsforge.piece_color(index)
     channels = []
     for k, name in enumerate(channel_layout.names[s:]):
         row = [0.0] * (n + 1)
@@ -37,7 +37,7 @@ def default_map(index=0, count=1, layout="xy"):
             row[n] = float(index)
         else:
             row[s + k] = 0.5
-            row[n] = 0.5 if name == "alpha" else 0.5 * colour[k % 3]
+            row[n] = 0.5 if name == "alpha" else 0.5 * color[k % 3]
         channels.append(row)
     return {
         "translation": (float(0.5 + 0.5 * np.cos(angle)), float(0.5 + 0.5 * np.sin(angle)), 0.0 if s == 2 else 0.5),

@@ -48,7 +48,7 @@ void EncodeGray512(benchmark::State& state) {
   const Image im = test_image(1);
   for (auto _ : state) benchmark::DoNotOptimize(pifs_encode(im, options()));
 }
-void EncodeColour512(benchmark::State& state) {
+void EncodeColor512(benchmark::State& state) {
   const Image im = test_image(3);
   for (auto _ : state) benchmark::DoNotOptimize(pifs_encode(im, options()));
 }
@@ -63,7 +63,7 @@ void Decode512(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(EncodeGray512)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(EncodeColour512)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(EncodeColor512)->Unit(benchmark::kMillisecond)->UseRealTime();
 // (channels, scale): 512² gray and colour at 1×, and their 4× super-resolution.
 BENCHMARK(Decode512)->Args({1, 1})->Args({3, 1})->Args({1, 4})->Args({3, 4})->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -176,15 +176,15 @@ def timings(threads):
             times.append(time.perf_counter() - start)
         return statistics.median(times)
     gray = ifsforge.pifs_encode(camera, ratio=50, threads=threads)
-    colour = ifsforge.pifs_encode(astronaut, ratio=50, threads=threads)
+    color = ifsforge.pifs_encode(astronaut, ratio=50, threads=threads)
     return {
         "threads": threads,
         "encode_gray_512_s": best(lambda: ifsforge.pifs_encode(camera, ratio=50, threads=threads), 3),
-        "encode_colour_512_s": best(lambda: ifsforge.pifs_encode(astronaut, ratio=50, threads=threads), 3),
+        "encode_color_512_s": best(lambda: ifsforge.pifs_encode(astronaut, ratio=50, threads=threads), 3),
         "decode_gray_512_ms": 1000 * best(lambda: gray.decode(threads=threads), 9),
-        "decode_colour_512_ms": 1000 * best(lambda: colour.decode(threads=threads), 9),
+        "decode_color_512_ms": 1000 * best(lambda: color.decode(threads=threads), 9),
         "decode_gray_4x_2048_ms": 1000 * best(lambda: gray.decode(scale=4, threads=threads), 5),
-        "decode_colour_4x_2048_ms": 1000 * best(lambda: colour.decode(scale=4, threads=threads), 5),
+        "decode_color_4x_2048_ms": 1000 * best(lambda: color.decode(scale=4, threads=threads), 5),
     }
 
 

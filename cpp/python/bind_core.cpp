@@ -2,7 +2,7 @@
 // ValueError, MemoryError, OSError where that is what a Python user would catch), the default
 // thread count, and the sRGB transfer function every writer shares.
 #include "bindings.h"
-#include "ifsforge/core/colour.h"
+#include "ifsforge/core/color.h"
 #include "ifsforge/core/default_threads.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/parallel.h"

@@ -52,13 +52,13 @@ py::dict cost(const PifsCode& code) {
 
 void bind_pifs(py::module_& m) {
   add_choices<PifsDecoder>(m, "decoder");
-  add_choices<PifsColour>(m, "colour");
+  add_choices<PifsColor>(m, "color");
   py::class_<PifsCode>(m, "PifsCode", "A partitioned IFS code of an image (seed 3.3.2); decodes at any size.")
       .def_readonly("width", &PifsCode::width)
       .def_readonly("height", &PifsCode::height)
       .def_readonly("channels", &PifsCode::channels)
-      .def_property_readonly("colour", [](const PifsCode& c) {
-        return std::string(name_of(c.colour));
+      .def_property_readonly("color", [](const PifsCode& c) {
+        return std::string(name_of(c.color));
       })
       .def_property_readonly("min_block", [](const PifsCode& c) { return 1 << c.min_log; })
       .def_property_readonly("max_block", [](const PifsCode& c) { return 1 << c.max_log; })

@@ -2,7 +2,7 @@
 #include "bindings.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/render/box_counting.h"
-#include "ifsforge/render/colour_bounds.h"
+#include "ifsforge/render/color_bounds.h"
 #include "ifsforge/render/frame.h"
 #include "ifsforge/render/minimal_plotting.h"
 #include "ifsforge/render/parameters.h"
@@ -167,8 +167,8 @@ void bind_render(py::module_& m) {
   }, py::arg("ifs"), py::arg("width"), py::arg("height") = py::none(), py::arg("window") = py::none(),
      "Eq. 53: delta / (1 - s), the largest distance from a pixel minimal plotting plots to the attractor");
 
-  m.def("colour_bounds", [](const Ifs& s, int levels) {
-    const Bounds b = colour_bounds(s, levels);
+  m.def("color_bounds", [](const Ifs& s, int levels) {
+    const Bounds b = color_bounds(s, levels);
     return py::make_tuple(py::array_t<double>(b.lo.size(), b.lo.data()), py::array_t<double>(b.hi.size(), b.hi.data()));
   }, py::arg("ifs"), py::arg("levels") = 8,
      "Eq. 101's minR/maxR (and the other channels): bounds of the extra channels from `levels` levels of point "

@@ -29,13 +29,13 @@ Palette palette_from_numpy(const py::array& array) {
 }  // namespace
 
 void bind_texture(py::module_& m) {
-  add_choices<ColourSpace>(m, "space");
+  add_choices<ColorSpace>(m, "space");
   py::class_<PaletteSpec>(m, "PaletteSpec",
                           "Colour stops, their positions and the roughness (a22 per map) of each component.")
       .def(py::init([](const std::string& space, std::vector<std::array<double, 3>> stops, std::vector<double> positions,
                        std::optional<std::array<std::vector<double>, 3>> a22) {
              PaletteSpec s;
-             s.space = parse_name<ColourSpace>(space);
+             s.space = parse_name<ColorSpace>(space);
              s.stops = std::move(stops);
              s.positions = std::move(positions);
              if (a22) s.a22 = *a22;
@@ -46,7 +46,7 @@ void bind_texture(py::module_& m) {
            "space: rgb, hls (hue degrees, lightness, saturation) or hsi (hue degrees, saturation, intensity); "
            "a22: three lists (one per component) of one factor per map, or of one factor for all.")
       .def_property("space", [](const PaletteSpec& s) { return std::string(name_of(s.space)); },
-                    [](PaletteSpec& s, const std::string& v) { s.space = parse_name<ColourSpace>(v); })
+                    [](PaletteSpec& s, const std::string& v) { s.space = parse_name<ColorSpace>(v); })
       .def_readwrite("stops", &PaletteSpec::stops)
       .def_readwrite("positions", &PaletteSpec::positions)
       .def_readwrite("a22", &PaletteSpec::a22)

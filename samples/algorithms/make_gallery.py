@@ -97,10 +97,10 @@ def make(out):
             ifsforge.write_png(str(path), image, 16)
             print(f"  {path}: the same, 16 bits per channel")
 
-    colour = load("colour5d_sierpinski_rgb")
+    color = load("colour5d_sierpinski_rgb")
     algorithms = ["chaos", "dia", "mpa", "cma", "eta", "string-rewriting", "tsa", "prr", "ibr", "afra",
                   "self-congruent", "probabilistic-domain"]
-    images = [render(colour, a, 256).to_image("color") for a in algorithms]
+    images = [render(color, a, 256).to_image("color") for a in algorithms]
     path = out / "colour_algorithms.png"
     ifsforge.write_png(str(path), contact_sheet(images, algorithms, columns=6))
     print(f"  {path}: the 2D + RGB Sierpinski by {len(algorithms)} algorithms")

@@ -33,10 +33,10 @@ def interpolation_plot(path, width=1200, height=900):
         s = f.sample(width * 8 + 1)
         lo, hi = s.min(), s.max()
         pixel = band * row + 8 + ((hi - s) / (hi - lo) * (band - 16)).astype(int)
-        colour = np.array(ifsforge.hls_to_rgb(215 - 60 * row, 0.35, 0.8), np.float32)
+        color = np.array(ifsforge.hls_to_rgb(215 - 60 * row, 0.35, 0.8), np.float32)
         for column in range(width):
             a, b = pixel[column * 8:(column + 1) * 8 + 1].min(), pixel[column * 8:(column + 1) * 8 + 1].max()
-            image[a:b + 1, column] = colour
+            image[a:b + 1, column] = color
         for xi, fi in zip(x, values):  # the data points, exactly on every graph
             cx = int(round(xi / 5.0 * (width - 1)))
             cy = band * row + 8 + int(round((hi - fi) / (hi - lo) * (band - 16)))

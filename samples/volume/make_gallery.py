@@ -54,13 +54,13 @@ def preview(volume, yaw, pitch, size=PREVIEW):
     px = ((u - cx) * scale + size / 2).astype(np.int64)
     py = ((cy - v) * scale + size / 2).astype(np.int64)
     attributes = volume.attributes()
-    colour = attributes["color"] if "color" in attributes else np.tile(PLAIN, (len(volume), 1))
+    color = attributes["color"] if "color" in attributes else np.tile(PLAIN, (len(volume), 1))
     alpha = np.full(len(volume), OPACITY)
     if "alpha" in attributes:
         alpha = alpha * (0.15 + 0.85 * attributes["alpha"])
     # Depth cue: nearer voxels brighter.
     near = (depth - depth.min()) / max(depth.max() - depth.min(), 1e-12)
-    colour = colour * (0.45 + 0.55 * near)[:, None]
+    color = color * (0.45 + 0.55 * near)[:, None]
     # Each voxel covers a square of about `scale * voxel_size` pixels.
     foot = max(1, int(math.ceil(scale * volume.voxel_size)))
     dx, dy = np.meshgrid(np.arange(foot), np.arange(foot))
@@ -81,7 +81,7 @@ def preview(volume, yaw, pitch, size=PREVIEW):
     weight = np.exp(before) * a
     image = np.zeros((size * size, 3))
     for c in range(3):
-        image[:, c] = np.bincount(pixel, weights=weight * colour[index, c], minlength=size * size)
+        image[:, c] = np.bincount(pixel, weights=weight * color[index, c], minlength=size * size)
     cover = np.bincount(pixel, weights=weight, minlength=size * size)
     image += (1.0 - cover)[:, None] * np.asarray(BACKGROUND)
     return np.clip(image.reshape(size, size, 3), 0.0, 1.0)

@@ -3,7 +3,7 @@ importer's default settings (glTF y up, OBJ forward -Z / up Y, PLY as it is).
 
     blender -b --factory-startup --python mesh_axes_import.py -- --python-path BUILD/python --out DIR
 
-DIR/axes.json (written by tests/python/test_axes_colour.py) lists the files and what each
+DIR/axes.json (written by tests/python/test_axes_color.py) lists the files and what each
 must look like in Blender's z-up world: "box" (the world bounding box, within "tolerance"),
 "top" (the x, y of the highest vertex, within "top_tolerance"), or "nodes" (instance name ->
 world translation). One CHECK line per file (see addon_harness.py)."""

@@ -16,7 +16,7 @@ import bpy
 from mathutils import Vector
 
 
-def render_mean_colour(obj, box):
+def render_mean_color(obj, box):
     """Renders the volume alone, lit by a white world, and returns the mean RGB of the pixels
     it covers (those brighter than the empty background)."""
     material = bpy.data.materials.new("ifsforge_volume")
@@ -65,7 +65,7 @@ def main(argv):
     path = os.path.abspath(argv[0])
     voxel = float(argv[1])
     box = [float(v) for v in argv[2:8]]
-    colour = [float(v) for v in argv[8:11]] if len(argv) >= 11 else None
+    color = [float(v) for v in argv[8:11]] if len(argv) >= 11 else None
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.ops.object.volume_import(filepath=path, directory=os.path.dirname(path),
                                  files=[{"name": os.path.basename(path)}])
@@ -86,10 +86,10 @@ def main(argv):
         assert abs(lo[a] - box[a]) <= tolerance and abs(hi[a] - box[a + 3]) <= tolerance, \
             f"{axis}: Blender's bounds [{lo[a]:.4f}, {hi[a]:.4f}], expected [{box[a]:.4f}, {box[a + 3]:.4f}]"
     message = f"OK grids {sorted(types)}, bounds {[round(v, 4) for v in lo + hi]}"
-    if colour:
-        mean, covered = render_mean_colour(obj, box)
-        strongest = max(range(3), key=lambda c: colour[c])
-        weakest = min(range(3), key=lambda c: colour[c])
+    if color:
+        mean, covered = render_mean_color(obj, box)
+        strongest = max(range(3), key=lambda c: color[c])
+        weakest = min(range(3), key=lambda c: color[c])
         assert mean[strongest] > 1.5 * mean[weakest] + 0.02, \
             f"rendered colour {mean} is not tinted like the volume's {colour}"
         message += f", render {covered} px mean RGB {[round(v, 3) for v in mean]}"

@@ -14,7 +14,7 @@
 #include "ifsforge/model/recurrent.h"
 #include "ifsforge/model/super_ifs.h"
 #include "ifsforge/render/box_counting.h"
-#include "ifsforge/render/colour_bounds.h"
+#include "ifsforge/render/color_bounds.h"
 #include "ifsforge/render/image_based.h"
 #include "ifsforge/render/minimal_plotting.h"
 #include "ifsforge/render/parameters.h"

@@ -14,7 +14,7 @@
 #include "ifsforge/model/recurrent.h"
 #include "ifsforge/model/super_ifs.h"
 #include "ifsforge/render/box_counting.h"
-#include "ifsforge/render/colour_bounds.h"
+#include "ifsforge/render/color_bounds.h"
 #include "ifsforge/render/image_based.h"
 #include "ifsforge/render/minimal_plotting.h"
 #include "ifsforge/render/parameters.h"
@@ -31,7 +31,7 @@ using namespace ifsforge::algorithms_test;
 namespace {
 
 /// Sierpinski triangle with a constant colour per map: every point of w_i(A) has colour c_i.
-Ifs constant_colour_sierpinski(const std::string& layout) {
+Ifs constant_color_sierpinski(const std::string& layout) {
   const double colours[3][3] = {{0.9, 0.1, 0.2}, {0.2, 0.8, 0.1}, {0.1, 0.3, 0.7}};
   const double corners[3][2] = {{0, 0}, {0.5, 0}, {0.25, 0.5}};
   std::vector<AffineMap> maps;
@@ -238,12 +238,12 @@ TEST(Algorithms, EscapeTimeImageDoesNotDependOnDeltaNorm) {
   EXPECT_EQ(escape.covered(), escape.density.size());  // every pixel has an escape time
 }
 
-TEST(Algorithms, ConstantColourPerMapGivesAnalyticChannels) {
+TEST(Algorithms, ConstantColorPerMapGivesAnalyticChannels) {
   const double colours[3][3] = {{0.9, 0.1, 0.2}, {0.2, 0.8, 0.1}, {0.1, 0.3, 0.7}};
   // Copy i of the attractor lies in w_i of the unit square; pixels well inside one copy's box.
   const double boxes[3][4] = {{0, 0, 0.5, 0.5}, {0.5, 0, 1, 0.5}, {0.25, 0.5, 0.75, 1}};
   for (const std::string layout : {"xy+rgb", "xy+hsi"}) {
-    const Ifs ifs = constant_colour_sierpinski(layout);
+    const Ifs ifs = constant_color_sierpinski(layout);
     RenderOptions o;
     o.width = o.height = 256;
     o.window = Window{-0.02, -0.02, 1.02, 1.02};
@@ -276,10 +276,10 @@ TEST(Algorithms, ConstantColourPerMapGivesAnalyticChannels) {
   }
 }
 
-TEST(Algorithms, ColourNormalisationAndSixteenBitOutput) {
+TEST(Algorithms, ColorNormalisationAndSixteenBitOutput) {
   // Eq. 101: display = (v - min) / (max - min) per channel; the PRR-level bounds are the maps' colours.
-  const Ifs ifs = constant_colour_sierpinski("xy+rgb");
-  const Bounds b = colour_bounds(ifs, 6);
+  const Ifs ifs = constant_color_sierpinski("xy+rgb");
+  const Bounds b = color_bounds(ifs, 6);
   const double lo[3] = {0.1, 0.1, 0.1}, hi[3] = {0.9, 0.8, 0.7};
   for (int c = 0; c < 3; ++c) {
     EXPECT_DOUBLE_EQ(b.lo[c], lo[c]);
@@ -298,13 +298,13 @@ TEST(Algorithms, ColourNormalisationAndSixteenBitOutput) {
   int pure = 0;
   for (std::size_t p = 0; p < r.density.size(); ++p) {
     if (r.density[p] <= 0.0f) continue;
-    for (const auto& colour : colours) {
+    for (const auto& color : colours) {
       bool same = true;
-      for (int c = 0; c < 3; ++c) same &= std::abs(r.channels[p * 3 + c] - colour[c]) < 1e-4;
+      for (int c = 0; c < 3; ++c) same &= std::abs(r.channels[p * 3 + c] - color[c]) < 1e-4;
       if (!same) continue;
       ++pure;
       for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(back.pixels[p * 3 + c], (colour[c] - lo[c]) / (hi[c] - lo[c]), 1.0 / 65535 + 1e-5);
+        EXPECT_NEAR(back.pixels[p * 3 + c], (color[c] - lo[c]) / (hi[c] - lo[c]), 1.0 / 65535 + 1e-5);
     }
   }
   EXPECT_GT(pure, 500);
@@ -312,10 +312,10 @@ TEST(Algorithms, ColourNormalisationAndSixteenBitOutput) {
 }
 
 TEST(Algorithms, SameBytesForAnyThreadCount) {
-  const Ifs fern = sample("barnsley_fern"), colour = sample("colour5d_dragon_rgb");
+  const Ifs fern = sample("barnsley_fern"), color = sample("colour5d_dragon_rgb");
   for (const std::string& name : chapter_five()) {
     if (name == "colour-stealing" || name == "afra") continue;
-    for (const Ifs* ifs : {&fern, &colour}) {
+    for (const Ifs* ifs : {&fern, &color}) {
       RenderOptions one = on_window(*ifs, 96), two = one;
       one.threads = 1;
       two.threads = 2;

@@ -110,7 +110,7 @@ TEST(PreviewCloud, SameCloudForAnyThreadCount) {
   EXPECT_NE(preview_cloud(coloured({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}), o).positions, one.positions);
 }
 
-TEST(PreviewCloud, ChannelColoursAreTheLayoutsColours) {
+TEST(PreviewCloud, ChannelColorsAreTheLayoutsColors) {
   PreviewOptions o;
   o.count = 20000;
   // Colours in [0, 1] are shown as they are: piece i carries colour i exactly.
@@ -126,7 +126,7 @@ TEST(PreviewCloud, ChannelColoursAreTheLayoutsColours) {
   for (std::size_t k = 0; k < wide.count; ++k) ASSERT_EQ(wide.colors[k * 4 + 3], 1.0f);
 }
 
-TEST(PreviewCloud, PieceColoursAndHighlight) {
+TEST(PreviewCloud, PieceColorsAndHighlight) {
   PreviewOptions o;
   o.count = 5000;
   o.coloring = PreviewColoring::Pieces;

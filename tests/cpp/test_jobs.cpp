@@ -32,13 +32,13 @@ void expect_same(const Volume& a, const Volume& b) {
 TEST(Jobs, VolumeRangesThroughBytesEqualTheLocalVolume) {
   for (const char* algorithm : {"prr", "ria"})
   for (VolumeDensity density : {VolumeDensity::Binary, VolumeDensity::Hits, VolumeDensity::Measure})
-  for (bool colour : {false, true}) {
+  for (bool color : {false, true}) {
     VolumeOptions o;
     o.resolution = 32;
     o.density = density;
     o.iterations = 3u << 20;
     o.seed = 9;
-    const Ifs system = test_systems::tetrahedron(colour);
+    const Ifs system = test_systems::tetrahedron(color);
     const VolumeRenderer& r = volume_renderer(algorithm);
     const Volume local = r.render(system, o);
     VolumeOptions remote = o;

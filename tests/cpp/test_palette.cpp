@@ -74,7 +74,7 @@ TEST(Palette, RoughnessAddsDetail) {
 TEST(Palette, LightnessOnlyInHls) {
   // The seed's example: interpolate HLS lightness fractally, hue and saturation linearly.
   PaletteSpec s;
-  s.space = ColourSpace::Hls;
+  s.space = ColorSpace::Hls;
   s.stops = {{20, 0.25, 0.6}, {35, 0.55, 0.6}, {50, 0.4, 0.6}, {40, 0.7, 0.6}};
   s.a22[1] = {0.55, -0.5, 0.6};
   const Palette p = make_palette(s, 3 * 100 + 1);
@@ -144,5 +144,5 @@ TEST(Palette, RefusesBadInput) {
   PaletteSpec short_range = s;
   short_range.positions = {0, 0.2, 0.4, 0.8, 0.9};
   EXPECT_THROW(make_palette(short_range, 16), InputError);
-  EXPECT_THROW(parse_name<ColourSpace>("cmyk"), InputError);
+  EXPECT_THROW(parse_name<ColorSpace>("cmyk"), InputError);
 }

@@ -121,7 +121,7 @@ TEST(PovText, XmlTextIsWellFormed) {
   EXPECT_EQ(xml_text("]]></title><script>"), "]]&gt;&lt;/title&gt;&lt;script&gt;");
 }
 
-TEST(PovText, PaletteIncludeDeclaresOnlyItsColourMap) {
+TEST(PovText, PaletteIncludeDeclaresOnlyItsColorMap) {
   Palette palette;
   palette.colors = {{0.5f, 0.5f, 0.5f}, {1.0f, 0.0f, 0.04045f}};
   const std::string text = pov_palette_include(palette, "ok\n#declare Evil=1;\n// */", "desc\n#include \"x\"");

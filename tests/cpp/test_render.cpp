@@ -101,7 +101,7 @@ TEST(Determinism, SameBytesForOneAndTwoThreads) {
   }
 }
 
-TEST(Determinism, ColourChannelsAcrossThreads) {
+TEST(Determinism, ColorChannelsAcrossThreads) {
   // A 2D + gray system: each map sets gray to a constant, so every pixel's mean is exact.
   std::vector<AffineMap> maps;
   const double corners[3][2] = {{0, 0}, {0.5, 0}, {0.25, 0.5}};

@@ -10,7 +10,7 @@ namespace ifsforge::test_systems {
 
 /// A map x -> s x + t on the spatial part; with colour, channels -> gain * channels + colour.
 inline AffineMap corner_map(int dim, double s, std::array<double, 3> t, double gain = 0.0,
-                            const std::vector<double>& colour = {}) {
+                            const std::vector<double>& color = {}) {
   AffineMap m(dim);
   for (int a = 0; a < 3; ++a) {
     m.a(a, a) = s;
@@ -18,7 +18,7 @@ inline AffineMap corner_map(int dim, double s, std::array<double, 3> t, double g
   }
   for (int c = 3; c < dim; ++c) {
     m.a(c, c) = gain;
-    m.b(c) = colour[c - 3];
+    m.b(c) = color[c - 3];
   }
   return m;
 }
@@ -34,12 +34,12 @@ inline Ifs menger() {
 
 /// The tetrahedron's corners and, for the coloured version, one constant colour per map.
 inline const std::array<std::array<double, 3>, 4> kCorners = {{{0, 0, 0}, {0.5, 0, 0}, {0, 0.5, 0}, {0, 0, 0.5}}};
-inline const std::vector<std::vector<double>> kColours = {{0.9, 0.1, 0.2}, {0.1, 0.8, 0.3}, {0.2, 0.3, 0.95}, {0.7, 0.7, 0.1}};
+inline const std::vector<std::vector<double>> kColors = {{0.9, 0.1, 0.2}, {0.1, 0.8, 0.3}, {0.2, 0.3, 0.95}, {0.7, 0.7, 0.1}};
 
-inline Ifs tetrahedron(bool colour = false) {
+inline Ifs tetrahedron(bool color = false) {
   std::vector<AffineMap> maps;
-  for (int i = 0; i < 4; ++i) maps.push_back(corner_map(colour ? 6 : 3, 0.5, kCorners[i], 0.0, kColours[i]));
-  return Ifs("tetrahedron", ChannelLayout(colour ? "xyz+rgb" : "xyz"), maps, {1, 1, 1, 1});
+  for (int i = 0; i < 4; ++i) maps.push_back(corner_map(color ? 6 : 3, 0.5, kCorners[i], 0.0, kColors[i]));
+  return Ifs("tetrahedron", ChannelLayout(color ? "xyz+rgb" : "xyz"), maps, {1, 1, 1, 1});
 }
 
 }  // namespace ifsforge::test_systems

@@ -119,7 +119,7 @@ TEST(VolumeRenderers, TableTwoPyramidAgrees) {
 // Every map sets a constant colour, so a point's colour is that of the first map of its
 // address, i.e. of the half-size corner cube it lies in: a voxel meeting only cube i's box
 // (closed) has exactly colour i.
-TEST(VolumeColour, ConstantColourMapsGiveTheAnalyticColour) {
+TEST(VolumeColor, ConstantColorMapsGiveTheAnalyticColor) {
   for (const char* name : {"prr", "ria", "dia", "eta"}) {
     const Volume v = render_volume(tetrahedron(true), name, options(64));
     ASSERT_GT(v.size(), 1000u) << name;
@@ -142,15 +142,15 @@ TEST(VolumeColour, ConstantColourMapsGiveTheAnalyticColour) {
       if (pieces != 1) continue;
       ++checked;
       for (int k = 0; k < 3; ++k) {
-        ASSERT_NEAR(v.channels[i * 3 + k], kColours[piece][k], 1e-5) << name << " voxel " << i;
-        ASSERT_NEAR(attributes.front().values[i * 3 + k], kColours[piece][k], 1e-5) << name;
+        ASSERT_NEAR(v.channels[i * 3 + k], kColors[piece][k], 1e-5) << name << " voxel " << i;
+        ASSERT_NEAR(attributes.front().values[i * 3 + k], kColors[piece][k], 1e-5) << name;
       }
     }
     EXPECT_GT(checked, v.size() * 3 / 4) << name;
   }
 }
 
-TEST(VolumeColour, HsiAndRangesFollowEq101) {
+TEST(VolumeColor, HsiAndRangesFollowEq101) {
   // Hue outside [0, 1] is normalised by its range (Eq. 101), then converted to RGB.
   std::vector<AffineMap> maps;
   for (int i = 0; i < 4; ++i) maps.push_back(corner_map(6, 0.5, kCorners[i], 0.0, {2.0 * i, 1.0, 1.0 / 3}));
@@ -316,23 +316,23 @@ TEST(VolumeVdb, TruncatedOrForeignFilesAreFileErrors) {
 // Volumes of no voxel and of one voxel write, read back and mesh (the edge cases of the leaf
 // rows in make_grid).
 TEST(VolumeVdb, EmptyAndSingleVoxelVolumes) {
-  for (const bool colour : {false, true}) {
+  for (const bool color : {false, true}) {
     VolumeOptions far = options(4);
     far.bounds = Box3{10, 10, 10, 11, 11, 11};  // misses the attractor
-    const Volume empty = render_volume(tetrahedron(colour), "prr", far);
-    const Volume one = render_volume(tetrahedron(colour), "prr", options(1));
+    const Volume empty = render_volume(tetrahedron(color), "prr", far);
+    const Volume one = render_volume(tetrahedron(color), "prr", options(1));
     ASSERT_EQ(empty.size(), 0u);
     ASSERT_EQ(one.size(), 1u);
     for (const Volume* v : {&empty, &one}) {
       const std::string path = temporary("small.vdb");
       write_vdb(path, *v);
       const VdbFileInfo info = read_vdb_info(path);
-      ASSERT_EQ(info.grids.size(), colour ? 2u : 1u);
+      ASSERT_EQ(info.grids.size(), color ? 2u : 1u);
       for (const auto& g : info.grids) EXPECT_EQ(g.active_voxels, v->size()) << g.name;
       std::remove(path.c_str());
       const TriangleMesh mesh = volume_to_mesh(*v);
       EXPECT_EQ(mesh.triangles.empty(), v->size() == 0);
-      EXPECT_EQ(mesh.colors.size(), colour ? mesh.positions.size() : 0u);
+      EXPECT_EQ(mesh.colors.size(), color ? mesh.positions.size() : 0u);
     }
   }
 }

@@ -127,7 +127,7 @@ def test_condensation_sets_and_growth_frames():
     assert frames[-1].density.max() == len(frames)
 
 
-def test_strings_bounds_and_colour_bounds():
+def test_strings_bounds_and_color_bounds():
     fern = load("barnsley_fern")
     strings = ifsforge.string_rewriting(fern, 2, spelling="seed")
     assert len(strings) == 16 and strings[:2] == ["w1w1", "w2w1"]
@@ -136,7 +136,7 @@ def test_strings_bounds_and_colour_bounds():
         ".".join(str(int(d) - 1) for d in s.split("w")[1:]) for s in strings]
     bound = ifsforge.proximity_bound(fern, 256, window=window(fern))
     assert bound == pytest.approx(0.5 * np.sqrt(2) * (10.2983 + 0.3) / 256 / (1 - np.hypot(0.85, 0.04)), rel=1e-6)
-    lo, hi = ifsforge.colour_bounds(load("colour5d_sierpinski_rgb"), levels=4)
+    lo, hi = ifsforge.color_bounds(load("colour5d_sierpinski_rgb"), levels=4)
     assert lo.shape == (3,) and (lo < hi).all()
 
 

@@ -95,7 +95,7 @@ def test_image_through_two_workers_equals_the_local_png(cluster, cli, tmp_path):
     assert (tmp_path / "local.png").read_bytes() == (tmp_path / "cluster.png").read_bytes()
 
 
-def test_point_recursive_colour_image_through_workers_equals_the_local_raster(cluster):
+def test_point_recursive_color_image_through_workers_equals_the_local_raster(cluster):
     system = ifsforge.load(str(SAMPLES / "colour5d_dragon_rgb.json"))  # floats summed in address order
     options = dict(width=160, height=120)
     local = ifsforge.render(system, "prr", **options)

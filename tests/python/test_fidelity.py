@@ -26,7 +26,7 @@ def red_blue_picture():
 
 
 @pytest.mark.parametrize("sample", ["heighway_dragon.json", "sierpinski_triangle.json", "cantor_dust.json"])
-def test_colour_stealing_on_any_map_count(sample):
+def test_color_stealing_on_any_map_count(sample):
     # The default reference system cuts the picture into N vertical strips, one per map: with a
     # red left half and a blue right half both colours appear, and nothing else.
     system = ifsforge.load(os.path.join(HERE, "..", "..", "samples", "systems", sample))

@@ -132,7 +132,7 @@ def test_warp_from_f_to_f_gives_the_picture_back(cli, tmp_path):
     assert result.returncode != 0 and "same number of maps" in result.stderr and not (tmp_path / "x.png").exists()
 
 
-def test_render_tops_colours_by_top_address(cli, tmp_path):
+def test_render_tops_colors_by_top_address(cli, tmp_path):
     # With the square's own maps as the reference system, each pixel's top address leads back
     # to itself and the picture comes back.
     (tmp_path / "square.json").write_text(SQUARE)

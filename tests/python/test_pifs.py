@@ -31,7 +31,7 @@ def test_constant_image_round_trips_exactly():
 def test_encode_decode_any_size_and_bytes_round_trip():
     image = textured(70, 90, 3)
     code = ifsforge.pifs_encode(image, quality=2)
-    assert (code.width, code.height, code.channels, code.colour) == (90, 70, 3, "ycbcr420")
+    assert (code.width, code.height, code.channels, code.color) == (90, 70, 3, "ycbcr420")
     assert code.plane_sizes == [(90, 70), (45, 35), (45, 35)]
     out = code.decode()
     assert out.shape == (70, 90, 3) and out.dtype == np.float32

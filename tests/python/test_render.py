@@ -22,7 +22,7 @@ def test_identical_for_any_thread_count(sierpinski, algorithm):
     assert one.covered() > 1000
 
 
-def test_colour_stealing_takes_the_reference_colours(sierpinski):
+def test_color_stealing_takes_the_reference_colors(sierpinski):
     # A reference picture split in a red left half and a blue right half: with the default
     # grid reference system, map 0 walks the left column and maps 1, 2 the right one.
     picture = np.zeros((64, 64, 3), np.float32)

@@ -14,7 +14,7 @@ import ifsforge
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def constant_colour_tetrahedron(rgb):
+def constant_color_tetrahedron(rgb):
     """The Sierpinski tetrahedron whose maps all set the colour `rgb`."""
     rows = [[0, 0, 0, 0, 0, 0, c] for c in rgb]
     maps = [{"scale": [0.5] * 3, "rotation": [0, 0, 0], "translation": t, "channels": rows}
@@ -98,7 +98,7 @@ def test_extra_channels_get_grids(tmp_path, samples, name, grids):
 
 def test_read_vdb_info_refuses_truncated_and_foreign_files(tmp_path):
     """A truncated .vdb used to be read on with uninitialised sizes inside OpenVDB."""
-    volume = ifsforge.render_volume(constant_colour_tetrahedron((0.2, 0.6, 0.9)), "prr", 8)
+    volume = ifsforge.render_volume(constant_color_tetrahedron((0.2, 0.6, 0.9)), "prr", 8)
     path, cut = tmp_path / "whole.vdb", tmp_path / "cut.vdb"
     ifsforge.write_vdb(str(path), volume)
     data = path.read_bytes()
@@ -114,7 +114,7 @@ def test_read_vdb_info_refuses_truncated_and_foreign_files(tmp_path):
 
 
 def test_mesh_dict_feeds_write_mesh(tmp_path):
-    volume = ifsforge.render_volume(constant_colour_tetrahedron((0.2, 0.6, 0.9)), "prr", 32)
+    volume = ifsforge.render_volume(constant_color_tetrahedron((0.2, 0.6, 0.9)), "prr", 32)
     mesh = ifsforge.volume_to_mesh(volume)
     assert mesh["triangles"].shape[1] == 3 and mesh["triangles"].max() < len(mesh["positions"])
     lo, hi = np.asarray(volume.bounds[:3]), np.asarray(volume.bounds[3:])
@@ -126,7 +126,7 @@ def test_mesh_dict_feeds_write_mesh(tmp_path):
 
 
 def test_progress_and_cancellation():
-    tetra = constant_colour_tetrahedron((1, 0, 0))
+    tetra = constant_color_tetrahedron((1, 0, 0))
     seen = []
     ifsforge.render_volume(tetra, "prr", 32, progress=lambda f: seen.append(f) or True)
     assert seen and seen[-1] == 1.0 and seen == sorted(seen)
@@ -170,7 +170,7 @@ def test_blender_imports_the_volume(tmp_path):
     """Blender 3.4 reads our .vdb as a Volume object with 'density' and 'color' grids, places it
     where the IFS puts it, and its Principled Volume renders it in the volume's colour."""
     rgb = (0.9, 0.15, 0.1)
-    volume = ifsforge.render_volume(constant_colour_tetrahedron(rgb), "prr", 48)
+    volume = ifsforge.render_volume(constant_color_tetrahedron(rgb), "prr", 48)
     path = tmp_path / "tinted.vdb"
     ifsforge.write_vdb(str(path), volume)
     h = volume.voxel_size

@@ -46,7 +46,7 @@ from ifsforge._core import (  # noqa: F401  (terrain: fractal interpolation, ter
     sample_heights, vertical_scaling, write_terrain_mesh, write_terrain_pov,
 )
 from ifsforge._core import (  # noqa: F401  (algorithms: recurrent/super IFS, condensation, chapter-5 extras)
-    Condensation, colour_bounds, growth_frames, make_super_ifs, proximity_bound, renderer_parameters,
+    Condensation, color_bounds, growth_frames, make_super_ifs, proximity_bound, renderer_parameters,
 )
 from ifsforge._core import (  # noqa: F401  (vector: instance lists, addresses, POV-Ray/SVG/glTF)
     AddressLeaves, AddressTable, InstanceList, Primitive, apply_address, count_leaves, default_instance_depth,

@@ -9,7 +9,7 @@
 #include <map>
 #include <tuple>
 
-#include "ifsforge/core/colour.h"
+#include "ifsforge/core/color.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/geometry/axes.h"

@@ -15,7 +15,7 @@
 #include <cstring>
 #include <sstream>
 
-#include "ifsforge/core/colour.h"
+#include "ifsforge/core/color.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/text_file.h"

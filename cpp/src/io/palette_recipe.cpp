@@ -15,7 +15,7 @@ PaletteRecipe parse_palette_recipe(const std::string& text, const std::string& s
   if (j.contains("description")) recipe.description = r.text(j["description"], "/description");
   if (j.contains("space")) {
     try {
-      recipe.spec.space = parse_name<ColourSpace>(r.text(j["space"], "/space"));
+      recipe.spec.space = parse_name<ColorSpace>(r.text(j["space"], "/space"));
     } catch (const InputError& e) {
       r.fail("/space", e.what());
     }

@@ -73,8 +73,8 @@ std::vector<std::string> write_terrain_pov(const std::string& path, const Terrai
   s.line("#version 3.7;");
   s.line("global_settings { assumed_gamma 1.0 }");
   s.raw("#declare IFS_Title = " + pov_string(o.title) + ";\n");
-  const std::string colour_map = pov_identifier("Palette", o.palette_name);
-  s.raw("#declare " + colour_map + " = " + pov_color_map(colours) + "\n");
+  const std::string color_map = pov_identifier("Palette", o.palette_name);
+  s.raw("#declare " + color_map + " = " + pov_color_map(colours) + "\n");
   if (o.camera == "top") {
     s.line("camera { orthographic location <%.9g, %.9g, %.9g> direction <0, -1, 0>", 0.5 * (box[0] + box[2]),
            hi + range + span, 0.5 * (box[1] + box[3]));
@@ -104,7 +104,7 @@ std::vector<std::string> write_terrain_pov(const std::string& path, const Terrai
     s.line("height_field { png %s smooth", pov_string(png_name).c_str());
     // The pigment lives in the unit square, before the scale: gradient y spans [0, 1) there;
     // 1.0001 keeps the highest point from wrapping round to the lowest colour.
-    s.line("  pigment { gradient y color_map { %s } scale <1, 1.0001, 1> }", colour_map.c_str());
+    s.line("  pigment { gradient y color_map { %s } scale <1, 1.0001, 1> }", color_map.c_str());
     s.line("  %s", finish.c_str());
     s.line("  scale <%.9g, %.9g, %.9g> translate <%.9g, %.9g, %.9g> }", sx, range, sy, box[0], lo, box[1]);
   } else {
@@ -120,7 +120,7 @@ std::vector<std::string> write_terrain_pov(const std::string& path, const Terrai
     for (const auto& f : mesh.triangles) s.line("    <%u, %u, %u>,", f[0], f[1], f[2]);
     s.line("  }");
     s.line("  pigment { gradient y color_map { %s } scale <1, %.9g, 1> translate <0, %.9g, 0> }",
-           colour_map.c_str(), range * 1.0001, lo);
+           color_map.c_str(), range * 1.0001, lo);
     s.line("  %s", finish.c_str());
     s.line("}");
   }

@@ -15,7 +15,7 @@
 #include <mutex>
 #include <sstream>
 
-#include "ifsforge/core/colour.h"
+#include "ifsforge/core/color.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"

@@ -54,13 +54,13 @@ struct Reader {
   }
 };
 
-int plane_count(int channels, PifsColour) { return channels; }
+int plane_count(int channels, PifsColor) { return channels; }
 
 std::vector<std::uint8_t> header(const PifsCode& code, const std::vector<std::vector<std::uint8_t>>& streams) {
   std::vector<std::uint8_t> out(kMagic, kMagic + 4);
   out.push_back(std::uint8_t(kPifsVersion));
   out.push_back(std::uint8_t(code.channels));
-  out.push_back(std::uint8_t(code.colour));
+  out.push_back(std::uint8_t(code.color));
   out.push_back(std::uint8_t(code.min_log));
   out.push_back(std::uint8_t(code.max_log));
   out.push_back(std::uint8_t(code.s_bits));
@@ -104,25 +104,25 @@ PifsCode pifs_from_bytes(const std::uint8_t* data, std::size_t size, const std::
   r.size = size - 4;
   PifsCode code;
   code.channels = r.byte();
-  const int colour = r.byte();
+  const int color = r.byte();
   code.min_log = r.byte();
   code.max_log = r.byte();
   code.s_bits = r.byte();
   code.dc_step = r.byte();
   const std::uint64_t w = r.varint(), h = r.varint();
-  if (code.channels < 1 || code.channels > 4 || colour > 1 || code.min_log < 2 || code.max_log > 8 ||
+  if (code.channels < 1 || code.channels > 4 || color > 1 || code.min_log < 2 || code.max_log > 8 ||
       code.min_log > code.max_log || code.s_bits < 2 || code.s_bits > 8 || code.dc_step < 1 || code.dc_step > 64 ||
       w < 1 || h < 1 || w > 32768 || h > 32768)
     throw InputError(where + ": corrupt (header field out of range)");
-  code.colour = PifsColour(colour);
+  code.color = PifsColor(color);
   code.width = int(w);
   code.height = int(h);
-  const int planes = plane_count(code.channels, code.colour);
+  const int planes = plane_count(code.channels, code.color);
   std::vector<std::uint64_t> lengths(planes);
   std::uint64_t total = 0;
   for (auto& l : lengths) total += (l = r.varint());
   if (total != r.size - r.pos) throw InputError(where + ": corrupt (plane sizes do not match the file)");
-  const bool ycc = code.colour == PifsColour::YCbCr420 && code.channels >= 3;
+  const bool ycc = code.color == PifsColor::YCbCr420 && code.channels >= 3;
   for (int k = 0; k < planes; ++k) {
     const bool half = ycc && (k == 1 || k == 2);
     const int pw = half ? (code.width + 1) / 2 : code.width, ph = half ? (code.height + 1) / 2 : code.height;

@@ -133,7 +133,7 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
   for (std::size_t k = 0; k < code.planes.size(); ++k) {
     const PifsPlane& plane = code.planes[k];
     // Chroma stored at half size is decoded one level finer (the seed's Step 6).
-    const bool half = code.colour == PifsColour::YCbCr420 && (k == 1 || k == 2);
+    const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);
     const int lm = half ? m + 1 : m;
     PifsRaster p = decode_plane(code, plane, lm, options.decoder, options.iterations, options.threads);
     if (options.deblock) deblock(code, plane, lm, p);
@@ -146,7 +146,7 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
     p.values.resize(std::size_t(cw) * ch);
     planes.push_back(cw == width && ch == height ? std::move(p) : resample_area(p, width, height));
   }
-  return planes_to_image(planes, code.channels, code.colour, width, height);
+  return planes_to_image(planes, code.channels, code.color, width, height);
 }
 
 }  // namespace ifsforge

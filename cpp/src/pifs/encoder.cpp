@@ -38,14 +38,14 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   code.width = image.width;
   code.height = image.height;
   code.channels = image.channels;
-  code.colour = o.ycbcr && image.channels >= 3 ? PifsColour::YCbCr420 : PifsColour::Direct;
+  code.color = o.ycbcr && image.channels >= 3 ? PifsColor::YCbCr420 : PifsColor::Direct;
   code.min_log = log2_exact(o.min_block, "min_block");
   code.max_log = log2_exact(o.max_block, "max_block");
   code.s_bits = o.s_bits;
   code.dc_step = o.dc_step;
 
   // Steps 1-4: planes, then every quadtree level's candidates (each plane independently).
-  const std::vector<PifsRaster> planes = image_planes(image, code.colour);
+  const std::vector<PifsRaster> planes = image_planes(image, code.color);
   std::vector<PifsPlaneCandidates> cands(planes.size());
   const int levels = code.max_log - code.min_log + 1;
   int done = 0;
@@ -78,7 +78,7 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   // Chroma samples stand for 2×2 pixels, so their errors weigh 4×.
   auto with_lambda = [&](double lambda) {
     for (std::size_t k = 0; k < planes.size(); ++k) {
-      const bool half = code.colour == PifsColour::YCbCr420 && (k == 1 || k == 2);
+      const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);
       code.planes[k].leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
     }
     return pifs_to_bytes(code).size();

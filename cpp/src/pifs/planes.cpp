@@ -37,9 +37,9 @@ PifsRaster halve(const PifsRaster& p) {
 
 }  // namespace
 
-std::vector<PifsRaster> image_planes(const Image& image, PifsColour colour) {
+std::vector<PifsRaster> image_planes(const Image& image, PifsColor color) {
   const int w = image.width, h = image.height, c = image.channels;
-  const bool ycc = colour == PifsColour::YCbCr420 && c >= 3;
+  const bool ycc = color == PifsColor::YCbCr420 && c >= 3;
   std::vector<PifsRaster> planes;
   for (int k = 0; k < c; ++k) planes.push_back(make(w, h));
   for (int y = 0; y < h; ++y)
@@ -71,9 +71,9 @@ PifsRaster pad_plane(const PifsRaster& p, int width, int height) {
   return out;
 }
 
-Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsColour colour, int width,
+Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsColor color, int width,
                       int height) {
-  const bool ycc = colour == PifsColour::YCbCr420 && channels >= 3;
+  const bool ycc = color == PifsColor::YCbCr420 && channels >= 3;
   Image image(width, height, channels);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {

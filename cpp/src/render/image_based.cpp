@@ -248,12 +248,12 @@ Raster ImageBased::render(const Ifs& ifs, const RenderOptions& options) const {
     for (std::size_t i = 0; i < n; ++i) {
       if (!singular[i]) continue;
       double values[kMaxDim];
-      std::vector<float> colour(ch);
+      std::vector<float> color(ch);
       for (std::size_t p = 0; p < pixels; ++p) {
         const float v = q[p * stride];
         if (v <= 0.0f) continue;
-        for (int c = 0; c < ch; ++c) colour[c] = q[p * stride + 1 + c] / v;
-        const long long target = space.map_pixel(i, static_cast<std::uint32_t>(p), colour.data(), values);
+        for (int c = 0; c < ch; ++c) color[c] = q[p * stride + 1 + c] / v;
+        const long long target = space.map_pixel(i, static_cast<std::uint32_t>(p), color.data(), values);
         ++operations;
         if (target < 0) continue;
         float* out = &next[std::size_t(target) * stride];

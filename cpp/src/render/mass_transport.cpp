@@ -21,17 +21,17 @@ namespace {
 
 /// The mass centroid within the pixel and the channel means of each cell of `image`.
 void decode_records(const Cells& at, const MassImage& image, const ChannelCodec& codec, std::vector<float>& centroid,
-                    std::vector<float>& colour) {
+                    std::vector<float>& color) {
   const std::size_t cells = image.cells.size();
   centroid.assign(at.position ? cells * 2 : 0, 0.5f);
-  colour.assign(cells * at.ch, 0.0f);
+  color.assign(cells * at.ch, 0.0f);
   for (std::size_t k = 0; k < cells; ++k) {
     const std::uint64_t* s = image.record(k);
     const double w = static_cast<double>(s[at.weight()]);
     for (int axis = 0; axis < 2 && at.position; ++axis)
       centroid[k * 2 + axis] = w > 0 ? static_cast<float>((static_cast<double>(s[at.offset(axis)]) / w + 0.5) / kOffsetSteps) : 0.5f;
     for (int c = 0; c < at.ch; ++c)
-      colour[k * at.ch + c] = static_cast<float>(codec.decode(c, w > 0 ? static_cast<double>(s[at.channel(c)]) / w : 0.0));
+      color[k * at.ch + c] = static_cast<float>(codec.decode(c, w > 0 ? static_cast<double>(s[at.channel(c)]) / w : 0.0));
   }
 }
 
@@ -191,13 +191,13 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
   std::vector<std::array<double, 2>> half;  // per map: half widths of the spread box
   for (const PixelMap& m : space.maps)
     half.push_back({0.5 * std::min(std::hypot(m.a, m.b), double(kMaxCells - 2)), 0.5 * std::min(std::hypot(m.c, m.d), double(kMaxCells - 2))});
-  std::vector<float> centroid, colour;  // per cell: where its mass sits in it, channel means
+  std::vector<float> centroid, color;  // per cell: where its mass sits in it, channel means
   TransportResult result;
   for (result.iterations = 0; result.iterations < plan.max_iterations;) {
     const std::vector<std::uint32_t>& old_cells = image.cells;
     const bool box = at.position && ch == 0;  // transport_box decodes the centroids itself
-    if (!at.by_component && !box) decode_records(at, image, codec, centroid, colour);
-    const Step step{space, plan, at, weight, codec, image, centroid, colour, half};
+    if (!at.by_component && !box) decode_records(at, image, codec, centroid, color);
+    const Step step{space, plan, at, weight, codec, image, centroid, color, half};
     parallel_jobs((old_cells.size() + kChunk - 1) / kChunk, threads, [&](std::size_t job, int worker) {
       const std::size_t begin = job * kChunk, end = std::min(old_cells.size(), (job + 1) * kChunk);
       if (at.by_component)

@@ -135,7 +135,7 @@ struct Step {
   const ChannelCodec& codec;
   const MassImage& image;
   const std::vector<float>& centroid;
-  const std::vector<float>& colour;
+  const std::vector<float>& color;
   const std::vector<std::array<double, 2>>& half;
 };
 

@@ -93,7 +93,7 @@ void transport_spread(const Step& s, std::size_t begin, std::size_t end, Landing
     Point from{}, to;
     from[0] = p - row_start + (plan.spread ? s.centroid[k * 2] : 0.5);
     from[1] = row + (plan.spread ? s.centroid[k * 2 + 1] : 0.5);
-    for (int c = 0; c < ch; ++c) from[2 + c] = s.colour[k * ch + c];
+    for (int c = 0; c < ch; ++c) from[2 + c] = s.color[k * ch + c];
     for (std::size_t j = 0; j < maps; ++j) {
       double w = 0.0;
       for (int i = 0; i < C; ++i) w += plan.weight[i * maps + j] * static_cast<double>(r[i]);

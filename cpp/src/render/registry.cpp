@@ -5,7 +5,7 @@
 #include "ifsforge/core/named.h"
 #include "ifsforge/render/accurate_fractal.h"
 #include "ifsforge/render/chaos_game.h"
-#include "ifsforge/render/colour_stealing.h"
+#include "ifsforge/render/color_stealing.h"
 #include "ifsforge/render/tops_renderer.h"
 #include "ifsforge/render/constant_mass.h"
 #include "ifsforge/render/deterministic_iteration.h"
@@ -35,7 +35,7 @@ const std::vector<Entry>& registry() {
     // (5.13.1, Eq. 75-88; 0: the seed gives none).
     std::vector<Entry> e;
     e.push_back({std::make_unique<ChaosGame>(), {"ria", "random"}, {"5.1.1", 8e6}});
-    e.push_back({std::make_unique<ColourStealing>(), {"cs-ria", "color-stealing"}, {"5.1.2", 8e6}});
+    e.push_back({std::make_unique<ColorStealing>(), {"cs-ria", "color-stealing"}, {"5.1.2", 8e6}});
     e.push_back({std::make_unique<DeterministicIteration>(), {"deterministic-iteration"}, {"5.2.1", 100e6}});
     e.push_back({std::make_unique<Superfractal>(), {"superfractal"}, {"5.2.2", 320e6}});
     e.push_back({std::make_unique<MinimalPlotting>(), {"minimal-plotting"}, {"5.3", 0.5e6}});

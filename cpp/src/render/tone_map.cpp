@@ -121,8 +121,8 @@ Image shaded_image(const Raster& raster) {
           }
       depth[std::size_t(y) * w + x] = static_cast<float>(sum / n / raster.pixel_size);
     }
-  const Image colour = raster.color_model != ColorModel::None ? color_image(raster) : Image();
-  const int out = colour.channels ? std::min(colour.channels, 3) : 1;
+  const Image color = raster.color_model != ColorModel::None ? color_image(raster) : Image();
+  const int out = color.channels ? std::min(color.channels, 3) : 1;
   Image image(w, h, out);
   const double light[3] = {-0.45, 0.55, 0.70};  // x right, y down: upper left, towards the viewer
   auto slope = [&](int x, int y, int dx, int dy) {
@@ -143,7 +143,7 @@ Image shaded_image(const Raster& raster) {
       const float shade = static_cast<float>(0.2 + 0.8 * lambert);
       const std::size_t i = std::size_t(y) * w + x;
       for (int c = 0; c < out; ++c)
-        image.pixels[i * out + c] = shade * (colour.channels ? colour.pixels[i * colour.channels + c] : 1.0f);
+        image.pixels[i * out + c] = shade * (color.channels ? color.pixels[i * color.channels + c] : 1.0f);
     }
   return image;
 }

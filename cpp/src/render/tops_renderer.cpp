@@ -2,7 +2,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/render/tops.h"
-#include "ifsforge/render/colour_stealing.h"
+#include "ifsforge/render/color_stealing.h"
 
 namespace ifsforge {
 

@@ -93,15 +93,15 @@ Palette make_palette(const PaletteSpec& spec, std::size_t entries) {
     float* rgb = palette.colors[i].data();
     const double a = component[0][i], b = component[1][i], c = component[2][i];
     switch (spec.space) {
-      case ColourSpace::Rgb:
+      case ColorSpace::Rgb:
         rgb[0] = float(std::clamp(a, 0.0, 1.0));
         rgb[1] = float(std::clamp(b, 0.0, 1.0));
         rgb[2] = float(std::clamp(c, 0.0, 1.0));
         break;
-      case ColourSpace::Hls:
+      case ColorSpace::Hls:
         hls_to_rgb(a, b, c, rgb);
         break;
-      case ColourSpace::Hsi:
+      case ColorSpace::Hsi:
         hsi_to_rgb(a / 360.0, std::clamp(b, 0.0, 1.0), std::clamp(c, 0.0, 1.0), rgb);
         break;
     }

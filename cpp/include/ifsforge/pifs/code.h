@@ -27,18 +27,18 @@ struct PifsPlane {
 };
 
 /// @brief Colour handling of a code (the seed's Steps 1-2 for colour textures).
-enum class PifsColour : std::uint8_t { Direct = 0, YCbCr420 = 1 };
+enum class PifsColor : std::uint8_t { Direct = 0, YCbCr420 = 1 };
 template <>
-struct EnumNames<PifsColour> {
+struct EnumNames<PifsColor> {
   static constexpr const char* what = "colour coding";
-  static constexpr NamedValue<PifsColour> values[] = {
-      {PifsColour::Direct, "direct"},
-      {PifsColour::YCbCr420, "ycbcr420"}};
+  static constexpr NamedValue<PifsColor> values[] = {
+      {PifsColor::Direct, "direct"},
+      {PifsColor::YCbCr420, "ycbcr420"}};
 };
 
 struct PifsCode {
   int width = 0, height = 0, channels = 0;  ///< the image: 1 gray, 2 gray+alpha, 3 RGB, 4 RGBA
-  PifsColour colour = PifsColour::Direct;
+  PifsColor color = PifsColor::Direct;
   int min_log = 2, max_log = 5;             ///< range sizes 2^min_log .. 2^max_log (q_max, q_min)
   int s_bits = 5;                           ///< bits of the quantised contrast s (Eq. 29)
   int dc_step = 1;                          ///< quantisation step of the range mean, 8-bit levels

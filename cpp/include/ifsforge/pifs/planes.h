@@ -11,14 +11,14 @@ namespace ifsforge {
 
 /// @brief The planes of `image` (values rounded to 8-bit levels), unpadded: gray [+ alpha],
 /// Y Cb Cr (chroma at half size, rounded up) [+ alpha] for YCbCr420, else one plane per channel.
-std::vector<PifsRaster> image_planes(const Image& image, PifsColour colour);
+std::vector<PifsRaster> image_planes(const Image& image, PifsColor color);
 
 /// @brief `plane` extended to `width`×`height` by repeating its last column and row.
 PifsRaster pad_plane(const PifsRaster& plane, int width, int height);
 
 /// @brief The image from planes decoded at the same output size (chroma already at full size):
 /// `width`×`height` taken from their top-left corners, converted back to RGB for YCbCr420.
-Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsColour colour, int width,
+Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsColor color, int width,
                       int height);
 
 /// @brief Area-weighted resampling of `plane` to `width`×`height` (box filter; exact 2×2 mean for halving).

@@ -14,18 +14,18 @@
 
 namespace ifsforge {
 
-enum class ColourSpace { Rgb, Hls, Hsi };
+enum class ColorSpace { Rgb, Hls, Hsi };
 template <>
-struct EnumNames<ColourSpace> {
+struct EnumNames<ColorSpace> {
   static constexpr const char* what = "colour space";
-  static constexpr NamedValue<ColourSpace> values[] = {
-      {ColourSpace::Rgb, "rgb"},
-      {ColourSpace::Hls, "hls"},
-      {ColourSpace::Hsi, "hsi"}};
+  static constexpr NamedValue<ColorSpace> values[] = {
+      {ColorSpace::Rgb, "rgb"},
+      {ColorSpace::Hls, "hls"},
+      {ColorSpace::Hsi, "hsi"}};
 };
 
 struct PaletteSpec {
-  ColourSpace space = ColourSpace::Rgb;
+  ColorSpace space = ColorSpace::Rgb;
   /// At least 3 colour stops, each in the space's own components: rgb (r, g, b in [0, 1]);
   /// hls (hue in degrees, lightness, saturation in [0, 1]); hsi (hue in degrees, saturation,
   /// intensity in [0, 1]). A hue is interpolated as a plain number (350 -> 370 crosses red)

@@ -42,7 +42,7 @@ def describe_code(code):
     raw = code.width * code.height * code.channels
     return {
         "format": "pifs", "width": code.width, "height": code.height, "channels": code.channels,
-        "colour": code.colour, "min_block": code.min_block, "max_block": code.max_block,
+        "color": code.color, "min_block": code.min_block, "max_block": code.max_block,
         "s_bits": code.s_bits, "dc_step": code.dc_step, "planes": [list(s) for s in code.plane_sizes],
         "leaves": list(code.leaf_counts), "bytes": cost["bytes"], "ratio": raw / cost["bytes"],
         "bits_per_pixel": 8.0 * cost["bytes"] / (code.width * code.height),
@@ -52,7 +52,7 @@ def describe_code(code):
 
 
 def print_description(info):
-    print(f"PIFS {info['width']}x{info['height']}, {info['channels']} channel(s), colour {info['colour']}, "
+    print(f"PIFS {info['width']}x{info['height']}, {info['channels']} channel(s), color {info['color']}, "
           f"range cells {info['min_block']}..{info['max_block']} px, s {info['s_bits']} bits")
     print(f"  {info['bytes']} bytes, {info['ratio']:.1f}:1, {info['bits_per_pixel']:.3f} bpp; "
           f"{sum(info['leaves'])} range cells ({info['flat_leaves']} flat) in planes "

@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "ifsforge/core/colour.h"
+#include "ifsforge/core/color.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/geometry/axes.h"
 #include "ifsforge/io/gltf_instances.h"
@@ -56,7 +56,7 @@ tinygltf::Model load_glb(const std::string& path) {
 
 }  // namespace
 
-TEST(Colour, SrgbDecodingHasItsStandardValues) {
+TEST(Color, SrgbDecodingHasItsStandardValues) {
   EXPECT_EQ(srgb_to_linear(0.0), 0.0);
   EXPECT_DOUBLE_EQ(srgb_to_linear(1.0), 1.0);
   EXPECT_NEAR(srgb_to_linear(0.5), 0.21404114048223255, 1e-15);
@@ -85,7 +85,7 @@ TEST(Axes, FormatsHaveTheirReadersUpAxis) {
   EXPECT_EQ(det, 1.0);
 }
 
-TEST(Axes, GlbIsYUpWithLinearColoursByDefaultAndZUpOnRequest) {
+TEST(Axes, GlbIsYUpWithLinearColorsByDefaultAndZUpOnRequest) {
   const TriangleMesh m = steeple();
   for (const Up up : {Up::y, Up::z}) {
     const std::string path = temp(std::string("steeple_") + name_of(up) + ".glb");
@@ -116,7 +116,7 @@ TEST(Axes, GlbIsYUpWithLinearColoursByDefaultAndZUpOnRequest) {
   }
 }
 
-TEST(Axes, ObjIsYUpAndPlyZUpWithDisplayColours) {
+TEST(Axes, ObjIsYUpAndPlyZUpWithDisplayColors) {
   const TriangleMesh m = steeple();
   for (const char* ext : {"obj", "ply"}) {
     for (const std::optional<Up> up : {std::optional<Up>{}, std::optional<Up>{Up::y}, std::optional<Up>{Up::z}}) {

@@ -9,6 +9,6 @@ namespace ifsforge {
 /// every address s of at most `levels` maps (capped at about 2^20 points). Every value lies in
 /// the true range; deeper levels approach its ends. Display values then follow Eq. 101,
 /// (v - min) / (max - min).
-Bounds colour_bounds(const Ifs& ifs, int levels = 8);
+Bounds color_bounds(const Ifs& ifs, int levels = 8);
 
 }  // namespace ifsforge

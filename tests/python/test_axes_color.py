@@ -88,7 +88,7 @@ def test_every_mesh_stands_upright_in_blender(cli, tmp_path, samples):
 DISPLAY = np.array([0.8, 0.2, 0.4])  # on the 16-level grid of the instance materials and exact in 8 bits
 
 
-def colour_rule_system(path):
+def color_rule_system(path):
     """A Sierpinski tetrahedron whose maps set constant colours: DISPLAY on pieces 0 and 3 (all of
     the attractor with x, y < 0.5), (0, 1, 0) and (1, 0, 1) on the others, so that every channel
     spans [0, 1] and the Eq. 101 stretch leaves the colours as they are."""
@@ -113,8 +113,8 @@ def assert_display(display, what):
     assert error <= 1 / 255, f"{what}: off by {error * 255:.2f}/255"
 
 
-def test_one_colour_through_every_file(cli, tmp_path):
-    system = colour_rule_system(tmp_path / "rule.json")
+def test_one_color_through_every_file(cli, tmp_path):
+    system = color_rule_system(tmp_path / "rule.json")
     linear = ifsforge.srgb_to_linear(DISPLAY)
     assert np.all(np.abs(linear - DISPLAY) > 0.1)  # the test can tell linear from display values
     # PNG: display values as they are (top view, x right, y up).
@@ -158,7 +158,7 @@ def test_one_colour_through_every_file(cli, tmp_path):
     (tmp_path / "colour.json").write_text(json.dumps({
         "system": str(system), "display": DISPLAY.tolist(), "iso_glb": str(tmp_path / "iso.glb"),
         "iso_ply": str(tmp_path / "iso.ply"), "instances_glb": str(tmp_path / "i.glb")}))
-    report = run_blender("colour_rule.py", tmp_path, timeout=300)
+    report = run_blender("color_rule.py", tmp_path, timeout=300)
     # The add-on's own .vdb holds the same linear colour.
     path = report["values"]["addon_vdb"]
     grid = pyopenvdb.read(path, "color").getConstAccessor()

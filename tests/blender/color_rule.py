@@ -1,12 +1,12 @@
 """Inside Blender: one colour, whatever the path. DIR/colour.json (written by
-tests/python/test_axes_colour.py) names a system whose attractor has the display colour
+tests/python/test_axes_color.py) names a system whose attractor has the display colour
 "display" wherever x < 0.45 and y < 0.45, and the files the CLI wrote from it. Blender must
 see that colour (linear inside Blender: srgb_to_linear of it; compared back in display values,
 within 1/255) in the add-on's iso-surface and instance attributes, and in what its own
 importers make of the CLI's iso .glb (COLOR_0), iso .ply (8-bit vertex colours) and instance
 .glb (baseColorFactor). The add-on's .vdb path is reported for pyopenvdb to check.
 
-    blender -b --factory-startup --python colour_rule.py -- --python-path BUILD/python --out DIR"""
+    blender -b --factory-startup --python color_rule.py -- --python-path BUILD/python --out DIR"""
 import json
 import sys
 from pathlib import Path
@@ -34,7 +34,7 @@ with open(OUT / "colour.json") as f:
 DISPLAY = np.array(task["display"])
 
 
-def same_colour(linear, what):
+def same_color(linear, what):
     """Linear RGB rows (Blender's values) against the display colour, compared as display values."""
     linear = np.asarray(linear, float).reshape(-1, 3)
     assert len(linear) > 0, f"{what}: no sample in the corner"
@@ -77,11 +77,11 @@ def addon():
     settings.volume_resolution, settings.mesh_iso, settings.mesh_adaptivity = 32, 0.5, 0.0
     mesh = generate("mesh").data
     co, colours = attribute_by_vertex(mesh, mesh.attributes["ifs_color"])
-    same_colour(colours[corner(co)], "addon_iso")
+    same_color(colours[corner(co)], "addon_iso")
     settings.instance_depth, settings.instance_color_by = 2, 'channels'
     points = generate("instances").data
     co, colours = attribute_by_vertex(points, points.attributes["ifs_color"])
-    same_colour(colours[corner(co)], "addon_instances")
+    same_color(colours[corner(co)], "addon_instances")
     settings.volume_density = 'binary'
     volume = generate("volume")
     checks.values["addon_vdb"] = bpy.path.abspath(volume.data.filepath)
@@ -101,12 +101,12 @@ def imported_mesh(path, importer):
 
 def iso_glb():
     co, colours = imported_mesh(task["iso_glb"], bpy.ops.import_scene.gltf)
-    same_colour(colours[corner(co)], "iso_glb")
+    same_color(colours[corner(co)], "iso_glb")
 
 
 def iso_ply():
     co, colours = imported_mesh(task["iso_ply"], bpy.ops.import_mesh.ply)
-    same_colour(colours[corner(co)], "iso_ply")
+    same_color(colours[corner(co)], "iso_ply")
 
 
 def instances_glb():
@@ -119,7 +119,7 @@ def instances_glb():
             continue
         shader = next(n for n in obj.active_material.node_tree.nodes if n.type == 'BSDF_PRINCIPLED')
         colours.append(list(shader.inputs["Base Color"].default_value)[:3])
-    same_colour(colours, "instances_glb")
+    same_color(colours, "instances_glb")
 
 
 checks.run("addon", addon)

@@ -1,4 +1,4 @@
-#include "ifsforge/render/colour_bounds.h"
+#include "ifsforge/render/color_bounds.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 namespace ifsforge {
 
-Bounds colour_bounds(const Ifs& ifs, int levels) {
+Bounds color_bounds(const Ifs& ifs, int levels) {
   if (levels < 0) throw InputError("colour bounds need levels >= 0");
   ifs.require_attractor();
   const int k = ifs.spatial_dims(), n = ifs.dim();

@@ -8,7 +8,7 @@ namespace ifsforge {
 /// system draws the attractor, the reference system walks a reference picture (its unit
 /// square, or the default system's rectangle, stretched over the picture), and each plotted point takes the picture's colour
 /// (bilinear) under the reference point. Pixels show the mean stolen colour.
-class ColourStealing : public Renderer {
+class ColorStealing : public Renderer {
  public:
   std::string name() const override { return "colour-stealing"; }
   std::string description() const override {

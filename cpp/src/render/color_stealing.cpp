@@ -1,4 +1,4 @@
-#include "ifsforge/render/colour_stealing.h"
+#include "ifsforge/render/color_stealing.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,7 +26,7 @@ Ifs grid_reference_system(std::size_t n) {
 
 double grid_reference_height(std::size_t n) { return n > 1 ? 1.0 / std::sqrt(static_cast<double>(n)) : 0.5; }
 
-Raster ColourStealing::render(const Ifs& ifs, const RenderOptions& options) const {
+Raster ColorStealing::render(const Ifs& ifs, const RenderOptions& options) const {
   if (!options.reference_image || options.reference_image->width < 1)
     throw InputError("colour stealing needs a reference image");
   const Image& picture = *options.reference_image;
@@ -62,7 +62,7 @@ Raster ColourStealing::render(const Ifs& ifs, const RenderOptions& options) cons
         Rng rng(options.seed, job);
         Point q = ifs.start_point(), r = reference.start_point(), t;
         const std::uint64_t count = std::min(per_job, total - job * per_job);
-        float colour[4] = {0, 0, 0, 0};
+        float color[4] = {0, 0, 0, 0};
         double rgb[kMaxDim] = {};  // sized for any channel count, silencing GCC
         for (std::uint64_t i = 0; i < count + options.skip; ++i) {
           const std::uint32_t k = sampler(rng.next());
@@ -73,8 +73,8 @@ Raster ColourStealing::render(const Ifs& ifs, const RenderOptions& options) cons
           if (i < options.skip) continue;
           const auto px = frame.to_pixel(q);
           const bool inside = px[0] >= 0 && px[0] < frame.width() && px[1] >= 0 && px[1] < frame.height();
-          picture.sample(r[0] * picture.width, (1.0 - r[1] / picture_height) * picture.height, colour);
-          for (int c = 0; c < 3; ++c) rgb[c] = colour[picture.channels >= 3 ? c : 0];
+          picture.sample(r[0] * picture.width, (1.0 - r[1] / picture_height) * picture.height, color);
+          for (int c = 0; c < 3; ++c) rgb[c] = color[picture.channels >= 3 ? c : 0];
           acc[worker].add(inside ? std::size_t(px[1]) * frame.width() + std::size_t(px[0]) : trash, rgb);
         }
       },
