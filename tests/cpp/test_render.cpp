@@ -7,6 +7,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/parallel.h"
+#include "ifsforge/render/recursion.h"
 #include "ifsforge/render/box_counting.h"
 #include "ifsforge/render/renderer.h"
 #include "ifsforge/render/tone_map.h"
@@ -233,6 +234,56 @@ TEST(Renderers, FixedDepthOverTenToTheTwelveLeavesIsRefusedByName) {
   o.depth = 25;  // 3^25 = 8.5e11: allowed (cancelled at once here)
   o.progress = [](double) { return false; };
   EXPECT_THROW(renderer("prr").render(sierpinski(), o), Cancelled);
+}
+
+Ifs fern() {
+  return Ifs("fern", ChannelLayout("xy"),
+             {AffineMap(2, {0, 0, 0, 0.16}, {0, 0}), AffineMap(2, {0.85, 0.04, -0.04, 0.85}, {0, 1.6}),
+              AffineMap(2, {0.2, -0.26, 0.23, 0.22}, {0, 1.6}), AffineMap(2, {-0.15, 0.28, 0.26, 0.24}, {0, 0.44})},
+             {0.01, 0.85, 0.07, 0.07});
+}
+
+TEST(Recursion, BalancedJobsAreACompletePrefixCodeInAddressOrder) {
+  // The fern's map 1 holds most of its area: a uniform prefix gave one job 38% of the pixels.
+  const Ifs f = fern();
+  RecursionPlan plan = plan_recursion(f, 0, 20);
+  const Frame frame = Frame::fit(f, 1024, 1024, {}, {});
+  balance_jobs(f, plan, [&](const AffineMap& m) {
+    double lo[2], hi[2];
+    piece_pixel_box(frame, plan, m, lo, hi);
+    return (hi[0] - lo[0]) * (hi[1] - lo[1]);
+  });
+  ASSERT_EQ(plan.addresses.size(), plan.jobs);
+  EXPECT_GE(plan.jobs, 64u);
+  EXPECT_LE(plan.jobs, 1u << 14);
+  double kraft = 0.0, largest = 0.0, shares = 0.0;
+  std::size_t longest = 0;
+  for (std::size_t k = 0; k < plan.jobs; ++k) {
+    const auto& a = plan.addresses[k];
+    kraft += std::pow(4.0, -static_cast<double>(a.size()));  // sums to 1 iff every leaf has one job
+    largest = std::max(largest, plan.shares[k]);
+    shares += plan.shares[k];
+    longest = std::max(longest, a.size());
+    if (k) {
+      const auto& b = plan.addresses[k - 1];
+      EXPECT_LT(b, a);  // address order
+      EXPECT_FALSE(std::equal(b.begin(), b.end(), a.begin(), a.begin() + std::min(a.size(), b.size())));
+    }
+  }
+  EXPECT_NEAR(kraft, 1.0, 1e-12);
+  EXPECT_NEAR(shares, 1.0, 1e-9);
+  EXPECT_LE(largest, 1.0 / 256.0 * 1.5);  // a child of a split piece may exceed the bound a little
+  EXPECT_GT(longest, 8u);                 // the cut follows map 1 deep
+}
+
+TEST(Renderers, PrrMeasureIsTheSameImageOnAnyThreadCountWithBalancedJobs) {
+  RenderOptions o = size(512);
+  const Raster one = [&] { o.threads = 1; return renderer("prr").render(fern(), o); }();
+  o.threads = 2;
+  const Raster two = renderer("prr").render(fern(), o);
+  EXPECT_EQ(one.density, two.density);
+  EXPECT_EQ(one.points, two.points);
+  EXPECT_EQ(one.points, 7313106u);  // the leaves of the pixel stop (no fallback to a fixed depth)
 }
 
 TEST(ToneMap, HsiPrimaries) {

@@ -1,6 +1,7 @@
 #include "ifsforge/render/point_recursive.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -84,8 +85,26 @@ struct LeafList {
   }
 };
 
-/// Thrown by a job that exceeds its node budget: render() falls back to the Eq. 59 depth.
+/// Thrown when a group of jobs exceeds its node budget: render() falls back to a fixed depth.
 struct OverBudget {};
+
+/// Nodes walked per group (the address prefixes of length RecursionPlan::prefix, N^prefix of
+/// them), summed over the jobs below each: the totals, so whether one exceeds its budget,
+/// are the same for any thread count, or split of the jobs among cluster workers.
+class NodeCounts {
+ public:
+  NodeCounts(std::size_t groups, std::uint64_t budget) : counts_(groups), budget_(budget) {}
+  /// Adds `nodes` to `group`; OverBudget once its total exceeds the budget.
+  void add(std::uint64_t group, std::uint64_t nodes) {
+    if (counts_[group].fetch_add(nodes) + nodes > budget_) throw OverBudget{};
+  }
+  std::size_t groups() const { return counts_.size(); }
+  std::uint64_t count(std::size_t group) const { return counts_[group].load(); }
+
+ private:
+  std::vector<std::atomic<std::uint64_t>> counts_;
+  std::uint64_t budget_;
+};
 
 /// What every job of one render shares, and one job's walk.
 struct PrrImage {
@@ -107,7 +126,8 @@ struct PrrImage {
   // edge that the sub-piece only touches.
   std::vector<Point> spread;
   std::vector<double> spread_share;
-  std::uint64_t budget = 0;
+  std::uint64_t budget = 0;  // nodes per group (0: no budget, at a fixed depth)
+  std::uint64_t groups = 1;  // N^prefix address prefixes of the uniform plan
 
   PrrImage(const Ifs& system, const RenderOptions& options, const Renderer& renderer)
       : ifs(system), frame(Frame::fit(system, options.width, options.height, options.window, options.view)) {
@@ -155,11 +175,39 @@ struct PrrImage {
       spread_share.swap(next_share);
     }
     // Pieces that stay wider than a pixel in one direction while thinning in the other (a rough
-    // fractal interpolation graph) would split for ever: each job has a node budget, checked per
-    // job so that the outcome does not depend on the thread count.
-    // 128 nodes per pixel (at least 2^24 in all) is several times what a hyperbolic system needs.
+    // fractal interpolation graph) would split for ever: each group of jobs has a node budget
+    // (NodeCounts), so that the outcome does not depend on the thread count. 128 nodes per
+    // pixel (at least 2^24 in all) is several times what a hyperbolic system needs.
     const std::uint64_t total = std::max<std::uint64_t>(std::uint64_t(1) << 24, 128 * std::uint64_t(pixels()));
-    budget = fit_pixels ? std::max<std::uint64_t>(1u << 12, total / plan.jobs) : 0;
+    if (fit_pixels) {
+      // The budget belongs to the uniform plan's address prefixes (as many as its jobs, at
+      // least 64): a runaway piece trips its group's budget early wherever its jobs run.
+      groups = plan.jobs;
+      budget = std::max<std::uint64_t>(1u << 12, total / groups);
+    }
+    // Coverage (binary) prunes pixels its job has covered, which pays most in large jobs: only
+    // the measure is cut by work.
+    if (fit_pixels && !binary) {
+      // The work of a piece grows with the pixels its box covers on the image (a segment of
+      // the fern's stem has no area but its length): jobs cut by it keep both cores busy to
+      // the end, and each job's list of leaves small.
+      balance_jobs(ifs, plan, [&](const AffineMap& m) {
+        double lo[2], hi[2];
+        piece_pixel_box(frame, plan, m, lo, hi);
+        const double w = std::min<double>(hi[0], frame.width()) - std::max(lo[0], 0.0);
+        const double h = std::min<double>(hi[1], frame.height()) - std::max(lo[1], 0.0);
+        return w >= 0.0 && h >= 0.0 ? (w + 1.0) * (h + 1.0) : 0.0;
+      });
+    }
+  }
+
+  NodeCounts node_counts() const { return NodeCounts(groups, budget); }
+
+  /// The group of an address at least `plan.prefix` long: its first prefix digits.
+  std::uint64_t group_of(const std::uint32_t* address) const {
+    std::uint64_t g = 0;
+    for (int level = 0; level < plan.prefix; ++level) g = g * ifs.size() + address[level];
+    return g;
   }
 
   std::size_t pixels() const { return std::size_t(frame.width()) * frame.height(); }
@@ -168,10 +216,7 @@ struct PrrImage {
   /// to the image: every leaf of the job lies in that piece.
   void start_coverage(std::uint64_t job, JobCoverage& covered) const {
     AffineMap root(ifs.dim());
-    std::vector<std::uint32_t> digits(static_cast<std::size_t>(plan.prefix));
-    for (int level = plan.prefix - 1; level >= 0; --level, job /= ifs.size())
-      digits[static_cast<std::size_t>(level)] = static_cast<std::uint32_t>(job % ifs.size());
-    for (std::uint32_t i : digits) root = root.compose(ifs.map(i));
+    for (std::uint32_t i : job_address(ifs, plan, job)) root = root.compose(ifs.map(i));
     double lo[2], hi[2];
     piece_pixel_box(frame, plan, root, lo, hi);
     auto clip = [](double v, int n) { return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(v)), 0, n); };
@@ -180,8 +225,8 @@ struct PrrImage {
   }
 
   /// The leaves of one job that land on the image, in the walk's order, into `list` (cleared
-  /// first, its buffers kept); OverBudget.
-  void job(std::uint64_t job, LeafList& list) const {
+  /// first, its buffers kept), its nodes counted into `counts`; OverBudget.
+  void job(std::uint64_t job, LeafList& list, NodeCounts& counts) const {
     const double w = frame.width(), h = frame.height();
     auto pixel_box = [&](const AffineMap& m, double* lo, double* hi) { piece_pixel_box(frame, plan, m, lo, hi); };
     const bool prune = binary && fit_pixels;
@@ -216,9 +261,21 @@ struct PrrImage {
     };
     std::vector<Point> images(spread.size());
     std::vector<char> strictly(spread.size());
-    std::uint64_t nodes = 0;
+    // Nodes are counted into their group in batches; a node above the groups' level (in a
+    // job's address only) is not counted.
+    std::uint64_t group = 0, pending = 0;
+    auto flush = [&] {
+      if (pending) counts.add(group, pending);
+      pending = 0;
+    };
     auto counted_stop = [&](const RecursionNode& node) {
-      if (budget && ++nodes > budget) throw OverBudget{};
+      if (budget && node.length >= plan.prefix) {
+        if (node.length == plan.prefix || pending == 0) {
+          flush();
+          group = group_of(node.address);
+        }
+        if (++pending == 4096) flush();
+      }
       return stop(node);
     };
     walk_job(ifs, plan, job, counted_stop, [&](const RecursionNode& node) {
@@ -249,14 +306,25 @@ struct PrrImage {
         if (inside == 0.0 || strictly[k])
           plot(images[k], node.mass * spread_share[k] / (inside == 0.0 ? 1.0 : inside));
     });
+    flush();
   }
 };
 
-/// Jobs' leaves for a cluster: a flag (1: a job was over budget), then per leaf its pixel, its
-/// mass as double bits, depth and channels as float bits, all varints, in job order.
-std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, int channels) {
+/// Jobs' leaves for a cluster: a flag (1: a group was over budget), the groups' node counts
+/// (how many, then group and count for each counted one), then per leaf its pixel, its mass
+/// as double bits, depth and channels as float bits, all varints, in job order.
+std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, const NodeCounts& counts,
+                          int channels) {
   std::string out;
   put_varint(out, over_budget ? 1 : 0);
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> counted;
+  for (std::size_t g = 0; g < counts.groups(); ++g)
+    if (counts.count(g)) counted.emplace_back(g, counts.count(g));
+  put_varint(out, counted.size());
+  for (const auto& [group, nodes] : counted) {
+    put_varint(out, group);
+    put_varint(out, nodes);
+  }
   for (const LeafList& list : lists) {
     for (std::size_t k = 0; k < list.pixel.size(); ++k) {
       put_varint(out, list.pixel[k]);
@@ -275,10 +343,18 @@ std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, 
   return out;
 }
 
-/// The leaves encode_leaves wrote, as one list (in job order); false when a job was over budget.
-bool decode_leaves(const std::string& bytes, bool depth, int channels, std::size_t pixels, LeafList& list) {
+/// The leaves encode_leaves wrote, appended to one list (in job order), their node counts
+/// added to `counts`; OverBudget when a group was, or now is, over budget.
+void decode_leaves(const std::string& bytes, bool depth, int channels, std::size_t pixels, LeafList& list,
+                   NodeCounts& counts) {
   VarintReader in(bytes, "image job result");
-  if (in.next() != 0) return false;
+  if (in.next() != 0) throw OverBudget{};
+  const std::uint64_t counted = in.next();
+  for (std::uint64_t k = 0; k < counted; ++k) {
+    const std::uint64_t group = in.next();
+    if (group >= counts.groups()) throw InputError("image job result: group out of range (another render or build)");
+    counts.add(group, in.next());
+  }
   while (!in.done()) {
     const std::uint64_t px = in.next();
     if (px >= pixels) throw InputError("image job result: pixel out of range (another render or build)");
@@ -296,7 +372,6 @@ bool decode_leaves(const std::string& bytes, bool depth, int channels, std::size
     if (depth) list.depth.push_back(next_float());
     for (int c = 0; c < channels; ++c) list.channels.push_back(next_float());
   }
-  return true;
 }
 
 }  // namespace
@@ -357,13 +432,18 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
                                                                                    std::log(double(ifs.size())))));
     return render(ifs, fixed);
   };
+  NodeCounts counts = setup.node_counts();
   if (options.distribute) {
-    // Ranges come back in job order: applying them in turn is the address order.
-    for (const std::string& bytes : options.distribute(0, setup.plan.jobs)) {
-      LeafList list;
-      if (!decode_leaves(bytes, !raster.depth.empty(), channels, pixels, list)) return fall_back();
-      apply(list);
+    // Ranges come back in job order: applying them in turn is the address order. A group's
+    // jobs may be split among workers: its count is known once every range is read.
+    LeafList list;
+    try {
+      for (const std::string& bytes : options.distribute(0, setup.plan.jobs))
+        decode_leaves(bytes, !raster.depth.empty(), channels, pixels, list, counts);
+    } catch (const OverBudget&) {
+      return fall_back();
     }
+    apply(list);
   } else {
     try {
       parallel_jobs(
@@ -377,7 +457,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
                 spare.pop_back();
               }
             }
-            setup.job(job, list);
+            setup.job(job, list, counts);
             std::lock_guard<std::mutex> lock(mutex);
             if (job != next_job) {
               waiting.emplace(job, std::move(list));
@@ -411,13 +491,14 @@ std::string PointRecursive::run_jobs(const Ifs& ifs, const RenderOptions& option
   const PrrImage setup(ifs, options, *this);
   last = std::min(last, setup.plan.jobs);
   std::vector<LeafList> lists(last > first ? last - first : 0);
+  NodeCounts counts = setup.node_counts();
   try {
-    parallel_jobs(lists.size(), options.threads, [&](std::size_t k, int) { setup.job(first + k, lists[k]); },
+    parallel_jobs(lists.size(), options.threads, [&](std::size_t k, int) { setup.job(first + k, lists[k], counts); },
                   options.progress);
   } catch (const OverBudget&) {
-    return encode_leaves({}, true, setup.channels);
+    return encode_leaves({}, true, counts, setup.channels);
   }
-  return encode_leaves(lists, false, setup.channels);
+  return encode_leaves(lists, false, counts, setup.channels);
 }
 
 }  // namespace ifsforge

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <queue>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/render/parameters.h"
@@ -40,6 +41,74 @@ RecursionPlan plan_recursion(const Ifs& ifs, int depth, int auto_depth) {
     }
   }
   return plan;
+}
+
+std::vector<std::uint32_t> job_address(const Ifs& ifs, const RecursionPlan& plan, std::uint64_t job) {
+  if (!plan.addresses.empty()) return plan.addresses[job];
+  std::vector<std::uint32_t> digits(static_cast<std::size_t>(plan.prefix));
+  for (int level = plan.prefix - 1; level >= 0; --level, job /= ifs.size())
+    digits[static_cast<std::size_t>(level)] = static_cast<std::uint32_t>(job % ifs.size());
+  return digits;
+}
+
+void balance_jobs(const Ifs& ifs, RecursionPlan& plan, const std::function<double(const AffineMap&)>& weight) {
+  constexpr std::size_t kMinJobs = 64, kMaxJobs = std::size_t(1) << 14;
+  constexpr double kMaxShare = 1.0 / 256.0;
+  const std::size_t n = ifs.size();
+  if (n < 2) return;
+  struct Piece {
+    std::vector<std::uint32_t> address;
+    AffineMap map;
+    double weight;
+    bool split;
+  };
+  std::vector<Piece> pieces;
+  auto lighter = [&](std::size_t a, std::size_t b) {
+    return pieces[a].weight < pieces[b].weight || (pieces[a].weight == pieces[b].weight && a > b);
+  };
+  std::priority_queue<std::size_t, std::vector<std::size_t>, decltype(lighter)> heaviest(lighter);
+  auto add = [&](std::vector<std::uint32_t> address, AffineMap map) {
+    const double w = weight(map);
+    pieces.push_back({std::move(address), std::move(map), std::isfinite(w) ? std::max(w, 0.0) : 0.0, false});
+    heaviest.push(pieces.size() - 1);
+  };
+  add({}, AffineMap(ifs.dim()));
+  const double root = pieces[0].weight;
+  std::size_t jobs = 1;
+  while (!heaviest.empty() && jobs + n - 1 <= kMaxJobs) {
+    const std::size_t top = heaviest.top();
+    if (jobs >= kMinJobs && pieces[top].weight <= kMaxShare * root) break;
+    heaviest.pop();
+    // A piece at the deepest level stays one job, as does one outside the image (weight 0)
+    // once there are enough jobs.
+    if (static_cast<int>(pieces[top].address.size()) + 1 >= plan.max_depth ||
+        (jobs >= kMinJobs && !(pieces[top].weight > 0.0)))
+      continue;
+    pieces[top].split = true;
+    const std::vector<std::uint32_t> address = pieces[top].address;
+    const AffineMap map = pieces[top].map;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      std::vector<std::uint32_t> child = address;
+      child.push_back(i);
+      add(std::move(child), map.compose(ifs.map(i)));
+    }
+    jobs += n - 1;
+  }
+  std::vector<const Piece*> cut;
+  double sum = 0.0;
+  for (const Piece& p : pieces)
+    if (!p.split) {
+      cut.push_back(&p);
+      sum += p.weight;
+    }
+  std::sort(cut.begin(), cut.end(), [](const Piece* a, const Piece* b) { return a->address < b->address; });
+  plan.addresses.clear();
+  plan.shares.clear();
+  for (const Piece* p : cut) {
+    plan.addresses.push_back(p->address);
+    plan.shares.push_back(sum > 0.0 ? p->weight / sum : 1.0 / static_cast<double>(cut.size()));
+  }
+  plan.jobs = plan.addresses.size();
 }
 
 int depth_for_size(const Ifs& ifs, const RecursionPlan& plan, double size, int extra, int fallback) {
