@@ -45,7 +45,7 @@ Raster DeterministicIteration::render(const Ifs& ifs, const RenderOptions& optio
     // The first passes map every pixel (64 M at 8000^2): progress and Ctrl-C reach inside them.
     const double done = static_cast<double>(iteration) / max_iterations;
     PixelSet next = hutchinson(space, terms, condensation.pixels.empty() ? nullptr : &condensation, scatter,
-                               threads, operations, progress_span(options.progress, done, done + 1.0 / max_iterations));
+                               threads, operations, progress_range(options.progress, done, done + 1.0 / max_iterations));
     const bool fixed = next == current && channel_change(space, next, current) < 1e-5;
     current = std::move(next);
     report_progress(options, fixed ? 1.0 : static_cast<double>(iteration + 1) / max_iterations);

@@ -242,7 +242,7 @@ Raster ImageBased::render(const Ifs& ifs, const RenderOptions& options) const {
         }
       }
       samples[job] = count;
-    }, progress_span(options.progress, done, done + 1.0 / iterations));
+    }, progress_range(options.progress, done, done + 1.0 / iterations));
     for (std::uint64_t c : samples) operations += c;
     // Maps with no inverse: splat the picture forwards, in pixel order (deterministic).
     for (std::size_t i = 0; i < n; ++i) {

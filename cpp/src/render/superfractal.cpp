@@ -70,7 +70,7 @@ Raster Superfractal::render(const Ifs& ifs, const RenderOptions& options) const 
         terms.push_back({first[n] + m, &buffers[rng.next() % static_cast<std::uint64_t>(variability)]});
       const double done = (iteration + static_cast<double>(v) / variability) / iterations;
       next[v] = hutchinson(space, terms, condensation.pixels.empty() ? nullptr : &condensation, scatter, threads,
-                           operations, progress_span(options.progress, done, done + 1.0 / (variability * iterations)));
+                           operations, progress_range(options.progress, done, done + 1.0 / (variability * iterations)));
     }
     buffers.swap(next);
     report_progress(options, static_cast<double>(iteration + 1) / iterations);

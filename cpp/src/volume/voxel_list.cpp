@@ -267,9 +267,4 @@ Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs, co
   return finish_volume(lists, grid, ifs, quantizer, mode, total_mass, threads);
 }
 
-ProgressCallback progress_range(const ProgressCallback& progress, double from, double to) {
-  if (!progress) return nullptr;
-  return [progress, from, to](double f) { return progress(from + f * (to - from)); };
-}
-
 }  // namespace ifsforge

@@ -8,11 +8,11 @@ namespace ifsforge {
 /// Only the thread that started the work calls it, never a worker.
 using ProgressCallback = std::function<bool(double fraction)>;
 
-/// @brief `progress` for one part [lo, hi] of the work: fraction f reports lo + f (hi - lo).
-/// Empty when `progress` is.
-inline ProgressCallback progress_span(const ProgressCallback& progress, double lo, double hi) {
+/// @brief `progress` for one part [from, to] of the work: fraction f reports
+/// from + f (to - from). Empty when `progress` is.
+inline ProgressCallback progress_range(const ProgressCallback& progress, double from, double to) {
   if (!progress) return nullptr;
-  return [progress, lo, hi](double fraction) { return progress(lo + fraction * (hi - lo)); };
+  return [progress, from, to](double fraction) { return progress(from + fraction * (to - from)); };
 }
 
 }  // namespace ifsforge

@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "ifsforge/core/progress.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/volume/volume.h"
 
@@ -92,8 +91,5 @@ Volume finish_volume(std::vector<VoxelList>& lists, const VoxelGrid& grid, const
 /// @brief The same for one sorted list.
 Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs, const ChannelQuantizer& quantizer,
                      VolumeDensity mode, double total_mass, int threads);
-
-/// @brief A callback reporting `progress` scaled into [from, to] (empty if `progress` is).
-ProgressCallback progress_range(const ProgressCallback& progress, double from, double to);
 
 }  // namespace ifsforge
