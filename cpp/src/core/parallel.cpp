@@ -87,10 +87,10 @@ void parallel_jobs(std::size_t jobs, int threads,
   pool.reserve(threads);
   for (int w = supervise ? 0 : 1; w < threads; ++w) pool.emplace_back(run, w);
   if (supervise) {
+    // The predicate is checked before waiting: work that ended before this line costs no wait.
+    auto over = [&] { return stop.load() || done.load() >= jobs; };
     std::unique_lock<std::mutex> lock(mutex);
-    for (;;) {
-      changed.wait_for(lock, std::chrono::milliseconds(100));
-      if (stop || done.load() >= jobs) break;
+    while (!changed.wait_for(lock, std::chrono::milliseconds(100), over)) {
       lock.unlock();
       // The callback may throw (a Python error): stop the workers before passing it on.
       std::exception_ptr stopped;
