@@ -140,7 +140,7 @@ Raster ImageBased::render(const Ifs& ifs, const RenderOptions& options) const {
   };
   // Both cores build the table: counts along each row, then down each stripe of columns.
   constexpr int kColumnsPerJob = 256;
-  auto build_area = [&] {
+  auto build_area = [&](const ProgressCallback& poll) {
     const std::size_t s = w + 1;
     parallel_jobs(jobs, options.threads, [&](std::size_t job, int) {
       const int y_end = std::min(h, static_cast<int>(job + 1) * kRowsPerJob);
@@ -150,16 +150,18 @@ Raster ImageBased::render(const Ifs& ifs, const RenderOptions& options) const {
         std::uint32_t sum = 0;
         for (int x = 0; x < w; ++x) out[x] = sum += in[x] > 0.0f;
       }
-    });
+    }, poll);
     parallel_jobs((w + kColumnsPerJob - 1) / kColumnsPerJob, options.threads, [&](std::size_t job, int) {
       const std::size_t x0 = 1 + job * kColumnsPerJob, x1 = std::min<std::size_t>(s, x0 + kColumnsPerJob);
       for (int y = 1; y < h; ++y)
         for (std::size_t x = x0; x < x1; ++x) area[(y + 1) * s + x] += area[y * s + x];
-    });
+    }, poll);
   };
   for (int iteration = 0; iteration < iterations; ++iteration) {
-    if (coverage) build_area();
     const double done = static_cast<double>(iteration) / iterations;
+    // The passes around the sampling hear Ctrl-C too (progress stays at the iteration's start).
+    const ProgressCallback poll = progress_range(options.progress, done, done);
+    if (coverage) build_area(poll);
     parallel_jobs(jobs, options.threads, [&](std::size_t job, int) {
       std::uint64_t count = 0;
       float texel[1 + kMaxDim];
@@ -284,7 +286,7 @@ Raster ImageBased::render(const Ifs& ifs, const RenderOptions& options) const {
           // pixel per iteration.
           if (!ch) t[0] = t[0] >= kCoveredSample ? 1.0f : 0.0f;
         }
-      });
+      }, poll);
       for (std::uint32_t p : condensation) {  // W(B) = C u w_1(B) u ...
         next[p * stride] = 1.0f;
         for (int c = 0; c < ch; ++c) next[p * stride + 1 + c] = static_cast<float>(ifs.condensation().channels[c]);
