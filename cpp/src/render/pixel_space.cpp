@@ -229,6 +229,16 @@ PixelScatter::PixelScatter(std::size_t pixels, int values, int workers)
   }
 }
 
+void PixelScatter::take(Worker& w, std::size_t pixel, std::vector<std::uint64_t>& sums) {
+  w.flag[pixel] = 0;
+  std::uint64_t* s = w.sums.data() + pixel * values_;
+  std::uint64_t* t = sums.data() + pixel * values_;
+  for (int c = 0; c < values_; ++c) {
+    t[c] += s[c];
+    s[c] = 0;
+  }
+}
+
 void PixelScatter::merge(std::vector<std::uint64_t>& sums, std::vector<std::uint32_t>& touched) {
   std::size_t count = 0;
   for (const Worker& w : workers_) count += w.count;
@@ -245,13 +255,7 @@ void PixelScatter::merge(std::vector<std::uint64_t>& sums, std::vector<std::uint
         for (Worker& w : workers_) {
           if (!w.flag[p]) continue;
           any = true;
-          w.flag[p] = 0;
-          std::uint64_t* s = w.sums.data() + p * values_;
-          std::uint64_t* t = sums.data() + p * values_;
-          for (int c = 0; c < values_; ++c) {
-            t[c] += s[c];
-            s[c] = 0;
-          }
+          take(w, p, sums);
         }
         if (any) runs[run].push_back(static_cast<std::uint32_t>(p));
       }
@@ -266,13 +270,7 @@ void PixelScatter::merge(std::vector<std::uint64_t>& sums, std::vector<std::uint
     for (std::size_t k = 0; k < w.count; ++k) {
       const std::uint32_t p = w.touched[k];
       merged_[p >> 6] |= std::uint64_t(1) << (p & 63);
-      w.flag[p] = 0;
-      std::uint64_t* s = w.sums.data() + std::size_t(p) * values_;
-      std::uint64_t* t = sums.data() + std::size_t(p) * values_;
-      for (int c = 0; c < values_; ++c) {
-        t[c] += s[c];
-        s[c] = 0;
-      }
+      take(w, p, sums);
     }
     w.count = 0;
   }

@@ -1,9 +1,7 @@
 #include "ifsforge/render/point_recursive.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -13,98 +11,20 @@
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
-#include "ifsforge/core/varint.h"
 #include "ifsforge/render/accumulator.h"
 #include "ifsforge/render/parameters.h"
 #include "ifsforge/render/recursion.h"
+#include "point_recursive_leaves.h"
 
 namespace ifsforge {
 namespace {
 
-/// The pixels one job has covered, over its root piece's pixel box: for coverage (binary) a
-/// piece whose pixels are all covered already adds nothing below it. Overlapping systems (a
-/// fern, the superfractal pair's union of two trees) revisit their pixels many times over.
-class JobCoverage {
- public:
-  /// Starts empty over the pixels [x0, x1) x [y0, y1) (clipped to the image by the caller).
-  void reset(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1) {
-    x0_ = x0;
-    y0_ = y0;
-    width_ = std::max<std::int64_t>(x1 - x0, 0);
-    height_ = std::max<std::int64_t>(y1 - y0, 0);
-    words_ = (width_ + 63) / 64;
-    bits_.assign(static_cast<std::size_t>(words_ * height_), 0);
-  }
-
-  void set(std::int64_t x, std::int64_t y) {
-    x -= x0_;
-    y -= y0_;
-    if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
-    bits_[static_cast<std::size_t>(y * words_ + x / 64)] |= std::uint64_t(1) << (x % 64);
-  }
-
-  /// True when every pixel of [x0, x1] x [y0, y1] (inclusive) is covered; false for a range
-  /// reaching outside the job's box.
-  bool all(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1) const {
-    x0 -= x0_;
-    x1 -= x0_;
-    y0 -= y0_;
-    y1 -= y0_;
-    if (x0 < 0 || y0 < 0 || x1 >= width_ || y1 >= height_ || x1 < x0 || y1 < y0) return false;
-    for (std::int64_t y = y0; y <= y1; ++y) {
-      const std::uint64_t* row = bits_.data() + y * words_;
-      for (std::int64_t x = x0; x <= x1;) {
-        const std::int64_t end = std::min(x1, x - x % 64 + 63);
-        const int from = static_cast<int>(x % 64), count = static_cast<int>(end - x + 1);
-        const std::uint64_t want = count == 64 ? ~std::uint64_t(0) : ((std::uint64_t(1) << count) - 1) << from;
-        if ((row[x / 64] & want) != want) return false;
-        x = end + 1;
-      }
-    }
-    return true;
-  }
-
- private:
-  std::int64_t x0_ = 0, y0_ = 0, width_ = 0, height_ = 0, words_ = 0;
-  std::vector<std::uint64_t> bits_;
-};
-
-/// The leaves of one job that land on the image.
-struct LeafList {
-  std::vector<std::uint32_t> pixel;
-  std::vector<double> mass;
-  std::vector<float> channels;  // pixel-major
-  std::vector<float> depth;     // 3D systems
-  JobCoverage covered;          // binary renders only
-
-  void clear() {
-    pixel.clear();
-    mass.clear();
-    channels.clear();
-    depth.clear();
-  }
-};
-
-/// Thrown when a group of jobs exceeds its node budget: render() falls back to a fixed depth.
-struct OverBudget {};
-
-/// Nodes walked per group (the address prefixes of length RecursionPlan::prefix, N^prefix of
-/// them), summed over the jobs below each: the totals, so whether one exceeds its budget,
-/// are the same for any thread count, or split of the jobs among cluster workers.
-class NodeCounts {
- public:
-  NodeCounts(std::size_t groups, std::uint64_t budget) : counts_(groups), budget_(budget) {}
-  /// Adds `nodes` to `group`; OverBudget once its total exceeds the budget.
-  void add(std::uint64_t group, std::uint64_t nodes) {
-    if (counts_[group].fetch_add(nodes) + nodes > budget_) throw OverBudget{};
-  }
-  std::size_t groups() const { return counts_.size(); }
-  std::uint64_t count(std::size_t group) const { return counts_[group].load(); }
-
- private:
-  std::vector<std::atomic<std::uint64_t>> counts_;
-  std::uint64_t budget_;
-};
+using prr::decode_leaves;
+using prr::encode_leaves;
+using prr::JobCoverage;
+using prr::LeafList;
+using prr::NodeCounts;
+using prr::OverBudget;
 
 /// What every job of one render shares, and one job's walk.
 struct PrrImage {
@@ -309,70 +229,6 @@ struct PrrImage {
     flush();
   }
 };
-
-/// Jobs' leaves for a cluster: a flag (1: a group was over budget), the groups' node counts
-/// (how many, then group and count for each counted one), then per leaf its pixel, its mass
-/// as double bits, depth and channels as float bits, all varints, in job order.
-std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, const NodeCounts& counts,
-                          int channels) {
-  std::string out;
-  put_varint(out, over_budget ? 1 : 0);
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> counted;
-  for (std::size_t g = 0; g < counts.groups(); ++g)
-    if (counts.count(g)) counted.emplace_back(g, counts.count(g));
-  put_varint(out, counted.size());
-  for (const auto& [group, nodes] : counted) {
-    put_varint(out, group);
-    put_varint(out, nodes);
-  }
-  for (const LeafList& list : lists) {
-    for (std::size_t k = 0; k < list.pixel.size(); ++k) {
-      put_varint(out, list.pixel[k]);
-      std::uint64_t bits;
-      std::memcpy(&bits, &list.mass[k], 8);
-      put_varint(out, bits);
-      auto put_float = [&](float f) {
-        std::uint32_t b;
-        std::memcpy(&b, &f, 4);
-        put_varint(out, b);
-      };
-      if (!list.depth.empty()) put_float(list.depth[k]);
-      for (int c = 0; c < channels; ++c) put_float(list.channels[k * channels + c]);
-    }
-  }
-  return out;
-}
-
-/// The leaves encode_leaves wrote, appended to one list (in job order), their node counts
-/// added to `counts`; OverBudget when a group was, or now is, over budget.
-void decode_leaves(const std::string& bytes, bool depth, int channels, std::size_t pixels, LeafList& list,
-                   NodeCounts& counts) {
-  VarintReader in(bytes, "image job result");
-  if (in.next() != 0) throw OverBudget{};
-  const std::uint64_t counted = in.next();
-  for (std::uint64_t k = 0; k < counted; ++k) {
-    const std::uint64_t group = in.next();
-    if (group >= counts.groups()) throw InputError("image job result: group out of range (another render or build)");
-    counts.add(group, in.next());
-  }
-  while (!in.done()) {
-    const std::uint64_t px = in.next();
-    if (px >= pixels) throw InputError("image job result: pixel out of range (another render or build)");
-    list.pixel.push_back(static_cast<std::uint32_t>(px));
-    const std::uint64_t bits = in.next();
-    double mass;
-    std::memcpy(&mass, &bits, 8);
-    list.mass.push_back(mass);
-    auto next_float = [&] {
-      const auto b = static_cast<std::uint32_t>(in.next());
-      float f;
-      std::memcpy(&f, &b, 4);
-      return f;
-    };
-    if (depth) list.depth.push_back(next_float());
-    for (int c = 0; c < channels; ++c) list.channels.push_back(next_float());
-  }
-}
 
 }  // namespace
 

@@ -94,20 +94,10 @@ void balance_jobs(const Ifs& ifs, RecursionPlan& plan, const std::function<doubl
     }
     jobs += n - 1;
   }
-  std::vector<const Piece*> cut;
-  double sum = 0.0;
-  for (const Piece& p : pieces)
-    if (!p.split) {
-      cut.push_back(&p);
-      sum += p.weight;
-    }
-  std::sort(cut.begin(), cut.end(), [](const Piece* a, const Piece* b) { return a->address < b->address; });
   plan.addresses.clear();
-  plan.shares.clear();
-  for (const Piece* p : cut) {
-    plan.addresses.push_back(p->address);
-    plan.shares.push_back(sum > 0.0 ? p->weight / sum : 1.0 / static_cast<double>(cut.size()));
-  }
+  for (Piece& p : pieces)
+    if (!p.split) plan.addresses.push_back(std::move(p.address));
+  std::sort(plan.addresses.begin(), plan.addresses.end());
   plan.jobs = plan.addresses.size();
 }
 

@@ -25,7 +25,6 @@ TreeShape plan_tree(const Ifs& ifs, int depth, double min_probability) {
   if (!ifs.condensation().empty())
     throw InputError("system '" + ifs.name() + "' has a condensation set, which the vector and address algorithms "
                      "do not place");
-  if (min_probability <= 0.0) check_leaf_count(ifs.size(), depth);
   TreeShape shape;
   // Fixed depth: >= 64 jobs of <= ~2^20 leaves. Pruned trees end early where probabilities are
   // small, so they only need enough jobs to balance (the automatic-depth split).

@@ -154,6 +154,8 @@ class PixelScatter {
     std::size_t count = 0;
     std::vector<std::uint64_t> sums;
   };
+  /// Moves worker `w`'s sums of `pixel` into `sums` and clears its flag there.
+  void take(Worker& w, std::size_t pixel, std::vector<std::uint64_t>& sums);
   int values_;
   std::vector<Worker> workers_;
   std::vector<std::uint64_t> merged_;  ///< one bit per pixel touched by any worker

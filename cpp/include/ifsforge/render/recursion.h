@@ -28,11 +28,9 @@ struct RecursionPlan {
   std::uint64_t jobs = 1;      ///< N^prefix
   std::vector<double> center;  ///< the box B bounding the attractor (all channels): centre
   std::vector<double> half;    ///< and half-extent, with a safety margin
-  /// Jobs cut by their work (balance_jobs): addresses of unequal length, in address order, and
-  /// each one's share of the estimated work. Empty: job k is the length-`prefix` address
-  /// whose base-N digits are k.
+  /// Jobs cut by their work (balance_jobs): addresses of unequal length, in address order.
+  /// Empty: job k is the length-`prefix` address whose base-N digits are k.
   std::vector<std::vector<std::uint32_t>> addresses;
-  std::vector<double> shares;
 };
 
 /// @brief A node of the address tree.
@@ -157,19 +155,9 @@ struct Walker {
 template <typename Stop, typename Leaf>
 void walk_job(const Ifs& ifs, const RecursionPlan& plan, std::uint64_t job, Stop&& stop, Leaf&& leaf) {
   detail::Walker<Stop, Leaf> w(ifs, plan, stop, leaf);
-  int length = plan.prefix;
-  if (!plan.addresses.empty()) {
-    const std::vector<std::uint32_t>& a = plan.addresses[job];
-    length = static_cast<int>(a.size());
-    std::copy(a.begin(), a.end(), w.address);
-  } else {
-    const std::uint64_t n = ifs.size();
-    std::uint64_t rest = job;
-    for (int level = length - 1; level >= 0; --level) {
-      w.address[level] = static_cast<std::uint32_t>(rest % n);
-      rest /= n;
-    }
-  }
+  const std::vector<std::uint32_t> prefix = job_address(ifs, plan, job);
+  const int length = static_cast<int>(prefix.size());
+  std::copy(prefix.begin(), prefix.end(), w.address);
   double mass = 1.0;
   for (int level = 0; level < length; ++level) {
     const std::uint32_t i = w.address[level];

@@ -1,0 +1,109 @@
+#pragma once
+// Point recursive rendering's per-job results (private to render/): the leaves a job plots,
+// the pixels it has covered, the node counts that decide the fallback, and their bytes for
+// a cluster.
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ifsforge::prr {
+
+/// The pixels one job has covered, over its root piece's pixel box: for coverage (binary) a
+/// piece whose pixels are all covered already adds nothing below it. Overlapping systems (a
+/// fern, the superfractal pair's union of two trees) revisit their pixels many times over.
+class JobCoverage {
+ public:
+  /// Starts empty over the pixels [x0, x1) x [y0, y1) (clipped to the image by the caller).
+  void reset(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1) {
+    x0_ = x0;
+    y0_ = y0;
+    width_ = std::max<std::int64_t>(x1 - x0, 0);
+    height_ = std::max<std::int64_t>(y1 - y0, 0);
+    words_ = (width_ + 63) / 64;
+    bits_.assign(static_cast<std::size_t>(words_ * height_), 0);
+  }
+
+  void set(std::int64_t x, std::int64_t y) {
+    x -= x0_;
+    y -= y0_;
+    if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
+    bits_[static_cast<std::size_t>(y * words_ + x / 64)] |= std::uint64_t(1) << (x % 64);
+  }
+
+  /// True when every pixel of [x0, x1] x [y0, y1] (inclusive) is covered; false for a range
+  /// reaching outside the job's box.
+  bool all(std::int64_t x0, std::int64_t y0, std::int64_t x1, std::int64_t y1) const {
+    x0 -= x0_;
+    x1 -= x0_;
+    y0 -= y0_;
+    y1 -= y0_;
+    if (x0 < 0 || y0 < 0 || x1 >= width_ || y1 >= height_ || x1 < x0 || y1 < y0) return false;
+    for (std::int64_t y = y0; y <= y1; ++y) {
+      const std::uint64_t* row = bits_.data() + y * words_;
+      for (std::int64_t x = x0; x <= x1;) {
+        const std::int64_t end = std::min(x1, x - x % 64 + 63);
+        const int from = static_cast<int>(x % 64), count = static_cast<int>(end - x + 1);
+        const std::uint64_t want = count == 64 ? ~std::uint64_t(0) : ((std::uint64_t(1) << count) - 1) << from;
+        if ((row[x / 64] & want) != want) return false;
+        x = end + 1;
+      }
+    }
+    return true;
+  }
+
+ private:
+  std::int64_t x0_ = 0, y0_ = 0, width_ = 0, height_ = 0, words_ = 0;
+  std::vector<std::uint64_t> bits_;
+};
+
+/// The leaves of one job that land on the image.
+struct LeafList {
+  std::vector<std::uint32_t> pixel;
+  std::vector<double> mass;
+  std::vector<float> channels;  // pixel-major
+  std::vector<float> depth;     // 3D systems
+  JobCoverage covered;          // binary renders only
+
+  void clear() {
+    pixel.clear();
+    mass.clear();
+    channels.clear();
+    depth.clear();
+  }
+};
+
+/// Thrown when a group of jobs exceeds its node budget: render() falls back to a fixed depth.
+struct OverBudget {};
+
+/// Nodes walked per group (the address prefixes of length RecursionPlan::prefix, N^prefix of
+/// them), summed over the jobs below each: the totals, so whether one exceeds its budget,
+/// are the same for any thread count, or split of the jobs among cluster workers.
+class NodeCounts {
+ public:
+  NodeCounts(std::size_t groups, std::uint64_t budget) : counts_(groups), budget_(budget) {}
+  /// Adds `nodes` to `group`; OverBudget once its total exceeds the budget.
+  void add(std::uint64_t group, std::uint64_t nodes) {
+    if (counts_[group].fetch_add(nodes) + nodes > budget_) throw OverBudget{};
+  }
+  std::size_t groups() const { return counts_.size(); }
+  std::uint64_t count(std::size_t group) const { return counts_[group].load(); }
+
+ private:
+  std::vector<std::atomic<std::uint64_t>> counts_;
+  std::uint64_t budget_;
+};
+
+/// Jobs' leaves for a cluster: a flag (1: a group was over budget), the groups' node counts
+/// (how many, then group and count for each counted one), then per leaf its pixel, its mass
+/// as double bits, depth and channels as float bits, all varints, in job order.
+std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, const NodeCounts& counts,
+                          int channels);
+
+/// The leaves encode_leaves wrote, appended to one list (in job order), their node counts
+/// added to `counts`; OverBudget when a group was, or now is, over budget.
+void decode_leaves(const std::string& bytes, bool depth, int channels, std::size_t pixels, LeafList& list,
+                   NodeCounts& counts);
+
+}  // namespace ifsforge::prr
