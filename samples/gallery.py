@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The sample gallery: renders every system in samples/systems into OUT/ (default: out/),
-plus a colour-stealing picture and a contact sheet of everything, then runs every
+plus a color-stealing picture and a contact sheet of everything, then runs every
 samples/<area>/make_gallery.py (volumes, POV-Ray scenes, terrains, ...), whose make(out)
 writes into out/<area>/. Run by samples/gallery.sh."""
 import argparse
@@ -43,7 +43,7 @@ def images(out):
     fern = ifsforge.read_json(str(HERE / "systems" / "barnsley_fern.json"))
     picture = reference_picture()
     ifsforge.write_png(str(folder / "reference.png"), picture)
-    stolen = ifsforge.render(fern, "colour-stealing", SIZE, reference_image=picture).to_image("color")
+    stolen = ifsforge.render(fern, "color-stealing", SIZE, reference_image=picture).to_image("color")
     ifsforge.write_png(str(folder / "barnsley_fern_colour_stealing.png"), stolen)
     made.append(stolen)
     ifsforge.write_png(str(out / "gallery.png"), contact_sheet(made))

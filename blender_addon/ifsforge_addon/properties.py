@@ -105,7 +105,7 @@ class IFSFORGE_PG_system(PropertyGroup):
 
 
 def _renderer_items():
-    return [(name, name, text) for name, text in ifsforge.renderers() if name != "colour-stealing"]
+    return [(name, name, text) for name, text in ifsforge.renderers() if name != "color-stealing"]
 
 
 RENDERER_ITEMS = _renderer_items()

@@ -48,7 +48,7 @@ void render_algorithm(benchmark::State& state, const std::string& name, bool bin
 
 const bool registered = [] {
   for (const Renderer* r : renderers()) {
-    if (r->name() == "colour-stealing") continue;  // needs a picture; same work as chaos
+    if (r->name() == "color-stealing") continue;  // needs a picture; same work as chaos
     benchmark::RegisterBenchmark(("Algorithm1000/" + r->name()).c_str(), render_algorithm, r->name(), true)
         ->Arg(1)
         ->Arg(2)

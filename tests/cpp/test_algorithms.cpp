@@ -48,7 +48,7 @@ Ifs constant_color_sierpinski(const std::string& layout) {
 
 const std::vector<std::string>& chapter_five() {
   static const std::vector<std::string> names = {
-      "chaos", "colour-stealing", "dia", "dia-s", "mpa", "cma", "eta", "string-rewriting",
+      "chaos", "color-stealing", "dia", "dia-s", "mpa", "cma", "eta", "string-rewriting",
       "tsa", "prr", "ibr", "afra", "self-congruent", "photocopy", "probabilistic-domain"};
   return names;
 }
@@ -314,7 +314,7 @@ TEST(Algorithms, ColorNormalisationAndSixteenBitOutput) {
 TEST(Algorithms, SameBytesForAnyThreadCount) {
   const Ifs fern = sample("barnsley_fern"), color = sample("colour5d_dragon_rgb");
   for (const std::string& name : chapter_five()) {
-    if (name == "colour-stealing" || name == "afra") continue;
+    if (name == "color-stealing" || name == "afra") continue;
     for (const Ifs* ifs : {&fern, &color}) {
       RenderOptions one = on_window(*ifs, 96), two = one;
       one.threads = 1;

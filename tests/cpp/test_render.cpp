@@ -184,7 +184,7 @@ TEST(Renderers, RefuseBadInput) {
   setenv("IFSFORGE_MEMORY_BUDGET_MB", "256", 1);
   Ifs divergent("div", ChannelLayout("xy"), {similarity(1.5, 0, 0, 0), similarity(1.2, 30, 1, 0)});
   for (const Renderer* r : renderers()) {
-    if (r->name() == "colour-stealing" || r->name() == "tops") continue;  // need a reference picture
+    if (r->name() == "color-stealing" || r->name() == "tops") continue;  // need a reference picture
     EXPECT_THROW(r->render(divergent, size(16)), DivergentSystemError) << r->name();
     EXPECT_THROW(r->render(sierpinski(), size(0)), InputError) << r->name();
     RenderOptions huge = size(20000);

@@ -37,7 +37,7 @@ def window(system):
 
 def test_every_chapter_five_algorithm_is_registered_with_its_parameters():
     names = [n for n, _ in ifsforge.renderers()]
-    assert names == ["chaos", "colour-stealing", "dia", "dia-s", "mpa", "cma", "eta", "string-rewriting", "tsa",
+    assert names == ["chaos", "color-stealing", "dia", "dia-s", "mpa", "cma", "eta", "string-rewriting", "tsa",
                      "prr", "ibr", "afra", "self-congruent", "photocopy", "probabilistic-domain", "tops"]
     eta = {key: default for key, default, _ in ifsforge.renderer_parameters("eta")}
     assert eta["norm"] == "euclidean" and eta["rule"] == "min"

@@ -30,7 +30,7 @@ def test_color_stealing_on_any_map_count(sample):
     # The default reference system cuts the picture into N vertical strips, one per map: with a
     # red left half and a blue right half both colours appear, and nothing else.
     system = ifsforge.load(os.path.join(HERE, "..", "..", "samples", "systems", sample))
-    raster = ifsforge.render(system, "colour-stealing", 96, reference_image=red_blue_picture(), seed=2)
+    raster = ifsforge.render(system, "color-stealing", 96, reference_image=red_blue_picture(), seed=2)
     rgb = raster.to_image("color")[raster.mask]
     assert len(rgb) > 100
     assert np.all(rgb[:, 1] == 0)
@@ -41,7 +41,7 @@ def test_grid_reference_system_is_contractive_for_every_count():
     picture = red_blue_picture()
     for n in range(2, 7):
         maps = [ifsforge.AffineMap(HALF, [0.1 * i, 0.05 * i]) for i in range(n)]
-        raster = ifsforge.render(ifsforge.Ifs(maps, name=f"n{n}"), "colour-stealing", 32, reference_image=picture)
+        raster = ifsforge.render(ifsforge.Ifs(maps, name=f"n{n}"), "color-stealing", 32, reference_image=picture)
         assert raster.covered() > 0
 
 
@@ -128,7 +128,7 @@ def test_every_algorithm_renders_every_2d_sample_it_accepts():
         if system.spatial_dims != 2:
             continue
         for name in names:
-            extra = {"reference_image": picture} if name in ("colour-stealing", "tops") else {}
+            extra = {"reference_image": picture} if name in ("color-stealing", "tops") else {}
             try:
                 raster = ifsforge.render(system, name, 64, binary=True, **extra)
             except ifsforge.InputError as error:

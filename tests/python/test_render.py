@@ -28,8 +28,8 @@ def test_color_stealing_takes_the_reference_colors(sierpinski):
     picture = np.zeros((64, 64, 3), np.float32)
     picture[:, :32, 0] = 1.0
     picture[:, 32:, 2] = 1.0
-    r1 = ifsforge.render(sierpinski, "colour-stealing", 128, reference_image=picture, threads=1, seed=3)
-    r2 = ifsforge.render(sierpinski, "colour-stealing", 128, reference_image=picture, threads=2, seed=3)
+    r1 = ifsforge.render(sierpinski, "color-stealing", 128, reference_image=picture, threads=1, seed=3)
+    r2 = ifsforge.render(sierpinski, "color-stealing", 128, reference_image=picture, threads=2, seed=3)
     np.testing.assert_array_equal(r1.channels, r2.channels)
     image = r1.to_image("color")
     assert image.shape == (128, 128, 3)

@@ -47,7 +47,7 @@ Raster ColorStealing::render(const Ifs& ifs, const RenderOptions& options) const
                                                                       true, 1.0);  // Eq. 47
   const int threads = resolve_threads(options.threads);
   check_memory(threads * Accumulator::bytes(frame.width(), frame.height(), false, 3),
-               "a colour-stealing image");
+               "a color-stealing image");
   std::vector<Accumulator> acc;
   for (int t = 0; t < threads; ++t)
     acc.emplace_back(frame.width(), frame.height(), false, std::vector<double>{0, 0, 0},

@@ -10,9 +10,9 @@ namespace ifsforge {
 /// (bilinear) under the reference point. Pixels show the mean stolen colour.
 class ColorStealing : public Renderer {
  public:
-  std::string name() const override { return "colour-stealing"; }
+  std::string name() const override { return "color-stealing"; }
   std::string description() const override {
-    return "colour-stealing random iteration (5.1.2): colours taken from a reference image";
+    return "color-stealing random iteration (5.1.2): colours taken from a reference image";
   }
   Raster render(const Ifs& ifs, const RenderOptions& options) const override;
 };

@@ -27,7 +27,7 @@ def register(subparsers):
     common.add_system_argument(p)
     p.add_argument("-o", "--output", required=True, help="folder for the contact sheet, images and table")
     p.add_argument("--size", default="512", help="N or WxH pixels (default 512)")
-    p.add_argument("--algorithms", help="comma-separated subset (default: all but colour-stealing)")
+    p.add_argument("--algorithms", help="comma-separated subset (default: all but color-stealing)")
     p.add_argument("--threads", type=common.int_option(0, 1024), default=0, help="0: every core")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--param", action="append", default=[], metavar="[ALGORITHM.]KEY=VALUE",
@@ -68,7 +68,7 @@ def compare(system, size=(512, 512), algorithms=None, threads=0, seed=0, overrid
     """Renders `system` with every algorithm; returns (rows, images, reference name). Each row
     is a dict: algorithm, section, ms, operations, seed_operations, covered, iou, note."""
     overrides = overrides or {}
-    names = [n for n, _ in ifsforge.renderers() if n not in ("colour-stealing", "tops")]  # both need a picture
+    names = [n for n, _ in ifsforge.renderers() if n not in ("color-stealing", "tops")]  # both need a picture
     if algorithms:
         unknown = [a for a in algorithms if a not in names]
         if unknown:

@@ -29,8 +29,8 @@ def register(subparsers):
     p.add_argument("--points-per-pixel", type=common.float_option(0, 1e6, low_open=True), default=o.points_per_pixel, help="PEPP of Eq. 44")
     p.add_argument("--window", type=float, nargs=4, metavar=("XMIN", "YMIN", "XMAX", "YMAX"))
     p.add_argument("--view", type=float, nargs=2, metavar=("YAW", "PITCH"), help="3D systems: degrees")
-    p.add_argument("--reference", help="colour-stealing: the picture colours come from")
-    p.add_argument("--reference-system", help="colour-stealing: the system that walks the picture")
+    p.add_argument("--reference", help="color-stealing: the picture colours come from")
+    p.add_argument("--reference-system", help="color-stealing: the system that walks the picture")
     p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
                    help="an algorithm setting, repeatable (`ifsforge algorithms` lists them)")
     distributed.add_cluster_arguments(p)
@@ -51,7 +51,7 @@ def run(args):
         if args.reference_system:
             extra["reference_system"] = common.load_system(args.reference_system)
         if not args.algorithm:
-            algorithm = "colour-stealing"
+            algorithm = "color-stealing"
     with distributed.client_from_args(args) as client:
         raster = distributed.render(
             system, algorithm, client=client, width=width, height=height, window=window, view=view,
