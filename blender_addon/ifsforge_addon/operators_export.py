@@ -13,6 +13,8 @@ import ifsforge
 from . import state
 from .operators_generate import report_error
 
+SCENE = ifsforge.PovSceneOptions()  # the defaults, written once in C++
+
 
 class IFSFORGE_OT_export_povray(bpy.types.Operator, ExportHelper):
     """Write the system's instance list as a POV-Ray 3.7 scene (the Instances settings choose depth,
@@ -21,8 +23,8 @@ class IFSFORGE_OT_export_povray(bpy.types.Operator, ExportHelper):
     bl_label = "Export POV-Ray Scene"
     filename_ext = ".pov"
     filter_glob: StringProperty(default="*.pov", options={'HIDDEN'})
-    width: IntProperty(name="Width", min=16, max=16384, default=800)
-    height: IntProperty(name="Height", min=16, max=16384, default=600)
+    width: IntProperty(name="Width", min=16, max=16384, default=SCENE.width)
+    height: IntProperty(name="Height", min=16, max=16384, default=SCENE.height)
     render: BoolProperty(name="Render with POV-Ray", description="Also render the scene to a PNG beside it "
                          "and load it as an image")
 

@@ -40,7 +40,8 @@ class Preview:
         self.key, self.cloud, self.batches, self.error = key, None, None, analysis.error
         if analysis.usable:
             try:
-                self.cloud = ifsforge.preview_cloud(analysis.system, settings.count, 0, settings.coloring, highlight)
+                self.cloud = ifsforge.preview_cloud(analysis.system, settings.count, seed=0, coloring=settings.coloring,
+                                                    highlight=highlight)
             except ifsforge.Error as error:
                 self.error = str(error)
         self.seconds = time.perf_counter() - start

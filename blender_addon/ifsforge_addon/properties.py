@@ -15,6 +15,7 @@ MAX_EXTRA = 6        # channels beyond the 2 or 3 spatial ones
 # The core's settings structs: each default is written once, in C++.
 RENDER, TONE, DRAW = ifsforge.RenderOptions(), ifsforge.ToneOptions(), ifsforge.DrawOptions()
 VOLUME, ISO, INSTANCE = ifsforge.VolumeOptions(), ifsforge.IsoSurfaceOptions(), ifsforge.InstanceOptions()
+PREVIEW = ifsforge.PreviewOptions()
 COMMON_LAYOUTS = ("xy", "xyz", "xy+gray", "xy+rgb", "xy+hsi", "xy+rgba", "xyz+gray", "xyz+rgb", "xyz+hsi",
                   "xyz+rgba", "xyz+k", "xyz+rgb+k")
 
@@ -200,7 +201,7 @@ class IFSFORGE_PG_generated(PropertyGroup):
 
 class IFSFORGE_PG_preview(PropertyGroup):
     show: BoolProperty(name="Preview", default=True, update=_changed, description="Draw the attractor in the viewport")
-    count: IntProperty(name="Points", default=200000, min=1000, max=5000000, update=_changed)
+    count: IntProperty(name="Points", default=PREVIEW.count, min=1000, max=5000000, update=_changed)
     coloring: EnumProperty(name="Colour", update=_changed, items=(
         ('auto', "Auto", "The colour channels when the layout has them, else the pieces"),
         ('pieces', "Pieces", "Each map's piece w_i(A) in its own colour: the collage"),

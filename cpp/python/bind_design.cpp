@@ -52,24 +52,26 @@ void bind_design(py::module_& m) {
       }, "per end point: the map index, or len(system) for the bounding box")
       .def_property_readonly("coloring", [](const PreviewCloud& c) { return std::string(name_of(c.coloring)); });
 
+  options_class<PreviewOptions>(m, "PreviewOptions", "The settings of preview_cloud() (keywords of the same names).")
+      .def_readwrite("count", &PreviewOptions::count, "points in the cloud")
+      .def_readwrite("seed", &PreviewOptions::seed)
+      .def_property("coloring", [](const PreviewOptions& o) { return std::string(name_of(o.coloring)); },
+                    [](PreviewOptions& o, const std::string& c) { o.coloring = parse_name<PreviewColoring>(c); },
+                    "auto, pieces (the collage of Eq. 41) or channels (the layout's colour channels)")
+      .def_readwrite("highlight", &PreviewOptions::highlight, "a map whose piece stays bright (-1: none)")
+      .def_readwrite("threads", &PreviewOptions::threads, "0: every core; the cloud never depends on it");
   m.def("preview_cloud",
-        [](const Ifs& ifs, std::size_t count, std::uint64_t seed, const std::string& coloring, int highlight,
-           int threads) {
-          PreviewOptions o;
-          o.count = count;
-          o.seed = seed;
-          o.coloring = parse_name<PreviewColoring>(coloring);
-          o.highlight = highlight;
-          o.threads = threads;
+        [](const Ifs& ifs, const py::object& count, const py::kwargs& kwargs) {
+          py::dict given(kwargs);
+          add_option(given, "count", count);
+          const PreviewOptions o = options_from<PreviewOptions>("preview_cloud", given);
           py::gil_scoped_release release;
           return preview_cloud(ifs, o);
         },
-        py::arg("ifs"), py::arg("count") = PreviewOptions{}.count, py::arg("seed") = PreviewOptions{}.seed,
-        py::arg("coloring") = "auto", py::arg("highlight") = PreviewOptions{}.highlight,
-        py::arg("threads") = PreviewOptions{}.threads,
+        py::arg("ifs"), py::arg("count") = py::none(),
         "A seeded cloud of points on the attractor coloured by piece (the collage of Eq. 41) or by the "
-        "layout's colour channels (coloring 'auto', 'pieces', 'channels'), plus the collage frames. "
-        "highlight: a map whose piece stays bright. Identical for any thread count.");
+        "layout's colour channels, plus the collage frames: the PreviewOptions given as keywords. "
+        "Identical for any thread count.");
   m.def("piece_color", [](std::size_t index, bool dim) {
     float rgba[4];
     piece_color(index, dim, rgba);

@@ -142,41 +142,55 @@ void bind_inverse(py::module_& m) {
       "(addresses, distance): the depth-`depth` addresses (lists of 0-based map indices, outermost map "
       "first) of the pieces that may hold the attractor point nearest to `point`, by the hierarchy of "
       "bounding boxes (seed 3.3.1), and the distance to the nearest attractor point found.");
-  m.def("tops", [](const Ifs& ifs, int width, int height, std::optional<std::vector<double>> window,
-                   std::uint64_t iterations, std::uint64_t seed) {
-    TopsOptions o{width, height, iterations, seed};
+  options_class<TopsOptions>(m, "TopsOptions", "The settings of tops() and tops_warp() (keywords of the same names).")
+      .def_readwrite("width", &TopsOptions::width)
+      .def_readwrite("height", &TopsOptions::height)
+      .def_property("iterations", [](const TopsOptions& o) { return o.iterations; },
+                    [](TopsOptions& o, long long v) { o.iterations = count_argument(v, "iterations"); },
+                    "chaos-game points (0: 16 per pixel, Eq. 44)")
+      .def_readwrite("seed", &TopsOptions::seed);
+  m.def("tops", [](const Ifs& ifs, const py::object& width, const py::object& height,
+                   std::optional<std::vector<double>> window, const py::kwargs& kwargs) {
+    py::dict given(kwargs);
+    add_option(given, "width", width);
+    add_option(given, "height", height);
+    const TopsOptions o = options_from<TopsOptions>("tops", given);
     Tops t;
     {
       py::gil_scoped_release release;
-      t = tops(ifs, frame_of(ifs, width, height, window), o);
+      t = tops(ifs, frame_of(ifs, o.width, o.height, window), o);
     }
-    py::array_t<std::uint8_t> digits({height, width, kTopsDepth});
+    py::array_t<std::uint8_t> digits({o.height, o.width, kTopsDepth});
     auto d = digits.mutable_unchecked<3>();
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x)
+    for (int y = 0; y < o.height; ++y)
+      for (int x = 0; x < o.width; ++x)
         for (int k = 0; k < kTopsDepth; ++k)
-          d(y, x, k) = static_cast<std::uint8_t>((t.codes[std::size_t(y) * width + x] >> (60 - 4 * k)) & 15);
-    PixelSet covered{width, height, t.covered};
+          d(y, x, k) = static_cast<std::uint8_t>((t.codes[std::size_t(y) * o.width + x] >> (60 - 4 * k)) & 15);
+    PixelSet covered{o.width, o.height, t.covered};
     return py::make_tuple(digits, pixel_set_to_numpy(covered));
-  }, py::arg("ifs"), py::arg("width"), py::arg("height"), py::arg("window") = py::none(),
-        py::arg("iterations") = 0, py::arg("seed") = 0,
+  }, py::arg("ifs"), py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("window") = py::none(),
         "Fractal tops (seed 3.3.5): (digits uint8 (h, w, 16), covered bool (h, w)): per pixel the largest "
-        "address (outermost map first) among the chaos game's points in it. window: default the system's "
-        "render.window, else the attractor's frame.");
-  m.def("tops_warp", [](const Ifs& f, const py::array& picture, const Ifs& g, int width, int height,
-                        std::uint64_t iterations, std::uint64_t seed) {
+        "address (outermost map first) among the chaos game's points in it; the TopsOptions given as keywords. "
+        "window: default the system's render.window, else the attractor's frame.");
+  m.def("tops_warp", [](const Ifs& f, const py::array& picture, const Ifs& g, const py::object& width,
+                        const py::object& height, const py::kwargs& kwargs) {
+    py::dict given(kwargs);
+    add_option(given, "width", width);
+    add_option(given, "height", height);
+    const TopsOptions o = options_from<TopsOptions>("tops_warp", given);
     const Image image = image_from_numpy(picture);
     Image out;
     {
       py::gil_scoped_release release;
       const Frame ff = frame_of(f, image.width, image.height, std::nullopt);
-      out = tops_warp(f, ff, image, g, frame_of(g, width, height, std::nullopt), TopsOptions{width, height, iterations, seed});
+      out = tops_warp(f, ff, image, g, frame_of(g, o.width, o.height, std::nullopt), o);
     }
     return image_to_numpy(out);
-  }, py::arg("from_system"), py::arg("picture"), py::arg("to_system"), py::arg("width"), py::arg("height"),
-        py::arg("iterations") = 0, py::arg("seed") = 0,
+  }, py::arg("from_system"), py::arg("picture"), py::arg("to_system"), py::arg("width") = py::none(),
+        py::arg("height") = py::none(),
         "The picture laid on F's frame (its render.window, else its attractor's) carried onto G's attractor "
-        "by the fractal homeomorphism phi_G o tau_F (3.3.5): RGBA (height, width, 4), alpha 0 off G.");
+        "by the fractal homeomorphism phi_G o tau_F (3.3.5): RGBA (height, width, 4), alpha 0 off G; the "
+        "TopsOptions given as keywords.");
   m.def("attractor_iou", [](const Ifs& ifs, const py::array& target, std::uint64_t seed, double threshold) {
     const PixelSet t = pixel_set_from_numpy(target, threshold);
     py::gil_scoped_release release;

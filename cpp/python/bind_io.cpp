@@ -121,31 +121,32 @@ void bind_io(py::module_& m) {
       .value("z", Up::z);
   m.def("default_up", &default_up, py::arg("path"),
         "The up axis the reader of `path` expects by its extension: .glb/.gltf/.obj y, else (.ply) z.");
+  options_class<MeshWriteOptions>(m, "MeshWriteOptions", "The settings of write_mesh() (keywords of the same names).")
+      .def_readwrite("base_color_texture", &MeshWriteOptions::base_color_texture,
+                     "glTF: a PNG embedded as the material's base colour (needs uvs)")
+      .def_readwrite("name", &MeshWriteOptions::name, "glTF: the mesh and node name")
+      .def_property("up", [](const MeshWriteOptions& o) { return o.up; },
+                    [](MeshWriteOptions& o, const py::object& up) { o.up = up_argument(up); },
+                    "the file's up axis ('y', 'z'; None: the format's, see default_up)");
   m.def("write_mesh",
         [](const std::string& path, py::array positions, py::array triangles, std::optional<py::array> normals,
-           std::optional<py::array> colors, std::optional<py::array> uvs, const std::string& texture,
-           const std::string& name, bool compute, const py::object& up) {
+           std::optional<py::array> colors, std::optional<py::array> uvs, bool compute, const py::kwargs& kwargs) {
           TriangleMesh mesh;
           mesh.positions = rows<float, 3>(positions, "positions");
           mesh.triangles = rows<std::uint32_t, 3>(triangles, "triangles");
           mesh.normals = rows<float, 3>(normals, "normals");
           mesh.colors = rows<float, 4>(colors, "colors");
           mesh.uvs = rows<float, 2>(uvs, "uvs");
-          MeshWriteOptions options;
-          options.base_color_texture = texture;
-          options.name = name;
-          const std::optional<Up> file_up = up_argument(up);
+          const MeshWriteOptions options = options_from<MeshWriteOptions>("write_mesh", kwargs);
           py::gil_scoped_release release;
           if (compute && mesh.normals.empty()) compute_normals(mesh);
-          options.up = file_up;
           write_mesh(path, mesh, options);
         },
         py::arg("path"), py::arg("positions"), py::arg("triangles"), py::arg("normals") = py::none(),
-        py::arg("colors") = py::none(), py::arg("uvs") = py::none(), py::arg("texture") = "",
-        py::arg("name") = "ifsforge", py::arg("compute_normals") = true, py::arg("up") = py::none(),
-        "Write a triangle mesh given in ifsforge's z-up axes as .ply, .obj or .glb (atomically), turned to "
-        "`up` ('y', 'z'; None: the format's, see default_up). colors are display RGBA in [0, 1] (the .glb "
-        "stores them linear); texture is a PNG embedded as the glTF base colour (needs uvs).");
+        py::arg("colors") = py::none(), py::arg("uvs") = py::none(), py::arg("compute_normals") = true,
+        "Write a triangle mesh given in ifsforge's z-up axes as .ply, .obj or .glb (atomically): the "
+        "MeshWriteOptions given as keywords (up: the file's axis). colors are display RGBA in [0, 1] (the .glb "
+        "stores them linear).");
   m.def("mesh_edges",
         [](py::array faces, std::size_t vertex_count) {
           auto a = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(faces);
@@ -172,43 +173,45 @@ void bind_io(py::module_& m) {
   m.def("read_mesh", [](const std::string& path) { return mesh_dict(read_mesh(path)); }, py::arg("path"),
         "A PLY/OBJ/OFF/STL mesh (OpenMesh), triangulated: {'positions', 'normals', 'triangles'}.");
 
+  options_class<PovSceneOptions>(m, "PovSceneOptions",
+                                  "The settings of write_pov_scene() (keywords of the same names).")
+      .def_readwrite("title", &PovSceneOptions::title, "first comment line and IFS_Title; default: the list's name")
+      .def_readwrite("width", &PovSceneOptions::width, "the image the camera is framed for")
+      .def_readwrite("height", &PovSceneOptions::height)
+      .def_property("view", [](const PovSceneOptions& o) { return std::array<double, 2>{o.view.yaw, o.view.pitch}; },
+                    [](PovSceneOptions& o, std::array<double, 2> v) { o.view.yaw = v[0], o.view.pitch = v[1]; },
+                    "(yaw, pitch) in degrees, as `render --view` (2D lists: from above)")
+      .def_property("orthographic", [](const PovSceneOptions& o) { return o.view.orthographic; },
+                    [](PovSceneOptions& o, bool v) { o.view.orthographic = v; })
+      .def_property("fov", [](const PovSceneOptions& o) { return o.view.fov; },
+                    [](PovSceneOptions& o, double v) { o.view.fov = v; }, "perspective: horizontal field of view, degrees")
+      .def_property("margin", [](const PovSceneOptions& o) { return o.view.margin; },
+                    [](PovSceneOptions& o, double v) { o.view.margin = v; }, "free border, fraction of the image")
+      .def_property("background", [](const PovSceneOptions& o) { return o.environment.background; },
+                    [](PovSceneOptions& o, std::array<float, 3> v) { o.environment.background = v; },
+                    "RGB behind the scene when there is no sky")
+      .def_property("quality", [](const PovSceneOptions& o) { return std::string(name_of(o.environment.quality)); },
+                    [](PovSceneOptions& o, const std::string& q) { o.environment.quality = parse_name<PovQuality>(q); },
+                    "draft (no shadows), normal or high (soft shadows, radiosity)")
+      .def_readwrite("bounded_by", &PovSceneOptions::bounded_by, "a manual bound (slow to trace in POV-Ray 3.7)")
+      .def_readwrite("threads", &PovSceneOptions::threads, "formatting threads; the bytes never depend on it")
+      .def_property("progress", [](const PovSceneOptions&) { return py::none(); },
+                    [](PovSceneOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
+                    "progress(fraction) returning False cancels (write-only)");
   m.def("write_pov_scene",
-        [](const std::string& path, const InstanceList& list, const std::string& title, int width, int height,
-           std::array<double, 2> view, bool orthographic, double fov, double margin, std::optional<bool> floor,
-           std::optional<bool> sky, std::array<float, 3> background, const std::string& quality, bool bounded_by,
-           int threads, const py::object& progress) {
-          PovSceneOptions o;
-          o.title = title;
-          o.width = width;
-          o.height = height;
-          o.view.yaw = view[0];
-          o.view.pitch = view[1];
-          o.view.orthographic = orthographic;
-          o.view.fov = fov;
-          o.view.margin = margin;
+        [](const std::string& path, const InstanceList& list, std::optional<bool> floor, std::optional<bool> sky,
+           const py::kwargs& kwargs) {
+          PovSceneOptions o = options_from<PovSceneOptions>("write_pov_scene", kwargs);
           o.environment.floor = floor.value_or(list.spatial_dims == 3);
           o.environment.sky = sky.value_or(list.spatial_dims == 3);
-          o.environment.background = background;
-          o.environment.quality = parse_name<PovQuality>(quality);
-          o.bounded_by = bounded_by;
-          o.threads = threads;
-          o.progress = wrap_progress(progress);
           py::gil_scoped_release release;
           write_pov_scene(path, list, o);
         },
-        // The defaults are PovSceneOptions' (its view and environment): written once, in C++.
-        py::arg("path"), py::arg("instances"), py::arg("title") = PovSceneOptions{}.title,
-        py::arg("width") = PovSceneOptions{}.width, py::arg("height") = PovSceneOptions{}.height,
-        py::arg("view") = std::array<double, 2>{PovView{}.yaw, PovView{}.pitch},
-        py::arg("orthographic") = PovView{}.orthographic, py::arg("fov") = PovView{}.fov,
-        py::arg("margin") = PovView{}.margin, py::arg("floor") = py::none(), py::arg("sky") = py::none(),
-        py::arg("background") = PovEnvironment{}.background,
-        py::arg("quality") = name_of(PovEnvironment{}.quality), py::arg("bounded_by") = PovSceneOptions{}.bounded_by,
-        py::arg("threads") = PovSceneOptions{}.threads, py::arg("progress") = py::none(),
+        py::arg("path"), py::arg("instances"), py::kw_only(), py::arg("floor") = py::none(),
+        py::arg("sky") = py::none(),
         "A POV-Ray 3.7 scene (+ ifsforge.inc beside it): one union of the instances, camera and lights framed "
-        "for width x height from the instances' bounds. view = (yaw, pitch) as `render --view` (2D lists: from "
-        "above). floor/sky default to on for 3D lists. quality: draft, normal, high. bounded_by adds a manual "
-        "bound (slow to trace in POV-Ray 3.7).");
+        "for width x height from the instances' bounds: the PovSceneOptions given as keywords. floor and sky "
+        "(None: on for 3D lists).");
   options_class<PovRenderOptions>(m, "PovRenderOptions", "The settings of render_povray() (keywords of the same names).")
       .def_readwrite("width", &PovRenderOptions::width)
       .def_readwrite("height", &PovRenderOptions::height)

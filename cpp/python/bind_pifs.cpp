@@ -53,6 +53,26 @@ py::dict cost(const PifsCode& code) {
 void bind_pifs(py::module_& m) {
   add_choices<PifsDecoder>(m, "decoder");
   add_choices<PifsColor>(m, "color");
+  options_class<PifsDecodeOptions>(m, "PifsDecodeOptions",
+                                    "The settings of PifsCode.decode() (keywords of the same names).")
+      .def_readwrite("scale", &PifsDecodeOptions::scale, "output size = the image's size × scale")
+      .def_property("size", [](const PifsDecodeOptions& o) -> std::optional<std::pair<int, int>> {
+                      if (o.width <= 0) return std::nullopt;
+                      return std::make_pair(o.width, o.height);
+                    },
+                    [](PifsDecodeOptions& o, std::pair<int, int> size) {
+                      if (size.first < 1 || size.second < 1)
+                        throw InputError("size must be two positive integers (width, height)");
+                      o.width = size.first;
+                      o.height = size.second;
+                    }, "(width, height) of the output instead of scale; None: not set")
+      .def_property("decoder", [](const PifsDecodeOptions& o) { return std::string(name_of(o.decoder)); },
+                    [](PifsDecodeOptions& o, const std::string& d) { o.decoder = parse_name<PifsDecoder>(d); },
+                    "hierarchical (Baharav) or iterative (DIA)")
+      .def_readwrite("iterations", &PifsDecodeOptions::iterations,
+                     "fixed-point iterations (0: the default; coarsest level, or every level when iterative)")
+      .def_readwrite("deblock", &PifsDecodeOptions::deblock, "smooth both sides of every range-block edge")
+      .def_readwrite("threads", &PifsDecodeOptions::threads, "0: every core; the image never depends on it");
   py::class_<PifsCode>(m, "PifsCode", "A partitioned IFS code of an image (seed 3.3.2); decodes at any size.")
       .def_readonly("width", &PifsCode::width)
       .def_readonly("height", &PifsCode::height)
@@ -74,30 +94,16 @@ void bind_pifs(py::module_& m) {
         for (const auto& p : c.planes) out.push_back(p.leaves.size());
         return out;
       }, "range cells per plane")
-      .def("decode", [](const PifsCode& code, double scale, std::optional<std::pair<int, int>> size,
-                        const std::string& decoder, int iterations, bool deblock, int threads) {
-        PifsDecodeOptions o;
-        o.scale = scale;
-        if (size) {
-          if (size->first < 1 || size->second < 1) throw InputError("size must be two positive integers (width, height)");
-          o.width = size->first;
-          o.height = size->second;
-        }
-        o.decoder = parse_name<PifsDecoder>(decoder);
-        o.iterations = iterations;
-        o.deblock = deblock;
-        o.threads = threads;
+      .def("decode", [](const PifsCode& code, const py::kwargs& kwargs) {
+        const PifsDecodeOptions o = options_from<PifsDecodeOptions>("decode", kwargs);
         Image image;
         {
           py::gil_scoped_release release;
           image = pifs_decode(code, o);
         }
         return image_to_numpy(image);
-      }, py::arg("scale") = PifsDecodeOptions{}.scale, py::arg("size") = py::none(),
-         py::arg("decoder") = "hierarchical", py::arg("iterations") = PifsDecodeOptions{}.iterations,
-         py::arg("deblock") = PifsDecodeOptions{}.deblock, py::arg("threads") = PifsDecodeOptions{}.threads,
-         "The image (float32 in [0, 1], (h, w) or (h, w, c)) at scale × the size, or at size=(width, height). "
-         "decoder: 'hierarchical' (Baharav) or 'iterative' (DIA); iterations 0 = the default.")
+      }, "The image (float32 in [0, 1], (h, w) or (h, w, c)) at scale × the size, or at size=(width, height): "
+         "the PifsDecodeOptions given as keywords.")
       .def("to_bytes", &to_bytes, "The .pifs file's bytes.")
       .def("cost", &cost, "Bytes of the file and bits spent on each part (measured).")
       .def("__repr__", [](const PifsCode& c) {
@@ -105,39 +111,37 @@ void bind_pifs(py::module_& m) {
                std::to_string(c.channels) + " channels, " + std::to_string(pifs_to_bytes(c).size()) + " bytes)";
       });
 
-  m.def("pifs_encode", [](const py::array& array, std::optional<double> ratio, std::optional<std::size_t> bytes,
-                          std::optional<double> quality, int min_block, int max_block, int s_bits, int dc_step,
-                          bool ycbcr, int threads, const py::object& progress) {
+  options_class<PifsEncodeOptions>(m, "PifsEncodeOptions",
+                                    "The settings of pifs_encode() (keywords of the same names).")
+      .def_readwrite("min_block", &PifsEncodeOptions::min_block, "smallest range cell, pixels (power of two)")
+      .def_readwrite("max_block", &PifsEncodeOptions::max_block, "largest range cell, pixels (power of two)")
+      .def_readwrite("s_bits", &PifsEncodeOptions::s_bits, "contrast bits (Eq. 29's s quantised)")
+      .def_readwrite("dc_step", &PifsEncodeOptions::dc_step, "range-mean quantisation, 8-bit levels")
+      .def_property("bytes", [](const PifsEncodeOptions& o) { return o.bytes; },
+                    [](PifsEncodeOptions& o, long long v) {
+                      if (v < 1) throw InputError("bytes must be positive, got " + std::to_string(v));
+                      o.bytes = static_cast<std::size_t>(v);
+                    }, "rate: the file is at most this many bytes (0: not set; wins over ratio and quality)")
+      .def_property("ratio", [](const PifsEncodeOptions& o) { return o.ratio; },
+                    [](PifsEncodeOptions& o, double v) {
+                      if (!(v > 0)) throw InputError("ratio must be positive");
+                      o.ratio = v;
+                    }, "rate: raw bytes / ratio (0: not set; wins over quality)")
+      .def_readwrite("quality", &PifsEncodeOptions::quality, "rate: collage RMS threshold, 8-bit levels")
+      .def_readwrite("ycbcr", &PifsEncodeOptions::ycbcr, "RGB(A) as YCbCr with half-size chroma")
+      .def_readwrite("threads", &PifsEncodeOptions::threads, "0: every core; the code never depends on it");
+  m.def("pifs_encode", [](const py::array& array, const py::object& progress, const py::kwargs& kwargs) {
     if (py::isinstance<py::array_t<std::uint16_t>>(array))
       py::module_::import("warnings").attr("warn")("16-bit image reduced to 8 bits for PIFS coding");
     Image image = image_from_numpy(array);
-    PifsEncodeOptions o;
-    if (ratio) {
-      if (!(*ratio > 0)) throw InputError("ratio must be positive");
-      o.ratio = *ratio;
-    }
-    if (bytes) {
-      if (*bytes == 0) throw InputError("bytes must be positive");
-      o.bytes = *bytes;
-    }
-    if (quality) o.quality = *quality;
-    o.min_block = min_block;
-    o.max_block = max_block;
-    o.s_bits = s_bits;
-    o.dc_step = dc_step;
-    o.ycbcr = ycbcr;
-    o.threads = threads;
+    const PifsEncodeOptions o = options_from<PifsEncodeOptions>("pifs_encode", kwargs);
     ProgressCallback callback = wrap_progress(progress);
     py::gil_scoped_release release;
     return pifs_encode(image, o, callback);
-  }, py::arg("image"), py::arg("ratio") = py::none(), py::arg("bytes") = py::none(), py::arg("quality") = py::none(),
-     py::arg("min_block") = PifsEncodeOptions{}.min_block, py::arg("max_block") = PifsEncodeOptions{}.max_block,
-     py::arg("s_bits") = PifsEncodeOptions{}.s_bits, py::arg("dc_step") = PifsEncodeOptions{}.dc_step,
-     py::arg("ycbcr") = PifsEncodeOptions{}.ycbcr, py::arg("threads") = PifsEncodeOptions{}.threads,
-     py::arg("progress") = py::none(),
-     "PIFS code of an image array ((h, w) or (h, w, c), c = 1-4; uint8, uint16 or floats in [0, 1]). Rate: "
-     "bytes (file <= bytes), ratio (raw bytes / ratio) or quality (collage RMS threshold, 8-bit levels; default "
-     "8). Identical for any thread count.");
+  }, py::arg("image"), py::kw_only(), py::arg("progress") = py::none(),
+     "PIFS code of an image array ((h, w) or (h, w, c), c = 1-4; uint8, uint16 or floats in [0, 1]): the "
+     "PifsEncodeOptions given as keywords. Rate: bytes (file <= bytes), ratio (raw bytes / ratio) or quality "
+     "(collage RMS threshold, 8-bit levels). Identical for any thread count.");
   m.def("pifs_from_bytes", [](const py::bytes& data) {
     const std::string s = data;
     return pifs_from_bytes(reinterpret_cast<const std::uint8_t*>(s.data()), s.size());

@@ -34,14 +34,6 @@ py::dict mesh_to_dict(const TriangleMesh& mesh) {
   return d;
 }
 
-TerrainMeshOptions mesh_options(bool solid, std::optional<double> base, const std::optional<Palette>& palette) {
-  TerrainMeshOptions o;
-  o.solid = solid;
-  if (base) o.base = *base;
-  if (palette) o.palette = *palette;
-  return o;
-}
-
 }  // namespace
 
 void bind_terrain(py::module_& m) {
@@ -139,20 +131,18 @@ void bind_terrain(py::module_& m) {
         return image_to_numpy(image);
       }, py::arg("width") = 0, py::arg("height") = 0, py::arg("threads") = 0,
          "(height, width) float32 in [0, 1] (min_height..max_height), north up; write with write_png(..., 16)")
-      .def("mesh", [](const Terrain& t, bool solid, std::optional<double> base, const py::object& up,
-                      std::optional<Palette> palette, int threads) {
-        const TerrainMeshOptions o = mesh_options(solid, base, palette);
+      .def("mesh", [](const Terrain& t, const py::object& up, int threads, const py::kwargs& kwargs) {
+        const TerrainMeshOptions o = options_from<TerrainMeshOptions>("mesh", kwargs);
         const Up axes = up_argument(up).value_or(Up::z);
-        TriangleMesh mesh;
+    TriangleMesh mesh;
         {
           py::gil_scoped_release release;
           mesh = terrain_mesh(t, o, threads);
           orient(mesh, axes);
         }
         return mesh_to_dict(mesh);
-      }, py::arg("solid") = TerrainMeshOptions{}.solid, py::arg("base") = py::none(), py::arg("up") = "z", py::arg("palette") = py::none(),
-         py::arg("threads") = 0,
-         "dict of numpy arrays (positions, normals, uvs, display colors with a palette, triangles) in `up` axes: "
+      }, py::kw_only(), py::arg("up") = "z", py::arg("threads") = 0,
+         "The TerrainMeshOptions solid, base and palette given as keywords: dict of numpy arrays (positions, normals, uvs, display colors with a palette, triangles) in `up` axes: "
          "'z' (default) is ifsforge's (x, y, height), what write_mesh expects; 'y' gives (x, height, -y)");
 
   m.def("make_terrain", [](const TerrainControls& c, int columns, int rows, int threads, const py::object& progress) {
@@ -223,35 +213,50 @@ void bind_terrain(py::module_& m) {
   m.def("parse_terrain_recipe", &parse_terrain_recipe, py::arg("text"), py::arg("source") = "terrain recipe",
         py::arg("folder") = ".");
 
-  m.def("write_terrain_mesh", [](const std::string& path, const Terrain& t, std::optional<Palette> palette, bool solid,
-                                 std::optional<double> base, const py::object& up, int threads) {
-    TerrainMeshOptions o = mesh_options(solid, base, palette);
-    o.up = up_argument(up);
+  options_class<TerrainMeshOptions>(m, "TerrainMeshOptions",
+                                     "The settings of Terrain.mesh() and write_terrain_mesh() (keywords of the same "
+                                     "names).")
+      .def_readwrite("solid", &TerrainMeshOptions::solid,
+                     "walls down to base and a floor: a watertight solid; else an open sheet")
+      .def_property("base", [](const TerrainMeshOptions& o) -> std::optional<double> {
+                      if (std::isnan(o.base)) return std::nullopt;
+                      return o.base;
+                    },
+                    [](TerrainMeshOptions& o, double base) { o.base = base; },
+                    "the floor height of a solid; None: 10% of the height range below the lowest point")
+      .def_property("up", [](const TerrainMeshOptions& o) { return o.up; },
+                    [](TerrainMeshOptions& o, const py::object& up) { o.up = up_argument(up); },
+                    "write_terrain_mesh: the file's up axis ('y', 'z'; None: the format's, glTF/OBJ y, PLY z)")
+      .def_readwrite("palette", &TerrainMeshOptions::palette, "vertex colours by height (empty: none)");
+  m.def("write_terrain_mesh", [](const std::string& path, const Terrain& t, const py::object& palette, int threads,
+                                 const py::kwargs& kwargs) {
+    py::dict given(kwargs);
+    add_option(given, "palette", palette);
+    const TerrainMeshOptions o = options_from<TerrainMeshOptions>("write_terrain_mesh", given);
     py::gil_scoped_release release;
     write_terrain_mesh(path, t, o, threads);
-  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("solid") = TerrainMeshOptions{}.solid,
-     py::arg("base") = py::none(), py::arg("up") = py::none(), py::arg("threads") = 0,
-     ".glb (palette strip embedded as base-colour texture), .obj or .ply; uv = (normalised height, 0.5); "
-     "up: the file's up axis ('y', 'z'; None: the format's, glTF/OBJ y, PLY z)");
+  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::kw_only(), py::arg("threads") = 0,
+     ".glb (palette strip embedded as base-colour texture), .obj or .ply; uv = (normalised height, 0.5): the "
+     "TerrainMeshOptions given as keywords");
+  options_class<TerrainPovOptions>(m, "TerrainPovOptions",
+                                    "The settings of write_terrain_pov() (keywords of the same names).")
+      .def_readwrite("shape", &TerrainPovOptions::shape,
+                     "height_field (a 16-bit PNG beside the scene) or mesh2 (the triangles inlined)")
+      .def_readwrite("camera", &TerrainPovOptions::camera,
+                     "perspective (south-west, 35 degrees up) or top (orthographic, north up, the outline)")
+      .def_readwrite("flat", &TerrainPovOptions::flat, "no lights: every point shows its palette colour")
+      .def_readwrite("aspect", &TerrainPovOptions::aspect, "the render's width / height (perspective camera)")
+      .def_readwrite("title", &TerrainPovOptions::title, "first comment line and IFS_Title")
+      .def_readwrite("palette_name", &TerrainPovOptions::palette_name, "the colours are IFS_Palette_<name>");
   m.def("write_terrain_pov", [](const std::string& path, const Terrain& t, std::optional<Palette> palette,
-                                const std::string& shape, const std::string& camera, bool flat, double aspect,
-                                int threads, const std::string& title, const std::string& palette_name) {
-    TerrainPovOptions o;
-    o.title = title;
-    o.palette_name = palette_name;
-    o.shape = shape;
-    o.camera = camera;
-    o.flat = flat;
-    o.aspect = aspect;
+                                int threads, const py::kwargs& kwargs) {
+    const TerrainPovOptions o = options_from<TerrainPovOptions>("write_terrain_pov", kwargs);
     const Palette p = palette.value_or(Palette{});
     py::gil_scoped_release release;
     return write_terrain_pov(path, t, p, o, threads);
-  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::arg("shape") = TerrainPovOptions{}.shape,
-     py::arg("camera") = TerrainPovOptions{}.camera, py::arg("flat") = TerrainPovOptions{}.flat,
-     py::arg("aspect") = TerrainPovOptions{}.aspect,
-     py::arg("threads") = 0, py::arg("title") = TerrainPovOptions{}.title,
-     py::arg("palette_name") = TerrainPovOptions{}.palette_name,
-     "POV-Ray scene (height_field + its 16-bit PNG, or mesh2) coloured by the palette; returns the files written");
+  }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::kw_only(), py::arg("threads") = 0,
+     "POV-Ray scene (height_field + its 16-bit PNG, or mesh2) coloured by the palette: the TerrainPovOptions "
+     "given as keywords; returns the files written");
 }
 
 }  // namespace ifsforge::python

@@ -203,7 +203,7 @@ def test_povray_renders_the_palette_on_the_heights(tmp_path, shape):
     terrain = ifsforge.make_terrain(c, 129, 97)
     palette = two_tone()
     scene = tmp_path / "flat.pov"
-    ifsforge.write_terrain_pov(str(scene), terrain, palette, shape, "top", True)
+    ifsforge.write_terrain_pov(str(scene), terrain, palette, shape=shape, camera="top", flat=True)
     ifsforge.render_povray(str(scene), str(tmp_path / "flat.png"), 128, 96)
     render = ifsforge.read_png(str(tmp_path / "flat.png"))[..., :3]
     # The terrain's colours at POV-Ray's pixel centres: pixel i of 128 sits at sample 128 i / 127 ... of 129.

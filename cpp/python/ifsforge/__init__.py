@@ -65,8 +65,9 @@ from ifsforge._core import (  # noqa: F401  (inverse problem: collage theorem, f
     FitOptions, attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance, tops, tops_warp,
 )
 from ifsforge._core import (  # noqa: F401  (the settings structs: every default lives in C++, once)
-    DrawOptions, GltfInstanceOptions, InstanceOptions, PovRenderOptions, RenderOptions, SvgOptions, ToneOptions,
-    VolumeOptions,
+    DrawOptions, GltfInstanceOptions, InstanceOptions, MeshWriteOptions, PifsDecodeOptions, PifsEncodeOptions,
+    PovRenderOptions, PovSceneOptions, PreviewOptions, RenderOptions, SvgOptions, TerrainMeshOptions,
+    TerrainPovOptions, ToneOptions, TopsOptions, VolumeOptions,
 )
 from ifsforge.errors import (  # noqa: F401
     Cancelled,

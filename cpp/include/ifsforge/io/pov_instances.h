@@ -6,13 +6,14 @@
 
 #include "ifsforge/core/progress.h"
 #include "ifsforge/io/pov_scene.h"
+#include "ifsforge/io/povray.h"
 #include "ifsforge/vector/instances.h"
 
 namespace ifsforge {
 
 struct PovSceneOptions {
   std::string title;              ///< first comment line and IFS_Title; default "IFS instances: <name>"
-  int width = 800, height = 600;  ///< the image the camera is framed for (aspect ratio)
+  int width = kPovWidth, height = kPovHeight;  ///< the image the camera is framed for (aspect ratio)
   /// The camera. 2D lists (spatial_dims 2) are seen from straight above: yaw 0, pitch 90 gives
   /// the image axes x right, y up, as `ifsforge render`.
   PovView view;

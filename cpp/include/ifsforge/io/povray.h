@@ -6,8 +6,11 @@
 
 namespace ifsforge {
 
+/// The image size scenes are framed for and rendered at, unless told otherwise.
+inline constexpr int kPovWidth = 800, kPovHeight = 600;
+
 struct PovRenderOptions {
-  int width = 800, height = 600;
+  int width = kPovWidth, height = kPovHeight;
   double antialias = 0.3;  ///< POV-Ray's +A threshold; 0 turns antialiasing off
   int threads = 0;         ///< POV-Ray's render threads (+WT); 0: its default (every core)
   ProgressCallback progress;  ///< polled while POV-Ray runs (fraction 0 until done); false kills it

@@ -12,17 +12,18 @@ def register(subparsers):
         description="Partitioned IFS coding (seed 3.3.2): quadtree range cells, domain cells twice their "
         "size found by nearest-neighbour search, contrast and brightness by least squares (Eq. 29), "
         "range-coded. Colour is coded as YCbCr with half-size chroma; alpha as its own plane.")
+    o = ifsforge.PifsEncodeOptions()
     p.add_argument("image", help="a PNG image (gray, gray+alpha, RGB or RGBA; 16-bit is reduced to 8)")
     p.add_argument("-o", "--output", required=True, help="the .pifs file to write")
     rate = p.add_mutually_exclusive_group()
     rate.add_argument("--ratio", type=float, help="compression ratio R: the file is at most raw bytes / R")
     rate.add_argument("--bytes", type=int, help="the file is at most N bytes")
     rate.add_argument("--quality", type=float,
-                      help="collage RMS error threshold in 8-bit levels (smaller is better; default 8)")
-    p.add_argument("--min-block", type=int, default=4, help="smallest range cell, pixels (power of two)")
-    p.add_argument("--max-block", type=int, default=32, help="largest range cell, pixels (power of two)")
+                      help=f"collage RMS error threshold in 8-bit levels (smaller is better; default {o.quality:g})")
+    p.add_argument("--min-block", type=int, default=o.min_block, help="smallest range cell, pixels (power of two)")
+    p.add_argument("--max-block", type=int, default=o.max_block, help="largest range cell, pixels (power of two)")
     p.add_argument("--no-ycbcr", action="store_true", help="code R, G, B as they are (no YCbCr 4:2:0)")
-    p.add_argument("--threads", type=int, default=0, help="threads (0: all cores); the file is the same")
+    p.add_argument("--threads", type=int, default=o.threads, help="threads (0: all cores); the file is the same")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(run=run)
 

@@ -9,18 +9,19 @@ def register(subparsers):
         description="Baharav's hierarchical decoding: the fixed point of the coarsest level, then one pass "
         "per doubling; sizes between powers of two are area-resampled. --decoder iterative iterates at "
         "the output size instead (the reference).")
+    o = ifsforge.PifsDecodeOptions()
     p.add_argument("input", help="a .pifs file")
     p.add_argument("-o", "--output", required=True, help="the PNG to write")
     size = p.add_mutually_exclusive_group()
-    size.add_argument("--scale", type=float, default=1.0, help="output size = image size x S (default 1)")
+    size.add_argument("--scale", type=float, default=o.scale, help="output size = image size x S (default %(default)s)")
     size.add_argument("--size", type=int, nargs=2, metavar=("W", "H"), help="output size in pixels")
-    p.add_argument("--iterations", type=int, default=0,
+    p.add_argument("--iterations", type=int, default=o.iterations,
                    help="fixed-point iterations (coarsest level, or every level with --decoder iterative); "
                    "0: the default")
-    p.add_argument("--decoder", choices=ifsforge.choices["decoder"], default="hierarchical")
+    p.add_argument("--decoder", choices=ifsforge.choices["decoder"], default=o.decoder)
     p.add_argument("--no-deblock", action="store_true", help="skip the range-block edge filter")
     p.add_argument("--bits", type=int, choices=[8, 16], default=8, help="PNG bits per sample")
-    p.add_argument("--threads", type=int, default=0)
+    p.add_argument("--threads", type=int, default=o.threads, help="0: every core (the image never depends on it)")
     p.set_defaults(run=run)
 
 

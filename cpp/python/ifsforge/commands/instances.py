@@ -12,8 +12,8 @@ from ifsforge.progress import ProgressBar
 
 
 def register(subparsers):
-    # The instance list's defaults are the core's (InstanceOptions, PovRenderOptions): written once, in C++.
-    d, pov = ifsforge.InstanceOptions(), ifsforge.PovRenderOptions()
+    # The defaults are the core's (InstanceOptions, PovSceneOptions, PovRenderOptions): written once, in C++.
+    d, scene, pov = ifsforge.InstanceOptions(), ifsforge.PovSceneOptions(), ifsforge.PovRenderOptions()
     p = subparsers.add_parser(
         "instances", help="vector IFS: primitives placed by the maps (POV-Ray, SVG, glTF, numpy)",
         description="Push a vector through the maps to every address of depth L (vector recursive "
@@ -53,16 +53,16 @@ def register(subparsers):
     o.add_argument("--csv", metavar="FILE.csv", help="the addresses: index,address,length,probability")
     o.add_argument("--png", metavar="IMAGE.png", help="a picture drawn without POV-Ray (2D vector IFS; 3D preview)")
     s = p.add_argument_group("scene and pictures")
-    s.add_argument("--size", default=None, help="WxH of the render/picture the camera is framed for (default 800x600)")
+    s.add_argument("--size", default=None, help=f"WxH of the render/picture the camera is framed for (default {pov.width}x{pov.height})")
     s.add_argument("--view", type=float, nargs=2, metavar=("YAW", "PITCH"),
                    help="3D: degrees, as `render --view` (default: the system's, else 30 25)")
     s.add_argument("--orthographic", action="store_true", help="POV-Ray: orthographic camera (the render --view projection)")
-    s.add_argument("--fov", type=float, default=40.0, help="POV-Ray: horizontal field of view (degrees)")
+    s.add_argument("--fov", type=float, default=scene.fov, help="POV-Ray: horizontal field of view (degrees)")
     s.add_argument("--floor", action=argparse.BooleanOptionalAction, default=None, help="POV-Ray: a floor plane (default: 3D systems)")
     s.add_argument("--sky", action=argparse.BooleanOptionalAction, default=None, help="POV-Ray: a sky sphere (default: 3D systems)")
-    s.add_argument("--background", type=float, nargs=3, metavar="V", default=[1.0, 1.0, 1.0],
-                   help="background colour without sky (default white)")
-    s.add_argument("--quality", choices=ifsforge.choices["quality"], default="normal",
+    s.add_argument("--background", type=float, nargs=3, metavar="V", default=list(scene.background),
+                   help="background colour without sky (default %(default)s)")
+    s.add_argument("--quality", choices=ifsforge.choices["quality"], default=scene.quality,
                    help="POV-Ray: draft (no shadows), normal, high (soft shadows, radiosity)")
     s.add_argument("--bounded-by", action="store_true",
                    help="POV-Ray: add bounded_by to the union (POV-Ray 3.7 then traces far slower)")

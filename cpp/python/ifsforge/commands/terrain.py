@@ -11,7 +11,8 @@ OUTPUTS = (".png", ".pov") + MESHES
 
 
 def register(subparsers):
-    t = ifsforge.TerrainControlsOptions()  # the controls' defaults: the core's, written once
+    # The defaults are the core's (controls, POV-Ray scene and render): written once, in C++.
+    t, pov, render = ifsforge.TerrainControlsOptions(), ifsforge.TerrainPovOptions(), ifsforge.PovRenderOptions()
     p = subparsers.add_parser(
         "terrain", help="a fractal-interpolation terrain: 16-bit height PNG, mesh, POV-Ray scene",
         description="Interpolate control heights into a terrain: leading vectors first, then every "
@@ -22,7 +23,7 @@ def register(subparsers):
                    help="file to write, by extension: .png (16-bit height field), .glb/.obj/.ply (mesh), "
                    ".pov (POV-Ray scene; a height_field also writes <name>_height.png); repeat for several")
     g = p.add_argument_group("controls (without a recipe)")
-    g.add_argument("--grid", choices=ifsforge.choices["grid"], help="default regular")
+    g.add_argument("--grid", choices=ifsforge.choices["grid"], help=f"default {t.grid}")
     g.add_argument("--controls", type=int, nargs=2, metavar=("ROWS", "COLUMNS"),
                    help="control lattice (default 9 9; circular: 6 circles of 12)")
     g.add_argument("--amplitude", type=float, default=t.amplitude, help=f"random heights: {t.base} +- amplitude")
@@ -48,11 +49,11 @@ def register(subparsers):
     o.add_argument("--preview", metavar="IMAGE.png", help="also write the height image coloured by the palette")
     o.add_argument("--solid", action="store_true", help="meshes: close with walls and a floor (watertight)")
     common.add_up_argument(o)
-    o.add_argument("--pov-shape", choices=["height_field", "mesh2"], default="height_field")
-    o.add_argument("--pov-camera", choices=["perspective", "top"], default="perspective")
+    o.add_argument("--pov-shape", choices=["height_field", "mesh2"], default=pov.shape)
+    o.add_argument("--pov-camera", choices=["perspective", "top"], default=pov.camera)
     o.add_argument("--pov-flat", action="store_true", help="POV-Ray: no lights, the palette unshaded")
     o.add_argument("--povray-render", metavar="IMAGE.png", help="render the .pov output with POV-Ray")
-    o.add_argument("--povray-size", default="800x600", help="WxH of the POV-Ray render")
+    o.add_argument("--povray-size", default=f"{render.width}x{render.height}", help="WxH of the POV-Ray render")
     o.add_argument("--threads", type=common.int_option(0, 1024), default=0, help="0: every core (the result never depends on it)")
     p.set_defaults(run=run)
 
@@ -152,14 +153,16 @@ def run(args):
             print(f"{path}: 16-bit height field {width}x{height} "
                   f"(0 = {terrain.min_height:.6g}, 65535 = {terrain.max_height:.6g})")
         elif ext in MESHES:
-            ifsforge.write_terrain_mesh(path, terrain, palette, args.solid, None, args.up, args.threads)
+            ifsforge.write_terrain_mesh(path, terrain, palette=palette, solid=args.solid, up=args.up,
+                                        threads=args.threads)
             textured = " with the palette as base-colour texture" if ext == ".glb" and palette else ""
             print(f"{path}: {'solid ' if args.solid else ''}mesh{textured}")
         else:
             w, h = common.parse_size(args.povray_size)
-            written = ifsforge.write_terrain_pov(path, terrain, palette, args.pov_shape, args.pov_camera,
-                                                 args.pov_flat, w / h, args.threads, f"ifsforge terrain: {name}",
-                                                 palette_name)
+            written = ifsforge.write_terrain_pov(path, terrain, palette, shape=args.pov_shape,
+                                                 camera=args.pov_camera, flat=args.pov_flat, aspect=w / h,
+                                                 threads=args.threads, title=f"ifsforge terrain: {name}",
+                                                 palette_name=palette_name)
             print(f"{path}: POV-Ray {args.pov_shape} scene" + (f" (+ {written[1]})" if len(written) > 1 else ""))
     if args.preview:
         image = image if image is not None else terrain.height_image(width, height, args.threads)

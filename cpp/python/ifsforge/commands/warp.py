@@ -20,7 +20,7 @@ def register(subparsers):
     p.add_argument("-o", "--output", required=True, help="OUT.png, or a folder with --frames")
     p.add_argument("--size", default="512", help="N or WxH pixels of the output (default 512)")
     p.add_argument("--frames", type=int, default=0, help="K frames of F moving to G into the folder -o")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=ifsforge.TopsOptions().seed)
     p.set_defaults(run=run)
 
 
