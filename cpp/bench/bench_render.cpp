@@ -1,10 +1,16 @@
 // Render benchmarks for the targets: random iteration of the Barnsley fern into a
 // 1024^2 density histogram (points/s on 1 and 2 threads), and point recursive rendering of
-// the Sierpinski triangle at 4096^2. Counters: page faults and the process's CPU milliseconds
+// the Sierpinski triangle at 4096^2, and the PNG writer (parallel strips). Counters: page faults and the process's CPU milliseconds
 // (all threads) per iteration. Run: build/cpp/bench/bench_render
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
+#include <string>
+
+#include "ifsforge/core/default_threads.h"
+#include "ifsforge/io/png.h"
 #include "ifsforge/render/renderer.h"
+#include "ifsforge/render/tone_map.h"
 #include "process_usage.h"
 
 using namespace ifsforge;
@@ -68,6 +74,29 @@ void PrrSierpinski4096(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(renderer("prr").render(s, o));
 }
 BENCHMARK(PrrSierpinski4096)->Args({1, 12})->Args({2, 12})->Args({1, 0})->Args({2, 0})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// Arg 0: size (the fern's density image, tone-mapped: what `render -o fern.png` encodes); arg 1:
+/// threads. Counter: the file's bytes.
+void WritePngFern(benchmark::State& state) {
+  RenderOptions o;
+  o.width = o.height = static_cast<int>(state.range(0));
+  o.iterations = std::uint64_t(o.width) * o.height * 16;
+  const Image image = tone_map(renderer("chaos").render(fern(), o));
+  const std::string path = "/tmp/ifsforge_bench_fern.png";
+  set_default_threads(static_cast<int>(state.range(1)));
+  {
+    ProcessUsage usage(state);
+    for (auto _ : state) write_png(path, image);
+  }
+  set_default_threads(0);
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  std::fseek(f, 0, SEEK_END);
+  state.counters["bytes"] = double(std::ftell(f));
+  std::fclose(f);
+  std::remove(path.c_str());
+}
+BENCHMARK(WritePngFern)->Args({1024, 1})->Args({1024, 2})->Args({4096, 1})->Args({4096, 2})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -26,51 +26,6 @@ void on_warning(png_structp, png_const_charp) {}
 
 }  // namespace
 
-void write_png(const std::string& path, const Image& image, int bit_depth) {
-  if (bit_depth != 8 && bit_depth != 16) throw InputError("PNG bit depth must be 8 or 16");
-  if (image.channels < 1 || image.channels > 4) throw InputError("PNG images have 1 to 4 channels");
-  if (image.width < 1 || image.height < 1) throw InputError("cannot write an empty image");
-  std::string extension = path.size() >= 4 ? path.substr(path.size() - 4) : std::string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension != ".png")
-    throw FileError("cannot write '" + path + "': images are written as PNG only; give a name ending in .png");
-  AtomicFile out(path);
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, const_cast<std::string*>(&path),
-                                            on_error, on_warning);
-  png_infop info = png_create_info_struct(png);
-  struct Cleanup {
-    png_structp* png;
-    png_infop* info;
-    ~Cleanup() { png_destroy_write_struct(png, info); }
-  } cleanup{&png, &info};
-  png_init_io(png, out.file());
-  static const int kTypes[] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
-                               PNG_COLOR_TYPE_RGB_ALPHA};
-  png_set_IHDR(png, info, image.width, image.height, bit_depth, kTypes[image.channels - 1],
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_set_compression_level(png, 6);
-  png_write_info(png, info);
-  const std::size_t samples = std::size_t(image.width) * image.channels;
-  std::vector<unsigned char> row(samples * (bit_depth / 8));
-  const double top = bit_depth == 8 ? 255.0 : 65535.0;
-  for (int y = 0; y < image.height; ++y) {
-    const float* src = &image.pixels[std::size_t(y) * samples];
-    for (std::size_t i = 0; i < samples; ++i) {
-      const double v = std::clamp(static_cast<double>(src[i]), 0.0, 1.0) * top + 0.5;
-      const unsigned q = std::isnan(src[i]) ? 0u : static_cast<unsigned>(v);
-      if (bit_depth == 8) {
-        row[i] = static_cast<unsigned char>(q);
-      } else {  // PNG stores 16-bit samples big-endian
-        row[2 * i] = static_cast<unsigned char>(q >> 8);
-        row[2 * i + 1] = static_cast<unsigned char>(q & 0xFF);
-      }
-    }
-    png_write_row(png, row.data());
-  }
-  png_write_end(png, info);
-  out.commit();
-}
-
 Image read_png(const std::string& path) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
   if (!file) throw FileError("cannot read '" + path + "': " + std::strerror(errno));
