@@ -198,12 +198,18 @@ struct Lanes {
 constexpr int kGroups = 4;  // independent lane groups in flight, to hide FMA latency
 constexpr std::uint64_t kLanes = 8 * kGroups;
 
-/// One job of kGroups x 8 lanes: 32-bit hits into `histogram` and, in 3D, the largest depth
-/// per pixel into `nearest` (both with a trash slot at the end).
+/// A 3D pixel's hits beside its largest depth: one cache line per point, not two.
+struct HitDepth {
+  std::uint32_t hits;
+  float depth;
+};
+
+/// One job of kGroups x 8 lanes: 32-bit hits into `histogram` (2D), or hits and the largest
+/// depth per pixel into `cells` (3D); both with a trash slot at the end.
 template <int N>
 void chaos_job_avx2(const PixelMaps<N>& maps, const Frame& frame, const Point& start,
                     std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
-                    std::uint64_t job, std::uint32_t* histogram, float* nearest) {
+                    std::uint64_t job, std::uint32_t* histogram, HitDepth* cells) {
   Lanes<N> lanes[kGroups];
   float origin[N];
   if constexpr (N == 2) {
@@ -246,8 +252,13 @@ void chaos_job_avx2(const PixelMaps<N>& maps, const Frame& frame, const Point& s
     }
     for (int g = 0; g < kGroups; ++g)
       for (int k = 0; k < 8; ++k) {
-        ++histogram[slot[g][k]];
-        if constexpr (N == 3) nearest[slot[g][k]] = std::max(nearest[slot[g][k]], depth[g][k]);
+        if constexpr (N == 3) {
+          HitDepth& cell = cells[slot[g][k]];
+          ++cell.hits;
+          cell.depth = std::max(cell.depth, depth[g][k]);
+        } else {
+          ++histogram[slot[g][k]];
+        }
       }
   }
 }
@@ -282,8 +293,8 @@ ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads
 #else
   const bool simd = false;
 #endif
-  // The lanes: one accumulator, and per worker 32-bit hits (and float depths in 3D).
-  const double lane_bytes = simd ? threads * (ifs.dim() == 3 ? 8.0 : 4.0) * pixels : 0.0;
+  // The lanes: one accumulator, and per worker 32-bit hits (beside float depths in 3D).
+  const double lane_bytes = simd ? threads * (ifs.dim() == 3 ? double(sizeof(HitDepth)) : 4.0) * pixels : 0.0;
   check_memory((simd ? 1 : threads) * Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) + lane_bytes,
                "a " + std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
                    " random-iteration image on " + std::to_string(threads) + " threads");
@@ -317,21 +328,31 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   const ChaosJob scalar_job = chaos_job_for(ifs.dim());
 
 #ifdef IFSFORGE_CHAOS_AVX2
-  // Per worker: 32-bit hits (and depths in 3D) flushed into the wide accumulator.
+  // Per worker: 32-bit hits (beside depths in 3D) flushed into the wide accumulator.
   const bool depth = ifs.dim() == 3;
-  std::vector<std::vector<std::uint32_t>> histograms(simd ? threads : 0);
-  std::vector<std::vector<float>> nearest(simd && depth ? threads : 0);
+  std::vector<std::vector<std::uint32_t>> histograms(simd && !depth ? threads : 0);
+  std::vector<std::vector<HitDepth>> cells(simd && depth ? threads : 0);
   std::vector<std::uint64_t> pending(threads, 0);
   std::mutex flushing;
   auto flush = [&](int worker) {
-    auto& h = histograms[worker];
     {
       std::lock_guard<std::mutex> lock(flushing);
       std::uint64_t* hits = acc[0].hits();
-      for (std::size_t i = 0; i < h.size(); ++i) hits[i] += h[i];
-      if (depth) acc[0].merge_depth(nearest[worker].data());
+      if (depth) {
+        const auto& c = cells[worker];
+        for (std::size_t i = 0; i < c.size(); ++i) {
+          hits[i] += c[i].hits;
+          acc[0].add_depth(i, c[i].depth);
+        }
+      } else {
+        const auto& h = histograms[worker];
+        for (std::size_t i = 0; i < h.size(); ++i) hits[i] += h[i];
+      }
     }
-    std::fill(h.begin(), h.end(), 0u);
+    if (depth)
+      std::fill(cells[worker].begin(), cells[worker].end(), HitDepth{0, -std::numeric_limits<float>::infinity()});
+    else
+      std::fill(histograms[worker].begin(), histograms[worker].end(), 0u);
     pending[worker] = 0;
   };
   PixelMaps<2> maps2{};
@@ -347,18 +368,17 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         const std::uint64_t job = first + index;
 #ifdef IFSFORGE_CHAOS_AVX2
         if (simd) {
-          auto& h = histograms[worker];
-          if (h.empty()) assign_large(h, pixels + 1, 0u);
-          if (depth && nearest[worker].empty())
-            assign_large(nearest[worker], pixels + 1, -std::numeric_limits<float>::infinity());
+          if (depth && cells[worker].empty())
+            assign_large(cells[worker], pixels + 1, HitDepth{0, -std::numeric_limits<float>::infinity()});
+          if (!depth && histograms[worker].empty()) assign_large(histograms[worker], pixels + 1, 0u);
           // A 32-bit counter could overflow if one pixel took every point: flush first.
           if (pending[worker] + plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
           if (depth)
-            chaos_job_avx2(maps3, frame, start, plan.points_per_job, options.skip, options.seed, job, h.data(),
-                           nearest[worker].data());
+            chaos_job_avx2(maps3, frame, start, plan.points_per_job, options.skip, options.seed, job, nullptr,
+                           cells[worker].data());
           else
-            chaos_job_avx2(maps2, frame, start, plan.points_per_job, options.skip, options.seed, job, h.data(),
-                           nullptr);
+            chaos_job_avx2(maps2, frame, start, plan.points_per_job, options.skip, options.seed, job,
+                           histograms[worker].data(), nullptr);
           pending[worker] += plan.points_per_job;
           return;
         }
@@ -370,7 +390,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
 
 #ifdef IFSFORGE_CHAOS_AVX2
   for (int t = 0; t < threads; ++t)
-    if (simd && !histograms[t].empty()) flush(t);
+    if (simd && !(depth ? cells[t].empty() : histograms[t].empty())) flush(t);
 #endif
   for (std::size_t t = 1; t < acc.size(); ++t) acc[0].merge(acc[t]);
   return std::move(acc[0]);
