@@ -48,7 +48,8 @@ Volume DeterministicIterationVolume::render(const Ifs& ifs, const VolumeOptions&
   double jacobian = 0.0;
   for (const auto& m : ifs.maps()) jacobian += std::min(1.0, std::abs(m.determinant(3)));
   const double entry = VoxelList::entry_bytes(channels) + 8.0;
-  check_memory(cells * std::max(1.0, jacobian) * 2.0 * entry + cells / kJobs * maps * entry * setup.threads,
+  check_memory(cells * std::max(1.0, jacobian) * 2.0 * entry +
+                   cells / kJobs * maps * VoxelTable::bytes_per_voxel(channels, true) * setup.threads,
                "deterministic iteration (volume rewriting) of a " + std::to_string(grid.dims[0]) + "x" +
                    std::to_string(grid.dims[1]) + "x" + std::to_string(grid.dims[2]) + " grid");
 

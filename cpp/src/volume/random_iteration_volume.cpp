@@ -38,17 +38,25 @@ void chaos_job(const Ifs& ifs, const MapSampler& sampler, const VoxelGrid& grid,
     for (int c = 0; c < N; ++c) p[c] = q[c];
   };
   for (std::uint64_t i = 0; i < kSkip; ++i) step();
-  std::uint64_t values[kMaxDim] = {};
-  for (std::uint64_t i = 0; i < points; ++i) {
-    step();
-    std::uint64_t key;
-    if (!grid.voxel_of(p, key)) {
-      if (!std::isfinite(p[0] + p[1] + p[2]))
-        throw DivergentSystemError("system '" + ifs.name() + "' escapes to infinity under iteration");
-      continue;
+  // Points go in batches: every key of a batch is computed and its slot prefetched before
+  // the first add, so the table's cache misses overlap instead of stalling one by one.
+  constexpr int kBatch = 16;
+  std::uint64_t keys[kBatch], values[kBatch][kMaxDim] = {};
+  for (std::uint64_t done = 0; done < points;) {
+    const int batch = static_cast<int>(std::min<std::uint64_t>(kBatch, points - done));
+    int kept = 0;
+    for (int b = 0; b < batch; ++b) {
+      step();
+      if (!grid.voxel_of(p, keys[kept])) {
+        if (!std::isfinite(p[0] + p[1] + p[2]))
+          throw DivergentSystemError("system '" + ifs.name() + "' escapes to infinity under iteration");
+        continue;
+      }
+      for (int c = 3; c < N; ++c) values[kept][c - 3] = quantizer.quantize(c - 3, p[c]);
+      table.prefetch(keys[kept++]);
     }
-    for (int c = 3; c < N; ++c) values[c - 3] = quantizer.quantize(c - 3, p[c]);
-    table.add(key, 1, 1, values);
+    for (int b = 0; b < kept; ++b) table.add(keys[b], 1, 1, values[b]);
+    done += batch;
   }
 }
 
@@ -69,7 +77,8 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
   // Each thread's table (at most half full) may meet every voxel; then the running total, the
   // merge and the volume. Refused before the first point, not when a table grows past it.
   const double per_voxel =
-      setup.threads * 2.0 * VoxelList::entry_bytes(channels) + 2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels;
+      setup.threads * VoxelTable::bytes_per_voxel(channels, false) + 2.0 * VoxelList::entry_bytes(channels) + 12.0 +
+      4.0 * channels;
   check_memory(expected_voxels(ifs, options, setup, per_voxel, 0.0) * per_voxel,
                "random iteration into a " + std::to_string(options.resolution) + "^3 volume");
   const MapSampler sampler(ifs.probabilities());
@@ -104,20 +113,25 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
     const std::uint64_t jobs = (options.iterations + kPointsPerJob - 1) / kPointsPerJob;
     round(0, jobs, options.iterations, progress_range(options.progress, 0.0, 0.95));
   } else {
-    // Double the points until a round adds fewer than 1% new voxels (occupancy stops
-    // changing), the volumetric form of Eq. 45's coupon collector. Voxels the attractor only
-    // grazes hold a tiny share of the measure and would need ever more points.
+    // Add points in rounds of +50% until occupancy's growth falls below 1% per doubling of
+    // the points (new voxels / voxels < 1% of new points / points): the volumetric form of
+    // Eq. 45's coupon collector. Voxels the attractor only grazes hold a tiny share of the
+    // measure and would need ever more points. Rounds of +50% (rather than doubling) measure
+    // that slope without spending a whole doubling past it.
     std::size_t before = 0;
-    bool first = true;
+    std::uint64_t points_before = 0;
     double reported = 0.0;
-    for (std::uint64_t last = 2; last * kPointsPerJob <= kMaxAutoPoints; last *= 2) {
+    for (std::uint64_t last = 2; last * kPointsPerJob <= kMaxAutoPoints; last += (last + 1) / 2) {
       const double next = reported + 0.5 * (0.95 - reported);
       round(jobs_done, last, last * kPointsPerJob, progress_range(options.progress, reported, next));
       reported = next;
-      if (!first && static_cast<double>(total.size() - before) < 0.01 * static_cast<double>(before)) break;
-      if (!first && total.size() == 0) break;  // two rounds without a voxel: the bounds miss the attractor
+      if (points_before > 0) {
+        if (total.size() == 0) break;  // two rounds without a voxel: the bounds miss the attractor
+        const double growth = double(total.size() - before) / double(std::max<std::size_t>(before, 1));
+        if (growth < 0.01 * double(points - points_before) / double(points_before)) break;
+      }
       before = total.size();
-      first = false;
+      points_before = points;
     }
   }
   Volume volume = finish_volume(std::move(total), setup.grid, ifs, setup.quantizer, options.density,

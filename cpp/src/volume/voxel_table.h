@@ -10,11 +10,24 @@
 
 namespace ifsforge {
 
+/// Each slot holds key, hits, mass and the channel sums side by side, padded to a power of two
+/// words and aligned, so that a point touches one cache line (up to five channels) rather than
+/// one per array: random points miss the cache on every add.
 class VoxelTable {
  public:
   /// `extremes`: whether voxels keep VoxelList::kExtremes points (merged by min / max).
-  VoxelTable(int channels, bool extremes = false) : channels_(channels), extremes_(extremes ? VoxelList::kExtremes : 0) {
+  VoxelTable(int channels, bool extremes = false)
+      : channels_(channels), extremes_(extremes ? VoxelList::kExtremes : 0), stride_(slot_words(channels, extremes)) {
     reset(1u << 12);
+  }
+  /// @brief Bytes a table spends per voxel it holds (slots at most half full): for estimates.
+  static double bytes_per_voxel(int channels, bool extremes) { return 2.0 * 8.0 * slot_words(channels, extremes); }
+  VoxelTable(const VoxelTable& other) : VoxelTable(other.channels_, other.extremes_ > 0) {}
+  VoxelTable(VoxelTable&&) = default;
+
+  /// @brief Starts loading the slot `key` hashes to (the add that follows finds it in cache).
+  void prefetch(std::uint64_t key) const {
+    __builtin_prefetch(base_ + ((key * 0x9E3779B97F4A7C15ull) >> shift_) * stride_, 1);
   }
 
   /// @brief Adds `hits` hits with `mass` and quantised channel sums `values` to voxel `key`;
@@ -22,80 +35,91 @@ class VoxelTable {
   void add(std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* values,
            const std::uint64_t* points = nullptr) {
     std::size_t slot = (key * 0x9E3779B97F4A7C15ull) >> shift_;
-    while (keys_[slot] != kEmpty && keys_[slot] != key) slot = (slot + 1) & mask_;
-    if (keys_[slot] == kEmpty) {
-      if (2 * (used_ + 1) > keys_.size()) {
+    std::uint64_t* s = at(slot);
+    while (s[0] != kEmpty && s[0] != key) {
+      slot = (slot + 1) & mask_;
+      s = at(slot);
+    }
+    if (s[0] == kEmpty) {
+      if (2 * (used_ + 1) > capacity_) {
         grow();
         add(key, hits, mass, values, points);
         return;
       }
-      keys_[slot] = key;
+      s[0] = key;
       ++used_;
-      for (int e = 0; e < extremes_; ++e) points_[slot * extremes_ + e] = points[e];
+      for (int e = 0; e < extremes_; ++e) s[3 + channels_ + e] = points[e];
     } else {
       for (int e = 0; e < extremes_; ++e) {
-        std::uint64_t& p = points_[slot * extremes_ + e];
+        std::uint64_t& p = s[3 + channels_ + e];
         p = e % 2 ? std::max(p, points[e]) : std::min(p, points[e]);
       }
     }
-    hits_[slot] += hits;
-    mass_[slot] += mass;
-    for (int c = 0; c < channels_; ++c) sums_[slot * channels_ + c] += values[c];
+    s[1] += hits;
+    s[2] += mass;
+    for (int c = 0; c < channels_; ++c) s[3 + c] += values[c];
   }
   /// @brief The occupied voxels, sorted. The table is emptied (keeping its capacity, so that
   /// a worker reusing it for the next job does not allocate again).
   VoxelList take() {
     VoxelList list(channels_);
     list.keys.reserve(used_);
-    for (std::size_t s = 0; s < keys_.size(); ++s)
-      if (keys_[s] != kEmpty) {
-        list.push(keys_[s], hits_[s], mass_[s], sums_.data() + s * channels_);  // sums_ is empty without channels
-        list.points.insert(list.points.end(), points_.begin() + s * extremes_, points_.begin() + (s + 1) * extremes_);
-      }
+    for (std::size_t slot = 0; slot < capacity_; ++slot) {
+      const std::uint64_t* s = at(slot);
+      if (s[0] == kEmpty) continue;
+      list.push(s[0], s[1], s[2], s + 3);
+      list.points.insert(list.points.end(), s + 3 + channels_, s + 3 + channels_ + extremes_);
+    }
     sort_and_reduce(list);
-    reset(keys_.size());
+    reset(capacity_);
     return list;
   }
 
  private:
   static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
 
+  static std::size_t slot_words(int channels, bool extremes) {
+    std::size_t words = 4;
+    while (words < std::size_t(3 + channels + (extremes ? VoxelList::kExtremes : 0))) words *= 2;
+    return words;
+  }
+
+  std::uint64_t* at(std::size_t slot) { return base_ + slot * stride_; }
+
   void reset(std::size_t capacity) {
-    keys_.assign(capacity, kEmpty);
-    hits_.assign(capacity, 0);
-    mass_.assign(capacity, 0);
-    sums_.assign(capacity * channels_, 0);
-    points_.assign(capacity * extremes_, 0);
+    // One cache line of slack to align the slots on 64 bytes.
+    data_.assign(capacity * stride_ + 8, 0);
+    const auto address = reinterpret_cast<std::uintptr_t>(data_.data());
+    base_ = data_.data() + ((64 - address % 64) % 64) / sizeof(std::uint64_t);
+    for (std::size_t slot = 0; slot < capacity; ++slot) base_[slot * stride_] = kEmpty;
+    capacity_ = capacity;
     mask_ = capacity - 1;
     shift_ = 64;
     for (std::size_t c = capacity; c > 1; c >>= 1) --shift_;
     used_ = 0;
   }
   void grow() {
-    check_memory(2.0 * keys_.size() * (24.0 + 8.0 * (channels_ + extremes_)) * 2.0, "a voxel hash table");
-    std::vector<std::uint64_t> keys, hits, mass, sums, points;
-    keys.swap(keys_);
-    hits.swap(hits_);
-    mass.swap(mass_);
-    sums.swap(sums_);
-    points.swap(points_);
-    reset(keys.size() * 2);
-    for (std::size_t s = 0; s < keys.size(); ++s) {
-      if (keys[s] == kEmpty) continue;
-      std::size_t slot = (keys[s] * 0x9E3779B97F4A7C15ull) >> shift_;
-      while (keys_[slot] != kEmpty) slot = (slot + 1) & mask_;
-      keys_[slot] = keys[s];
-      hits_[slot] = hits[s];
-      mass_[slot] = mass[s];
-      for (int c = 0; c < channels_; ++c) sums_[slot * channels_ + c] = sums[s * channels_ + c];
-      for (int e = 0; e < extremes_; ++e) points_[slot * extremes_ + e] = points[s * extremes_ + e];
+    check_memory(2.0 * capacity_ * stride_ * 8.0 * 2.0, "a voxel hash table");
+    std::vector<std::uint64_t> old;
+    old.swap(data_);
+    const std::uint64_t* old_base = base_;
+    const std::size_t old_capacity = capacity_;
+    reset(old_capacity * 2);
+    for (std::size_t slot = 0; slot < old_capacity; ++slot) {
+      const std::uint64_t* from = old_base + slot * stride_;
+      if (from[0] == kEmpty) continue;
+      std::size_t to = (from[0] * 0x9E3779B97F4A7C15ull) >> shift_;
+      while (at(to)[0] != kEmpty) to = (to + 1) & mask_;
+      std::copy(from, from + stride_, at(to));
       ++used_;
     }
   }
 
   int channels_, extremes_;
-  std::vector<std::uint64_t> keys_, hits_, mass_, sums_, points_;
-  std::size_t mask_ = 0, used_ = 0;
+  std::size_t stride_;
+  std::vector<std::uint64_t> data_;
+  std::uint64_t* base_ = nullptr;
+  std::size_t capacity_ = 0, mask_ = 0, used_ = 0;
   int shift_ = 64;
 };
 
