@@ -188,6 +188,17 @@ def test_iso_surface_reports_progress_and_cancels():
         ifsforge.volume_to_mesh(volume, progress=lambda f: False)
 
 
+def test_mesh_writers_report_progress_and_cancel(tmp_path):
+    mesh = ifsforge.volume_to_mesh(ifsforge.render_volume(constant_color_tetrahedron((1, 0, 0)), "prr", 32))
+    for ext in ("ply", "obj", "glb"):
+        written = []
+        ifsforge.write_mesh(str(tmp_path / f"m.{ext}"), **mesh, progress=lambda f: written.append(f) or True)
+        assert written and written[-1] == 1.0 and written == sorted(written)
+        with pytest.raises(ifsforge.Cancelled):
+            ifsforge.write_mesh(str(tmp_path / f"cancelled.{ext}"), **mesh, progress=lambda f: False)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.glb", "m.obj", "m.ply"]
+
+
 def test_cli_writes_vdb_and_mesh(cli, tmp_path, samples):
     r = cli("volume", samples / "volume_sierpinski_pyramid_rgb.json", "--res", "40", "-o", tmp_path / "p.vdb",
             "--mesh", tmp_path / "p.ply", check=True)
