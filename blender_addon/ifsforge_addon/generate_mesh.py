@@ -28,9 +28,13 @@ class MeshGenerator(Generator):
     def work(self, system, settings, path, progress):
         if system.spatial_dims != 3:
             raise ifsforge.InputError(f"'{system.name}' is planar ({system.layout}): iso-surfaces need an xyz layout")
-        volume = render_volume(system, dict(settings, volume_density="binary"), progress)
+        volume = render_volume(system, dict(settings, volume_density="binary"),
+                               lambda fraction: progress(0.5 * fraction))
+        # The core's normals serve only as custom normals: smooth shading derives its own.
         mesh = mesh_data.prepare(ifsforge.volume_to_mesh(volume, iso=settings["mesh_iso"],
-                                                            adaptivity=settings["mesh_adaptivity"]))
+                                                            adaptivity=settings["mesh_adaptivity"],
+                                                            normals=settings["custom_normals"],
+                                                            progress=lambda fraction: progress(0.5 + 0.5 * fraction)))
         return {"path": None, "mesh": mesh, "custom_normals": settings["custom_normals"],
                 "summary": f"{len(mesh['positions']):,} vertices, {len(mesh['triangles']):,} triangles from "
                            f"{len(volume):,} voxels"}

@@ -10,12 +10,15 @@ def prepare(data):
     voxel faces), which Blender splits back along the same a-c diagonal, so the surface is the
     same with a third fewer corners; else the triangles. Edges: ifsforge.mesh_edges, which
     Blender would otherwise derive on the main thread, slower."""
-    faces = np.asarray(data["triangles"]).reshape(-1, 3)
-    first, second = faces[0::2], faces[1::2]
-    if len(faces) and len(faces) % 2 == 0 and np.array_equal(first[:, 0], second[:, 0]) \
-            and np.array_equal(first[:, 2], second[:, 1]):
-        faces = np.column_stack([first, second[:, 2]])
-    data["faces"] = np.ascontiguousarray(faces, np.uint32)
+    faces = np.ascontiguousarray(data["triangles"], np.uint32).reshape(-1, 3)
+    if len(faces) and len(faces) % 2 == 0:
+        pairs = faces.reshape(-1, 6)  # (a, b, c, a', c', d)
+        if np.array_equal(pairs[:, 0], pairs[:, 3]) and np.array_equal(pairs[:, 2], pairs[:, 4]):
+            quads = np.empty((len(pairs), 4), np.uint32)  # filled column by column: 5x faster than column_stack
+            quads[:, :3] = pairs[:, :3]
+            quads[:, 3] = pairs[:, 5]
+            faces = quads
+    data["faces"] = faces
     data["edges"] = ifsforge.mesh_edges(data["faces"], len(data["positions"]))
     return data
 

@@ -130,23 +130,29 @@ void bind_io(py::module_& m) {
                     "the file's up axis ('y', 'z'; None: the format's, see default_up)");
   m.def("write_mesh",
         [](const std::string& path, py::array positions, py::array triangles, std::optional<py::array> normals,
-           std::optional<py::array> colors, std::optional<py::array> uvs, bool compute, const py::kwargs& kwargs) {
+           std::optional<py::array> colors, std::optional<py::array> uvs, bool compute, const py::object& progress,
+           const py::kwargs& kwargs) {
           TriangleMesh mesh;
           mesh.positions = rows<float, 3>(positions, "positions");
           mesh.triangles = rows<std::uint32_t, 3>(triangles, "triangles");
           mesh.normals = rows<float, 3>(normals, "normals");
           mesh.colors = rows<float, 4>(colors, "colors");
           mesh.uvs = rows<float, 2>(uvs, "uvs");
-          const MeshWriteOptions options = options_from<MeshWriteOptions>("write_mesh", kwargs);
+          MeshWriteOptions options = options_from<MeshWriteOptions>("write_mesh", kwargs);
+          // Always a callback: Ctrl-C stops the writing even when the caller passed none.
+          const ProgressCallback report = wrap_progress(progress);
           py::gil_scoped_release release;
-          if (compute && mesh.normals.empty()) compute_normals(mesh);
+          const bool computing = compute && mesh.normals.empty();
+          if (computing) compute_normals(mesh, progress_range(report, 0.0, 0.2));
+          options.progress = progress_range(report, computing ? 0.2 : 0.0, 1.0);
           write_mesh(path, mesh, options);
         },
         py::arg("path"), py::arg("positions"), py::arg("triangles"), py::arg("normals") = py::none(),
         py::arg("colors") = py::none(), py::arg("uvs") = py::none(), py::arg("compute_normals") = true,
+        py::arg("progress") = py::none(),
         "Write a triangle mesh given in ifsforge's z-up axes as .ply, .obj or .glb (atomically): the "
         "MeshWriteOptions given as keywords (up: the file's axis). colors are display RGBA in [0, 1] (the .glb "
-        "stores them linear).");
+        "stores them linear). progress(fraction) returning False cancels (no file is left).");
   m.def("mesh_edges",
         [](py::array faces, std::size_t vertex_count) {
           auto a = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>::ensure(faces);
@@ -159,12 +165,7 @@ void bind_io(py::module_& m) {
             py::gil_scoped_release release;
             e = mesh_edges(corners, k, vertex_count);
           }
-          py::array_t<std::uint32_t> edges({static_cast<py::ssize_t>(e.edges.size()), py::ssize_t(2)});
-          py::array_t<std::uint32_t> corner_edges(static_cast<py::ssize_t>(e.corner_edges.size()));
-          std::memcpy(edges.mutable_data(), e.edges.data(), e.edges.size() * sizeof(e.edges[0]));
-          std::memcpy(corner_edges.mutable_data(), e.corner_edges.data(),
-                      e.corner_edges.size() * sizeof(std::uint32_t));
-          return py::make_tuple(edges, corner_edges);
+          return py::make_tuple(rows_array(std::move(e.edges)), vector_array(std::move(e.corner_edges)));
         },
         py::arg("faces"), py::arg("vertex_count"),
         "(edges (E, 2) uint32, corner_edges (n*k,) uint32) of faces (n, k): each undirected edge once, sorted, and "

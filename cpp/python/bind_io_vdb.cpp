@@ -57,7 +57,11 @@ void bind_io_vdb(py::module_& m) {
       .def_readwrite("adaptivity", &IsoSurfaceOptions::adaptivity, "0: every voxel-sized polygon; up to 1: merge flat areas")
       .def_property("color_scale", [](const IsoSurfaceOptions& o) { return std::string(name_of(o.color_scale)); },
                     [](IsoSurfaceOptions& o, const std::string& s) { o.color_scale = parse_name<ColorScale>(s); },
-                    "auto, range or clamp");
+                    "auto, range or clamp")
+      .def_readwrite("normals", &IsoSurfaceOptions::normals, "per-vertex normals (False: normals is None)")
+      .def_property("progress", [](const IsoSurfaceOptions&) { return py::none(); },
+                    [](IsoSurfaceOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
+                    "progress(fraction) returning False cancels (write-only)");
   m.def("volume_to_mesh",
         [](const Volume& volume, const py::kwargs& kwargs) {
           const IsoSurfaceOptions o = options_from<IsoSurfaceOptions>("volume_to_mesh", kwargs);
@@ -66,18 +70,18 @@ void bind_io_vdb(py::module_& m) {
             py::gil_scoped_release release;
             mesh = volume_to_mesh(volume, o);
           }
-          py::dict out = mesh_dict(mesh);
-          out["colors"] = py::none();
-          if (!mesh.colors.empty()) {
-            py::array_t<float> colors({static_cast<py::ssize_t>(mesh.colors.size()), py::ssize_t(4)});
-            std::memcpy(colors.mutable_data(), mesh.colors.data(), mesh.colors.size() * 16);
-            out["colors"] = colors;
-          }
+          const bool normals = !mesh.normals.empty();
+          py::object colors = py::none();
+          if (!mesh.colors.empty()) colors = rows_array(std::move(mesh.colors));
+          py::dict out = mesh_dict(std::move(mesh));
+          out["colors"] = colors;
+          if (!normals) out["normals"] = py::none();
           return out;
         },
         py::arg("volume"),
         "The iso-surface of the occupancy (or of the density) as a dict of arrays: positions, triangles, normals, "
-        "colors (RGBA from the colour grid, or None) -- ready for write_mesh(path, **mesh).");
+        "colors (RGBA from the colour grid, or None) -- ready for write_mesh(path, **mesh). normals=False leaves "
+        "normals None; progress(fraction) returning False cancels.");
 }
 
 }  // namespace

@@ -25,17 +25,11 @@ py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssiz
   return out;
 }
 
-py::dict mesh_dict(const TriangleMesh& mesh) {
+py::dict mesh_dict(TriangleMesh mesh) {
   py::dict out;
-  const auto n = static_cast<py::ssize_t>(mesh.positions.size()), t = static_cast<py::ssize_t>(mesh.triangles.size());
-  py::array_t<float> positions({n, py::ssize_t(3)}), normals({static_cast<py::ssize_t>(mesh.normals.size()), py::ssize_t(3)});
-  py::array_t<std::uint32_t> triangles({t, py::ssize_t(3)});
-  std::memcpy(positions.mutable_data(), mesh.positions.data(), n * 12);
-  std::memcpy(normals.mutable_data(), mesh.normals.data(), mesh.normals.size() * 12);
-  std::memcpy(triangles.mutable_data(), mesh.triangles.data(), t * 12);
-  out["positions"] = positions;
-  out["normals"] = normals;
-  out["triangles"] = triangles;
+  out["positions"] = rows_array(std::move(mesh.positions));
+  out["normals"] = rows_array(std::move(mesh.normals));
+  out["triangles"] = rows_array(std::move(mesh.triangles));
   return out;
 }
 

@@ -52,8 +52,25 @@ ProgressCallback wrap_progress(const py::object& callback);
 /// @brief An `up` argument: None (the format's default: none), "y", "z" or ifsforge.Up.
 std::optional<Up> up_argument(const py::object& up);
 
-/// @brief {'positions', 'normals', 'triangles'} numpy arrays (copies) of a mesh.
-py::dict mesh_dict(const TriangleMesh& mesh);
+/// @brief An (n, N) numpy array that takes over `rows` (no copy: a capsule owns the vector).
+template <typename T, std::size_t N>
+py::array_t<T> rows_array(std::vector<std::array<T, N>>&& rows) {
+  auto* owned = new std::vector<std::array<T, N>>(std::move(rows));
+  py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<std::array<T, N>>*>(p); });
+  return py::array_t<T>({static_cast<py::ssize_t>(owned->size()), static_cast<py::ssize_t>(N)},
+                        reinterpret_cast<const T*>(owned->data()), owner);
+}
+
+/// @brief A 1-D numpy array that takes over `values` (no copy).
+template <typename T>
+py::array_t<T> vector_array(std::vector<T>&& values) {
+  auto* owned = new std::vector<T>(std::move(values));
+  py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(static_cast<py::ssize_t>(owned->size()), owned->data(), owner);
+}
+
+/// @brief {'positions', 'normals', 'triangles'} numpy arrays of a mesh, which they take over.
+py::dict mesh_dict(TriangleMesh mesh);
 
 /// @brief A float32 numpy array (copy) of shape `shape` from contiguous data.
 py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssize_t> shape);

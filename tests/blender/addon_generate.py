@@ -247,7 +247,10 @@ def iso_surface():
     expected = ifsforge.volume_to_mesh(ifsforge.render_volume(system, "prr", 16))
     vertices = (len(obj.data.vertices), len(expected["positions"]))
     assert vertices[0] == vertices[1] > 0, vertices
-    assert len(obj.data.polygons) == len(expected["triangles"])
+    # The mesher's quads come as triangle pairs (a, b, c), (a, c, d): Blender gets the quads back.
+    assert len(obj.data.polygons) * 2 == len(expected["triangles"])
+    obj.data.calc_loop_triangles()
+    assert len(obj.data.loop_triangles) == len(expected["triangles"])
     lo, hi = np.array(obj.bound_box[0]), np.array(obj.bound_box[6])
     close(lo, [0, 0, 0], 0.1)  # the attractor's box [0, 1]^3, to within a voxel or so
     close(hi, [1, 1, 1], 0.1)

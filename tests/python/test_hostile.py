@@ -218,6 +218,27 @@ def test_ctrl_c_stops_a_long_command_within_a_second(tmp_path, args):
     assert not any(tmp_path.iterdir())
 
 
+@pytest.mark.parametrize("mesh, delay", [("m.obj", 0.3), ("m.obj", 2.5), ("m.ply", 2.5)])
+def test_ctrl_c_stops_the_iso_surface_within_a_second(tmp_path, mesh, delay):
+    # OpenVDB's volumeToMesh and OpenMesh's writers could not be stopped: 15 to 41 s at 400^3.
+    # The volume's summary line marks the start of meshing; the interrupt comes `delay` later
+    # (the mesher, then its normals or the writer, depending on the machine's speed).
+    env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON), PYTHONUNBUFFERED="1")
+    process = subprocess.Popen(["/usr/bin/python3", "-m", "ifsforge", "volume", str(SAMPLES / "menger_sponge.json"),
+                                "--res", "400", "--mesh", mesh], cwd=tmp_path, env=env,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    assert "occupied" in process.stdout.readline().decode()
+    time.sleep(delay)
+    assert process.poll() is None, "finished before the interrupt: make the case larger"
+    sent = time.monotonic()
+    process.send_signal(signal.SIGINT)
+    err = process.communicate(timeout=120)[1].decode(errors="replace")
+    stop = time.monotonic() - sent
+    assert process.returncode == 130 and "interrupted" in err and "Traceback" not in err, err
+    assert stop < 1.0, f"{stop:.1f} s to stop"
+    assert not any(tmp_path.iterdir())
+
+
 def test_budget_refuses_a_huge_raster_before_allocating(tmp_path):
     refused(tmp_path, "render", SAMPLES / "sierpinski_triangle.json", "-a", "prr", "--size", "4000",
             "-o", "big.png", names=("4000x4000 raster", "budget"))

@@ -45,3 +45,25 @@ def test_default_threads_do_not_change_outputs():
     np.testing.assert_array_equal(reference, single)
     with pytest.raises(ifsforge.InputError, match="threads"):
         ifsforge.set_default_threads(-2)
+
+
+def test_edges_do_not_depend_on_the_thread_count():
+    # Each thread owns a block of vertices; the edges come in one pass's order whatever the blocks.
+    volume = ifsforge.render_volume(ifsforge.read_json(str(ROOT / "samples" / "systems" / "menger_sponge.json")),
+                                    "prr", 60)
+    faces = ifsforge.volume_to_mesh(volume)["triangles"]
+    count = int(faces.max()) + 1
+    results = []
+    try:
+        for threads in (1, 3):
+            ifsforge.set_default_threads(threads)
+            results.append(ifsforge.mesh_edges(faces, count))
+    finally:
+        ifsforge.set_default_threads(0)
+    (edges, corners), (edges3, corners3) = results
+    np.testing.assert_array_equal(edges, edges3)
+    np.testing.assert_array_equal(corners, corners3)
+    # Every corner's edge joins its vertex and the next corner's, low vertex first.
+    ends = np.sort(np.stack([faces.ravel(), np.roll(faces, -1, axis=1).ravel()], axis=1), axis=1)
+    np.testing.assert_array_equal(edges[corners], ends)
+    assert np.all(np.diff(edges[:, 0].astype(np.int64) * count + edges[:, 1]) > 0)  # sorted, each once

@@ -134,6 +134,71 @@ def test_progress_and_cancellation():
         ifsforge.render_volume(tetra, "ria", 32, progress=lambda f: False)
 
 
+def openvdb_mesh(volume, adaptivity):
+    """OpenVDB's own volumeToMesh (pyopenvdb's convertToPolygons) of the volume's occupancy."""
+    grid = pyopenvdb.FloatGrid()
+    grid.gridClass = pyopenvdb.GridClass.FOG_VOLUME
+    h = volume.voxel_size
+    grid.transform = pyopenvdb.createLinearTransform(
+        [[h, 0, 0, 0], [0, h, 0, 0], [0, 0, h, 0], [*(o + 0.5 * h for o in volume.origin), 1]])
+    accessor = grid.getAccessor()
+    for ijk in volume.coords:
+        accessor.setValueOn(tuple(int(c) for c in ijk), 1.0)
+    return grid.convertToPolygons(isovalue=0.5, adaptivity=adaptivity)
+
+
+@pytest.mark.parametrize("adaptivity", [0.0, 0.5])
+def test_iso_surface_is_openvdbs_mesh(samples, adaptivity):
+    """The mesher runs OpenVDB's stages job by job (to hear Ctrl-C): the same points in the same
+    order, OpenVDB's triangles then its quads as two triangles (a, b, c), (a, c, d), reversed
+    to face out of a fog volume."""
+    volume = ifsforge.render_volume(ifsforge.load(str(samples / "menger_sponge.json")), "prr", 40)
+    mesh = ifsforge.volume_to_mesh(volume, adaptivity=adaptivity)
+    points, triangles, quads = openvdb_mesh(volume, adaptivity)
+    # Equal up to how the two transforms round (an affine matrix here, scale then shift there).
+    assert mesh["positions"].shape == points.shape
+    assert np.allclose(mesh["positions"], points, rtol=0, atol=1e-12)
+    expected = np.concatenate([triangles[:, ::-1],
+                               np.stack([quads[:, [2, 1, 0]], quads[:, [2, 0, 3]]], axis=1).reshape(-1, 3)])
+    assert np.array_equal(mesh["triangles"], expected)
+    assert (len(triangles) > 0) == (adaptivity > 0)
+
+
+def test_iso_surface_does_not_depend_on_the_thread_count(samples):
+    volume = ifsforge.render_volume(ifsforge.load(str(samples / "volume_sierpinski_pyramid_rgb.json")), "prr", 48)
+    meshes = []
+    try:
+        for threads in (1, 3):
+            ifsforge.set_default_threads(threads)
+            meshes.append(ifsforge.volume_to_mesh(volume))
+    finally:
+        ifsforge.set_default_threads(0)
+    assert meshes[0]["colors"] is not None
+    for key in ("positions", "triangles", "normals", "colors"):
+        assert np.array_equal(meshes[0][key], meshes[1][key]), key
+    assert ifsforge.volume_to_mesh(volume, normals=False)["normals"] is None
+
+
+def test_iso_surface_reports_progress_and_cancels():
+    volume = ifsforge.render_volume(constant_color_tetrahedron((1, 0, 0)), "prr", 32)
+    seen = []
+    ifsforge.volume_to_mesh(volume, progress=lambda f: seen.append(f) or True)
+    assert seen and seen[-1] == 1.0 and seen == sorted(seen)
+    with pytest.raises(ifsforge.Cancelled):
+        ifsforge.volume_to_mesh(volume, progress=lambda f: False)
+
+
+def test_mesh_writers_report_progress_and_cancel(tmp_path):
+    mesh = ifsforge.volume_to_mesh(ifsforge.render_volume(constant_color_tetrahedron((1, 0, 0)), "prr", 32))
+    for ext in ("ply", "obj", "glb"):
+        written = []
+        ifsforge.write_mesh(str(tmp_path / f"m.{ext}"), **mesh, progress=lambda f: written.append(f) or True)
+        assert written and written[-1] == 1.0 and written == sorted(written)
+        with pytest.raises(ifsforge.Cancelled):
+            ifsforge.write_mesh(str(tmp_path / f"cancelled.{ext}"), **mesh, progress=lambda f: False)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.glb", "m.obj", "m.ply"]
+
+
 def test_cli_writes_vdb_and_mesh(cli, tmp_path, samples):
     r = cli("volume", samples / "volume_sierpinski_pyramid_rgb.json", "--res", "40", "-o", tmp_path / "p.vdb",
             "--mesh", tmp_path / "p.ply", check=True)

@@ -1,37 +1,24 @@
-// Mesh writers: PLY and OBJ through OpenMesh, binary glTF through tinygltf.
+// Mesh writers: PLY and OBJ of our own (mesh_files.cpp), binary glTF through tinygltf.
 #include "ifsforge/io/mesh.h"
 
-// OpenMesh's property containers trip GCC 12's -Wmaybe-uninitialized at instantiation.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 #include <tiny_gltf.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cerrno>
 #include <cstring>
-#include <sstream>
+#include <ostream>
+#include <streambuf>
 
 #include "ifsforge/core/color.h"
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/text_file.h"
+#include "mesh_files.h"
 
 namespace ifsforge {
 namespace {
-
-struct MeshTraits : OpenMesh::DefaultTraits {
-  using Point = OpenMesh::Vec3f;
-  using Normal = OpenMesh::Vec3f;
-  using Color = OpenMesh::Vec4f;
-  using TexCoord2D = OpenMesh::Vec2f;
-  VertexAttributes(OpenMesh::Attributes::Normal | OpenMesh::Attributes::Color |
-                   OpenMesh::Attributes::TexCoord2D);
-};
-using OMesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
 
 std::string extension_of(const std::string& path) {
   const std::size_t dot = path.find_last_of('.');
@@ -60,52 +47,6 @@ void validate(const TriangleMesh& mesh) {
   for (const auto& p : mesh.positions)
     for (float c : p)
       if (!std::isfinite(c)) throw InputError("the mesh has a vertex that is NaN or infinite");
-}
-
-void write_with_openmesh(const std::string& path, const std::string& ext, const TriangleMesh& mesh, Up up) {
-  // OpenMesh's writers log "[OBJWriter] : write file" to stderr: noise in a command's output.
-  omlog().disable();
-  OMesh om;
-  std::vector<OMesh::VertexHandle> handles;
-  handles.reserve(mesh.positions.size());
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-    const auto p = oriented(mesh.positions[i], up);
-    const auto v = om.add_vertex(OMesh::Point(p[0], p[1], p[2]));
-    if (!mesh.normals.empty()) {
-      const auto n = oriented(mesh.normals[i], up);
-      om.set_normal(v, OMesh::Normal(n[0], n[1], n[2]));
-    }
-    if (!mesh.colors.empty()) {
-      const auto& c = mesh.colors[i];
-      om.set_color(v, OMesh::Color(c[0], c[1], c[2], c[3]));
-    }
-    if (!mesh.uvs.empty()) om.set_texcoord2D(v, OMesh::TexCoord2D(mesh.uvs[i][0], mesh.uvs[i][1]));
-    handles.push_back(v);
-  }
-  std::size_t skipped = 0;
-  for (const auto& t : mesh.triangles) {
-    // OpenMesh refuses non-manifold faces; a writer must not silently drop them.
-    if (!om.add_face(handles[t[0]], handles[t[1]], handles[t[2]]).is_valid()) ++skipped;
-  }
-  if (skipped)
-    throw InputError("cannot write '" + path + "': " + std::to_string(skipped) +
-                     " triangles are not manifold (OpenMesh rejects them); write .glb instead");
-  OpenMesh::IO::Options options;
-  if (!mesh.normals.empty()) options += OpenMesh::IO::Options::VertexNormal;
-  // OBJ has no standard vertex colour (OpenMesh's writer refuses it): colour goes to PLY and GLB.
-  if (!mesh.colors.empty() && ext == "ply") options += OpenMesh::IO::Options::VertexColor;
-  if (!mesh.uvs.empty()) options += OpenMesh::IO::Options::VertexTexCoord;
-  if (ext == "ply") {
-    options += OpenMesh::IO::Options::Binary;
-    if (!mesh.colors.empty()) options += OpenMesh::IO::Options::ColorAlpha;
-  }
-  std::ostringstream out;
-  if (!OpenMesh::IO::write_mesh(om, out, "." + ext, options, 9))
-    throw FileError("cannot write '" + path + "': OpenMesh failed to encode the " + ext + " file");
-  const std::string bytes = out.str();
-  AtomicFile file(path);
-  std::fwrite(bytes.data(), 1, bytes.size(), file.file());
-  file.commit();
 }
 
 template <typename T>
@@ -152,7 +93,44 @@ const std::vector<std::array<float, 3>>& oriented_all(const std::vector<std::arr
   return storage;
 }
 
+/// tinygltf's output straight into the file, in 16 MB pieces with a progress check between them
+/// (the buffer is one write of up to gigabytes). A cancel or a failed write makes the stream fail
+/// (tinygltf then stops writing); the writer throws after tinygltf returns.
+class FileBuffer : public std::streambuf {
+ public:
+  FileBuffer(std::FILE* file, const ProgressCallback& progress, double total)
+      : file_(file), progress_(progress), total_(total) {}
+  bool cancelled = false, failed = false;
+
+ protected:
+  std::streamsize xsputn(const char* data, std::streamsize size) override {
+    constexpr std::streamsize kPiece = 16 << 20;
+    for (std::streamsize done = 0; done < size; done += kPiece) {
+      if (cancelled || failed) return 0;
+      const std::size_t piece = static_cast<std::size_t>(std::min(kPiece, size - done));
+      failed = std::fwrite(data + done, 1, piece, file_) != piece;
+      written_ += static_cast<double>(piece);
+      if (progress_ && !progress_(std::min(1.0, written_ / total_))) cancelled = true;
+    }
+    return size;
+  }
+  int_type overflow(int_type c) override {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+    const char ch = traits_type::to_char_type(c);
+    return xsputn(&ch, 1) == 1 ? c : traits_type::eof();
+  }
+
+ private:
+  std::FILE* file_;
+  const ProgressCallback& progress_;
+  double total_, written_ = 0.0;
+};
+
 void write_glb(const std::string& path, const TriangleMesh& mesh, const MeshWriteOptions& options, Up up) {
+  // The arrays are copied into the model (first half of the progress), then written.
+  auto check = [&](double fraction) {
+    if (options.progress && !options.progress(fraction)) throw Cancelled();
+  };
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "ifsforge";
@@ -160,13 +138,16 @@ void write_glb(const std::string& path, const TriangleMesh& mesh, const MeshWrit
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
   std::vector<std::array<float, 3>> storage;
+  check(0.0);
   primitive.attributes["POSITION"] = add_accessor(model, oriented_all(mesh.positions, up, storage),
                                                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3,
                                                   TINYGLTF_TARGET_ARRAY_BUFFER, true);
+  check(0.1);
   if (!mesh.normals.empty())
     primitive.attributes["NORMAL"] = add_accessor(model, oriented_all(mesh.normals, up, storage),
                                                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3,
                                                   TINYGLTF_TARGET_ARRAY_BUFFER, false);
+  check(0.2);
   if (!mesh.colors.empty()) {
     // glTF's COLOR_0 is linear; alpha is not encoded.
     std::vector<std::array<float, 4>> linear(mesh.colors.size());
@@ -180,6 +161,7 @@ void write_glb(const std::string& path, const TriangleMesh& mesh, const MeshWrit
   if (!mesh.uvs.empty())
     primitive.attributes["TEXCOORD_0"] = add_accessor(model, mesh.uvs, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                                       TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER, false);
+  check(0.3);
   primitive.indices = add_accessor(model, mesh.triangles, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
                                    TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER, false);
   tinygltf::Material material;
@@ -229,13 +211,17 @@ void write_glb(const std::string& path, const TriangleMesh& mesh, const MeshWrit
   scene.nodes.push_back(0);
   model.scenes.push_back(scene);
   model.defaultScene = 0;
-  std::ostringstream out;
-  tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToStream(&model, out, false, true))
-    throw FileError("cannot write '" + path + "': tinygltf failed to encode the glTF");
-  const std::string bytes = out.str();
+  check(0.5);
   AtomicFile file(path);
-  std::fwrite(bytes.data(), 1, bytes.size(), file.file());
+  const ProgressCallback writing = progress_range(options.progress, 0.5, 1.0);
+  FileBuffer buffer(file.file(), writing, static_cast<double>(model.buffers[0].data.size()) + 1.0);
+  std::ostream out(&buffer);
+  tinygltf::TinyGLTF writer;
+  const bool encoded = writer.WriteGltfSceneToStream(&model, out, false, true);
+  if (buffer.cancelled) throw Cancelled();
+  if (buffer.failed) throw FileError("cannot write '" + path + "': " + std::strerror(errno));
+  if (!encoded || !out) throw FileError("cannot write '" + path + "': tinygltf failed to encode the glTF");
+  check(1.0);
   file.commit();
 }
 
@@ -248,10 +234,19 @@ void write_mesh(const std::string& path, const TriangleMesh& mesh, const MeshWri
   check_writable(path);
   validate(mesh);
   const Up up = options.up.value_or(default_up(path));
-  if (ext == "glb")
+  if (ext == "glb") {
     write_glb(path, mesh, options, up);
+    return;
+  }
+  // PLY stores indices as int.
+  if (ext == "ply" && mesh.positions.size() > 0x7FFFFFFFu)
+    throw InputError("cannot write '" + path + "': PLY indices are 31-bit, the mesh has more vertices; write .glb instead");
+  AtomicFile file(path);
+  if (ext == "ply")
+    detail::write_ply(file.file(), path, mesh, up, options.progress);
   else
-    write_with_openmesh(path, ext, mesh, up);
+    detail::write_obj(file.file(), path, mesh, up, options.progress);
+  file.commit();
 }
 
 }  // namespace ifsforge

@@ -3,7 +3,6 @@
 #include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
-#include <openvdb/tools/VolumeToMesh.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -22,68 +21,13 @@
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/ifs_json.h"
 #include "vdb_archive.h"
+#include "vdb_grid.h"
 
 namespace ifsforge {
 namespace {
 
-void initialize() {
-  static std::once_flag once;
-  std::call_once(once, [] { openvdb::initialize(); });
-}
-
-/// Voxel (i, j, k) is index coordinate (i, j, k); its centre sits at origin + (i + 1/2) h.
-openvdb::math::Transform::Ptr transform_of(const VoxelGrid& grid) {
-  auto transform = openvdb::math::Transform::createLinearTransform(grid.voxel_size);
-  transform->postTranslate(openvdb::Vec3d(grid.origin[0] + 0.5 * grid.voxel_size,
-                                          grid.origin[1] + 0.5 * grid.voxel_size,
-                                          grid.origin[2] + 0.5 * grid.voxel_size));
-  return transform;
-}
-
-openvdb::Coord coord_of(std::uint64_t key) {
-  const auto v = VoxelGrid::coord(key);
-  return openvdb::Coord(v[0], v[1], v[2]);
-}
-
-/// A grid holding value(v) at every voxel v of the volume. Voxels come sorted by (i, j, k), so
-/// the voxels of one x-row of leaf nodes (8 values of i) are a contiguous run: rows are filled
-/// into new leaves in parallel, then the leaves are added to the tree in row order (the tree
-/// is the same whatever the thread count).
-template <typename GridT, typename Value>
-typename GridT::Ptr make_grid(const Volume& volume, const std::string& name, Value&& value) {
-  using Leaf = typename GridT::TreeType::LeafNodeType;
-  auto grid = GridT::create();
-  grid->setName(name);
-  grid->setTransform(transform_of(volume.grid));
-  if (volume.size() == 0) return grid;
-  // Row r holds the voxels with i in [r DIM, (r + 1) DIM).
-  const std::uint64_t rows = static_cast<std::uint64_t>(VoxelGrid::coord(volume.keys.back())[0]) / Leaf::DIM + 1;
-  std::vector<std::size_t> first(rows + 1);
-  for (std::uint64_t r = 0; r <= rows; ++r)
-    first[r] = static_cast<std::size_t>(
-        std::lower_bound(volume.keys.begin(), volume.keys.end(), VoxelGrid::key(r * Leaf::DIM, 0, 0)) -
-        volume.keys.begin());
-  // Leaves of one row are found by their (j, k) block.
-  const std::uint64_t blocks_j = static_cast<std::uint64_t>(volume.grid.dims[1]) / Leaf::DIM + 1;
-  const std::uint64_t blocks_k = static_cast<std::uint64_t>(volume.grid.dims[2]) / Leaf::DIM + 1;
-  std::vector<std::vector<std::unique_ptr<Leaf>>> leaves(rows);
-  parallel_jobs(rows, 0, [&](std::size_t r, int) {
-    std::vector<Leaf*> block(blocks_j * blocks_k, nullptr);
-    for (std::size_t v = first[r]; v < first[r + 1]; ++v) {
-      const openvdb::Coord ijk = coord_of(volume.keys[v]);
-      Leaf*& leaf = block[(ijk.y() / Leaf::DIM) * blocks_k + ijk.z() / Leaf::DIM];
-      if (!leaf) {
-        leaves[r].push_back(std::make_unique<Leaf>(ijk & ~(Leaf::DIM - 1), grid->background(), false));
-        leaf = leaves[r].back().get();
-      }
-      leaf->setValueOn(Leaf::coordToOffset(ijk), value(v));
-    }
-  });
-  auto& tree = grid->tree();
-  for (auto& row : leaves)
-    for (auto& leaf : row) tree.addLeaf(leaf.release());  // the tree owns it from here
-  return grid;
-}
+using detail::initialize;
+using detail::make_grid;
 
 /// A grid of one attribute, evaluated voxel by voxel from the channel means.
 openvdb::GridBase::Ptr attribute_grid(const Volume& volume, const AttributeRecipe& recipe) {
@@ -191,70 +135,6 @@ VdbFileInfo read_vdb_info(const std::string& path) {
     throw FileError("cannot read '" + path + "' as OpenVDB: the file is truncated or damaged");
   }
   return info;
-}
-
-TriangleMesh volume_to_mesh(const Volume& volume, const IsoSurfaceOptions& options) {
-  initialize();
-  if (!(options.adaptivity >= 0.0 && options.adaptivity <= 1.0))
-    throw InputError("the iso-surface adaptivity must be in [0, 1]");
-  if (!std::isfinite(options.iso)) throw InputError("the iso value must be a finite number");
-  TriangleMesh mesh;
-  if (volume.size() == 0) return mesh;
-  check_memory(volume.size() * 120.0, "the iso-surface of a volume of " + std::to_string(volume.size()) + " voxels");
-  // The scalar field: occupancy (1 in occupied voxels) or the density, 0 outside.
-  auto field = make_grid<openvdb::FloatGrid>(
-      volume, "field", [&](std::size_t v) { return options.use_density ? volume.density[v] : 1.0f; });
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> triangles;
-  std::vector<openvdb::Vec4I> quads;
-  openvdb::tools::volumeToMesh(*field, points, triangles, quads, options.iso, options.adaptivity);
-
-  mesh.positions.reserve(points.size());
-  for (const auto& p : points) mesh.positions.push_back({p.x(), p.y(), p.z()});
-  // OpenVDB orients polygons for level sets (inside negative); a fog volume has its inside
-  // above the iso value, so every polygon is reversed to face outwards.
-  for (const auto& t : triangles) mesh.triangles.push_back({t[2], t[1], t[0]});
-  for (const auto& q : quads) {
-    mesh.triangles.push_back({q[2], q[1], q[0]});
-    mesh.triangles.push_back({q[3], q[2], q[0]});
-  }
-  compute_normals(mesh);
-
-  // Vertex colours: the occupied voxels among the 8 around the vertex, trilinearly weighted.
-  const auto attributes = volume_attributes(volume, options.color_scale);
-  const auto color = std::find_if(attributes.begin(), attributes.end(), [](const VolumeAttribute& a) { return a.name == "color"; });
-  if (color != attributes.end()) {
-    const VoxelGrid& g = volume.grid;
-    mesh.colors.resize(mesh.positions.size());
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-      double u[3];
-      std::int64_t base[3];
-      for (int a = 0; a < 3; ++a) {
-        u[a] = (mesh.positions[v][a] - g.origin[a]) / g.voxel_size - 0.5;
-        base[a] = static_cast<std::int64_t>(std::floor(u[a]));
-        u[a] -= static_cast<double>(base[a]);
-      }
-      double sum[3] = {0, 0, 0}, weight = 0.0;
-      for (int corner = 0; corner < 8; ++corner) {
-        std::int64_t c[3];
-        double w = 1.0;
-        for (int a = 0; a < 3; ++a) {
-          const int bit = (corner >> a) & 1;
-          c[a] = base[a] + bit;
-          w *= bit ? u[a] : 1.0 - u[a];
-        }
-        if (c[0] < 0 || c[1] < 0 || c[2] < 0) continue;
-        const std::size_t found = volume.find(VoxelGrid::key(c[0], c[1], c[2]));
-        if (found == volume.size()) continue;
-        w = std::max(w, 1e-6);  // a vertex on a face still sees the voxel behind it
-        for (int k = 0; k < 3; ++k) sum[k] += w * color->values[found * 3 + k];
-        weight += w;
-      }
-      for (int k = 0; k < 3; ++k) mesh.colors[v][k] = weight > 0 ? static_cast<float>(sum[k] / weight) : 0.0f;
-      mesh.colors[v][3] = 1.0f;
-    }
-  }
-  return mesh;
 }
 
 }  // namespace ifsforge

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "ifsforge/core/progress.h"
+
 namespace ifsforge {
 
 /// In ifsforge's axes (right-handed, z up); the writers turn them into the file's axes.
@@ -15,7 +17,8 @@ struct TriangleMesh {
   std::vector<std::array<std::uint32_t, 3>> triangles;  ///< counter-clockwise seen from outside
 };
 
-/// @brief Angle-weighted vertex normals from the triangles (independent of the triangulation).
-void compute_normals(TriangleMesh& mesh);
+/// @brief Angle-weighted vertex normals from the triangles (independent of the triangulation),
+/// in parallel (the same for any thread count); `progress` false cancels (Cancelled).
+void compute_normals(TriangleMesh& mesh, const ProgressCallback& progress = nullptr);
 
 }  // namespace ifsforge

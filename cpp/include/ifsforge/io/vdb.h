@@ -1,12 +1,13 @@
 #pragma once
 /// @file OpenVDB files and iso-surfaces of volumes. OpenVDB stays behind this header (and its
-/// .cpp, the only file that includes it).
+/// .cpp files under src/io, the only ones that include it).
 #include <array>
 #include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/progress.h"
 #include "ifsforge/io/mesh.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/volume/volume.h"
@@ -59,12 +60,19 @@ struct IsoSurfaceOptions {
   /// 0: every voxel-sized polygon; up to 1: merge flat regions (fewer triangles).
   double adaptivity = 0.0;
   ColorScale color_scale = ColorScale::Auto;
+  /// Per-vertex normals (compute_normals); off leaves TriangleMesh::normals empty, for callers
+  /// that derive their own (Blender's smooth shading).
+  bool normals = true;
+  /// Reports the fraction done; false cancels (Cancelled). Checked at least every 0.1 s.
+  ProgressCallback progress;
 };
 
 /// @brief The iso-surface of a volume (OpenVDB's volume-to-mesh, seed 7's iso-surfaces) as
 /// triangles counter-clockwise seen from outside, in the system's coordinates, with normals
 /// and, when the volume has colour, per-vertex RGBA display values: the colours of the occupied voxels around
-/// each vertex, trilinearly weighted.
+/// each vertex, trilinearly weighted. A quad of the mesher becomes the triangles (a, b, c),
+/// (a, c, d), in that order. Every stage runs in parallel jobs (the mesh does not depend on the
+/// thread count) and stops within a job's time of a cancel.
 TriangleMesh volume_to_mesh(const Volume& volume, const IsoSurfaceOptions& options = {});
 
 }  // namespace ifsforge

@@ -83,7 +83,8 @@ def run(args):
     # together: an error or Ctrl-C leaves neither.
     mesh = None
     if args.mesh:
-        mesh = ifsforge.volume_to_mesh(volume, iso=args.iso, adaptivity=args.adaptivity, color_scale=args.color_scale)
+        mesh = ifsforge.volume_to_mesh(volume, iso=args.iso, adaptivity=args.adaptivity, color_scale=args.color_scale,
+                                       progress=ProgressBar(f"mesh {system.name}"))
     targets = [path for path in (args.output, args.mesh, args.df3) if path]
     with common.all_or_none(targets) as staged:
         if args.output:
