@@ -35,7 +35,8 @@ Raster DeterministicIteration::render(const Ifs& ifs, const RenderOptions& optio
                    PixelScatter::bytes(space.pixels(), space.channels ? 1 + space.channels : 0, threads),
                "a " + std::to_string(space.width) + "x" + std::to_string(space.height) + " deterministic iteration");
   const Point start = ifs.start_point();
-  PixelSet current = full_pixel_set(space, std::vector<float>(start.begin() + 2, start.begin() + 2 + space.channels));
+  PixelSet current = full_pixel_set(space, std::vector<float>(start.begin() + 2, start.begin() + 2 + space.channels),
+                                    threads, progress_range(options.progress, 0.0, 0.0));
   const PixelSet condensation = condensation_set(ifs, space);
   PixelScatter scatter = set_scatter(space, threads);
   std::vector<SetImage> terms;

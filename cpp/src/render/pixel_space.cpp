@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/random.h"
 #include "ifsforge/render/accumulator.h"
@@ -222,11 +223,14 @@ std::vector<std::uint32_t> condensation_pixels(const Ifs& ifs, const Frame& fram
 
 PixelScatter::PixelScatter(std::size_t pixels, int values, int workers)
     : values_(values), workers_(workers), merged_((pixels + 63) / 64, 0) {
-  for (Worker& w : workers_) {
+  // Each worker's buffers are first touched on a core of their own (at 16000^2 they hold
+  // 1.25 GB each: a serial zero-fill kept Ctrl-C waiting for seconds).
+  parallel_jobs(workers_.size(), workers, [&](std::size_t k, int) {
+    Worker& w = workers_[k];
     w.flag.assign(pixels, 0);
     w.touched.assign(pixels + 1, 0);
     w.sums.assign(pixels * values, 0);
-  }
+  });
 }
 
 void PixelScatter::take(Worker& w, std::size_t pixel, std::vector<std::uint64_t>& sums) {
@@ -287,12 +291,20 @@ void PixelScatter::merge(std::vector<std::uint64_t>& sums, std::vector<std::uint
   }
 }
 
-PixelSet full_pixel_set(const PixelSpace& space, const std::vector<float>& values) {
+PixelSet full_pixel_set(const PixelSpace& space, const std::vector<float>& values, int threads,
+                        const ProgressCallback& progress) {
+  // Faulted in on every core (resize_large: a 16000^2 grid is a 1 GB list), filled in jobs
+  // that Ctrl-C reaches.
   PixelSet set;
-  set.pixels.resize(space.pixels());
-  for (std::size_t i = 0; i < set.pixels.size(); ++i) set.pixels[i] = static_cast<std::uint32_t>(i);
-  for (std::size_t i = 0; i < set.pixels.size() && space.channels; ++i)
-    set.values.insert(set.values.end(), values.begin(), values.end());
+  const std::size_t n = space.pixels(), channels = space.channels;
+  resize_large(set.pixels, n);
+  if (channels) resize_large(set.values, n * channels);
+  constexpr std::size_t kChunk = std::size_t(1) << 22;
+  parallel_jobs((n + kChunk - 1) / kChunk, threads, [&](std::size_t job, int) {
+    const std::size_t begin = job * kChunk, end = std::min(n, begin + kChunk);
+    for (std::size_t i = begin; i < end; ++i) set.pixels[i] = static_cast<std::uint32_t>(i);
+    for (std::size_t i = begin * channels; i < end * channels; ++i) set.values[i] = values[i % channels];
+  }, progress);
   return set;
 }
 

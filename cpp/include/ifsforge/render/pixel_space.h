@@ -177,8 +177,10 @@ struct PixelSet {
   bool operator==(const PixelSet& o) const { return pixels == o.pixels; }
 };
 
-/// @brief The whole image with every pixel carrying `values` (the seed's initial grey image).
-PixelSet full_pixel_set(const PixelSpace& space, const std::vector<float>& values);
+/// @brief The whole image with every pixel carrying `values` (the seed's initial grey image),
+/// filled on `threads` threads; `progress` hears the fill (Cancelled when it says stop).
+PixelSet full_pixel_set(const PixelSpace& space, const std::vector<float>& values, int threads,
+                        const ProgressCallback& progress);
 /// @brief The condensation set as a pixel set (its channel values on every pixel).
 PixelSet condensation_set(const Ifs& ifs, const PixelSpace& space);
 
