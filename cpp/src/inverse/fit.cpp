@@ -112,6 +112,36 @@ std::vector<double> initial_collage(const PixelSet& t, const FitGrid& grid, int 
   return x;
 }
 
+/// A map by where it sends the corners (0, 0), (1, 0), (0, 1) of the plane: a step of one
+/// pixel in any coordinate moves part of the copy by at most a pixel (well scaled for a local search).
+std::vector<double> to_corners(const std::vector<AffineMap>& maps) {
+  std::vector<double> y;
+  for (const AffineMap& m : maps)
+    for (double v : {m.b(0), m.b(1), m.a(0, 0) + m.b(0), m.a(1, 0) + m.b(1), m.a(0, 1) + m.b(0), m.a(1, 1) + m.b(1)})
+      y.push_back(v);
+  return y;
+}
+
+std::vector<AffineMap> from_corners(const std::vector<double>& y, double max_contraction, double* excess) {
+  std::vector<AffineMap> maps;
+  double e = 0;
+  for (std::size_t i = 0; i + kParams <= y.size(); i += kParams) {
+    AffineMap m(2);
+    m.b(0) = y[i], m.b(1) = y[i + 1];
+    m.a(0, 0) = y[i + 2] - y[i], m.a(1, 0) = y[i + 3] - y[i + 1];
+    m.a(0, 1) = y[i + 4] - y[i], m.a(1, 1) = y[i + 5] - y[i + 1];
+    const double s = m.contraction_factor(2);
+    if (s > max_contraction) {
+      for (int r = 0; r < 2; ++r)
+        for (int c = 0; c < 2; ++c) m.a(r, c) *= max_contraction / s;
+      e += s - max_contraction;
+    }
+    maps.push_back(m);
+  }
+  if (excess) *excess = e;
+  return maps;
+}
+
 }  // namespace
 
 FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
@@ -217,8 +247,34 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     if (after <= before) best = run.best;
     best_value = std::min(before, after);
   }
+  std::vector<AffineMap> final_maps = decode(best, o.max_contraction, nullptr);
+  // Last, the attractor's IoU itself at the picture's resolution (capped): the classic
+  // attractors' thin lines make it peak within a fraction of a pixel of the exact maps, which
+  // the collage (Eq. 42 bounds the distance, not the overlap) and the coarse grids cannot see.
+  if (o.final_generations > 0 && !stop()) {
+    const FitGrid fine = FitGrid::for_target(full, std::max(o.raster, std::min(o.refine_raster, int(grid.side))));
+    const PixelSet fine_target = fine.downsample(full);
+    auto value = [&](const std::vector<double>& y, int worker) {
+      double excess = 0;
+      const auto maps = from_corners(y, o.max_contraction, &excess);
+      std::vector<PixelMap> pm;
+      for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
+      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), fine_target, o.seed, scratch[worker]) + 10.0 * excess;
+    };
+    CmaOptions co;
+    co.population = 2 * (4 + static_cast<int>(3 * std::log(double(n))));
+    co.max_generations = o.final_generations;
+    co.seed = o.seed * 7919 + 1999;
+    co.threads = threads;
+    co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
+    // Half a pixel per corner coordinate: the peak is that narrow.
+    const CmaResult run = minimize_cma(value, to_corners(final_maps), std::vector<double>(n, 0.5 / fine.pixels_per_unit), co, stop);
+    result.evaluations += run.evaluations;
+    final_maps = from_corners(run.best, o.max_contraction, nullptr);
+    best_value = run.value;
+  }
   if (o.progress && !o.progress(1.0)) throw Cancelled();
-  const auto maps = decode(best, o.max_contraction, nullptr);
+  const auto& maps = final_maps;
   Ifs system("fit", ChannelLayout("xy"), maps);
   RenderDefaults d;
   d.window = {0.0, 0.0, double(full.width) / grid.side, double(full.height) / grid.side};

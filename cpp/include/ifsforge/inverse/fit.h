@@ -20,6 +20,7 @@ struct FitOptions {
   int generations = 150;         ///< per run
   int attractor_generations = 40;  ///< per run, on the attractor after the collage proxy
   int refine_generations = 60;   ///< of the final refinement on the attractor
+  int final_generations = 200;   ///< of the last search, on the attractor's IoU at the refinement's grid
   int refine_raster = 256;       ///< cells along the long side during the refinement (at most the picture's)
   double time_limit = 0;         ///< seconds; 0: none (only then is the run independent of speed)
   std::uint64_t seed = 0;
