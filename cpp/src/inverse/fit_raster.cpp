@@ -58,6 +58,17 @@ double CollageProxy::operator()(const std::vector<PixelMap>& maps, Scratch& s) c
   return outside / std::max<std::size_t>(cells, 1) + uncovered / n + overlap_weight_ * overlap / n;
 }
 
+double CollageProxy::copy_outside(const PixelMap& m) const {
+  const int W = target_.width + 2 * pad_, H = target_.height + 2 * pad_;
+  double sum = 0;
+  for (const auto& p : samples_) {
+    const double qx = m[0] * p[0] + m[1] * p[1] + m[2] + pad_, qy = m[3] * p[0] + m[4] * p[1] + m[5] + pad_;
+    const int ix = static_cast<int>(std::clamp(qx, 0.0, W - 1.0)), iy = static_cast<int>(std::clamp(qy, 0.0, H - 1.0));
+    sum += distance_to_target_[std::size_t(iy) * W + ix];
+  }
+  return sum / std::max<std::size_t>(samples_.size(), 1);
+}
+
 double chaos_iou(const std::vector<PixelMap>& maps, const std::vector<double>& probabilities, const PixelSet& target,
                  std::uint64_t seed, CollageProxy::Scratch& s) {
   const int w = target.width, h = target.height;
