@@ -98,6 +98,8 @@ void bind_inverse(py::module_& m) {
       .def_readwrite("attractor_generations", &FitOptions::attractor_generations,
                      "generations per run on the attractor after the collage proxy")
       .def_readwrite("refine_generations", &FitOptions::refine_generations, "generations of the final refinement")
+      .def_readwrite("final_generations", &FitOptions::final_generations,
+                     "generations of the last search, on the attractor's IoU at the picture's resolution")
       .def_readwrite("refine_raster", &FitOptions::refine_raster,
                      "cells along the long side during the refinement (at most the picture's)")
       .def_readwrite("time_limit", &FitOptions::time_limit,

@@ -17,7 +17,8 @@
 namespace ifsforge {
 namespace {
 
-constexpr int kParams = 6;  // per map: Mx, My, theta_x, theta_y (radians), tx, ty (Eq. 5)
+constexpr int kParams = 6;
+constexpr int kTurns = 36;  // turns tried per map for the rotated starts  // per map: Mx, My, theta_x, theta_y (radians), tx, ty (Eq. 5)
 
 /// Eq. 5 with signed scales (a negative one is the reflection F), the linear part shrunk onto
 /// s = max_contraction when it would exceed it; returns the excess (a penalty keeps the search
@@ -45,9 +46,16 @@ std::vector<AffineMap> decode(const std::vector<double>& x, double max_contracti
   return maps;
 }
 
-/// k-means of the target's pixels into n clusters (k-means++ start, seeded); each cluster's
-/// box gives a map from the whole target's box onto it, turned by `angle` about the box centre.
-std::vector<double> initial_collage(const PixelSet& t, const FitGrid& grid, int n, double angle, Rng& rng) {
+/// The target's box and its k-means clusters' boxes (xmin, ymin, xmax, ymax in the plane).
+struct Boxes {
+  std::array<double, 4> whole;
+  std::vector<std::array<double, 4>> parts;
+  std::array<double, 2> centroid;            ///< of the whole target
+  std::vector<std::array<double, 3>> mass;   ///< per part: centroid x, y and pixel count
+};
+
+/// k-means of the target's pixels into n clusters (k-means++ start, seeded).
+Boxes cluster_boxes(const PixelSet& t, const FitGrid& grid, int n, Rng& rng) {
   std::vector<std::array<double, 2>> pts;
   for (int y = 0; y < t.height; ++y)
     for (int x = 0; x < t.width; ++x)
@@ -83,33 +91,75 @@ std::vector<double> initial_collage(const PixelSet& t, const FitGrid& grid, int 
       if (sum[c][2] > 0) centres[c] = {sum[c][0] / sum[c][2], sum[c][1] / sum[c][2]};
   }
   const double inf = std::numeric_limits<double>::infinity();
-  std::array<double, 4> whole{inf, inf, -inf, -inf};
-  std::vector<std::array<double, 4>> box(n, whole);
+  Boxes out{{inf, inf, -inf, -inf}, std::vector<std::array<double, 4>>(n, {inf, inf, -inf, -inf}), {0, 0},
+            std::vector<std::array<double, 3>>(n, {0, 0, 0})};
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    auto& m = out.mass[label[i]];
+    m[0] += pts[i][0], m[1] += pts[i][1], m[2] += 1;
+    out.centroid[0] += pts[i][0] / pts.size(), out.centroid[1] += pts[i][1] / pts.size();
+  }
+  for (auto& m : out.mass)
+    if (m[2] > 0) m[0] /= m[2], m[1] /= m[2];
   for (std::size_t i = 0; i < pts.size(); ++i)
-    for (auto* b : {&whole, &box[label[i]]}) {
+    for (auto* b : {&out.whole, &out.parts[label[i]]}) {
       (*b)[0] = std::min((*b)[0], pts[i][0]);
       (*b)[1] = std::min((*b)[1], pts[i][1]);
       (*b)[2] = std::max((*b)[2], pts[i][0]);
       (*b)[3] = std::max((*b)[3], pts[i][1]);
     }
   const double cell = 1.0 / grid.pixels_per_unit;
-  const double wx = whole[2] - whole[0] + cell, wy = whole[3] - whole[1] + cell;
-  std::vector<double> x(std::size_t(n) * kParams);
   for (int c = 0; c < n; ++c) {
-    if (box[c][0] > box[c][2]) box[c] = {centres[c][0], centres[c][1], centres[c][0], centres[c][1]};
-    const double sx = std::clamp((box[c][2] - box[c][0] + cell) / wx, 0.05, 0.85);
-    const double sy = std::clamp((box[c][3] - box[c][1] + cell) / wy, 0.05, 0.85);
-    const double ca = std::cos(angle), sa = std::sin(angle);
-    // b = centre(C) - R S centre(B)
-    const double bx = 0.5 * (whole[0] + whole[2]) * sx, by = 0.5 * (whole[1] + whole[3]) * sy;
-    double* p = &x[std::size_t(c) * kParams];
-    p[0] = sx;
-    p[1] = sy;
-    p[2] = p[3] = angle;
-    p[4] = 0.5 * (box[c][0] + box[c][2]) - (ca * bx - sa * by);
-    p[5] = 0.5 * (box[c][1] + box[c][3]) - (sa * bx + ca * by);
+    auto& b = out.parts[c];
+    if (b[0] > b[2]) b = {centres[c][0], centres[c][1], centres[c][0], centres[c][1]};
+    b[2] += cell, b[3] += cell;
+  }
+  out.whole[2] += cell, out.whole[3] += cell;
+  return out;
+}
+
+/// The initial collage: map c sends the whole target's box onto part c's box.
+std::vector<double> initial_collage(const Boxes& boxes) {
+  const auto& whole = boxes.whole;
+  const double wx = whole[2] - whole[0], wy = whole[3] - whole[1];
+  std::vector<double> x;
+  for (const auto& b : boxes.parts) {
+    const double sx = std::clamp((b[2] - b[0]) / wx, 0.05, 0.85), sy = std::clamp((b[3] - b[1]) / wy, 0.05, 0.85);
+    // b = centre(C) - S centre(B)
+    for (double v : {sx, sy, 0.0, 0.0, 0.5 * (b[0] + b[2] - (whole[0] + whole[2]) * sx),
+                     0.5 * (b[1] + b[3] - (whole[1] + whole[3]) * sy)})
+      x.push_back(v);
   }
   return x;
+}
+
+/// A map by where it sends the corners (0, 0), (1, 0), (0, 1) of the plane: a step of one
+/// pixel in any coordinate moves part of the copy by at most a pixel (well scaled for a local search).
+std::vector<double> to_corners(const std::vector<AffineMap>& maps) {
+  std::vector<double> y;
+  for (const AffineMap& m : maps)
+    for (double v : {m.b(0), m.b(1), m.a(0, 0) + m.b(0), m.a(1, 0) + m.b(1), m.a(0, 1) + m.b(0), m.a(1, 1) + m.b(1)})
+      y.push_back(v);
+  return y;
+}
+
+std::vector<AffineMap> from_corners(const std::vector<double>& y, double max_contraction, double* excess) {
+  std::vector<AffineMap> maps;
+  double e = 0;
+  for (std::size_t i = 0; i + kParams <= y.size(); i += kParams) {
+    AffineMap m(2);
+    m.b(0) = y[i], m.b(1) = y[i + 1];
+    m.a(0, 0) = y[i + 2] - y[i], m.a(1, 0) = y[i + 3] - y[i + 1];
+    m.a(0, 1) = y[i + 4] - y[i], m.a(1, 1) = y[i + 5] - y[i + 1];
+    const double s = m.contraction_factor(2);
+    if (s > max_contraction) {
+      for (int r = 0; r < 2; ++r)
+        for (int c = 0; c < 2; ++c) m.a(r, c) *= max_contraction / s;
+      e += s - max_contraction;
+    }
+    maps.push_back(m);
+  }
+  if (excess) *excess = e;
+  return maps;
 }
 
 }  // namespace
@@ -161,10 +211,33 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   const int n = o.maps * kParams;
   for (int r = 0; r < o.restarts && !stop(); ++r) {
     Rng rng(o.seed, 1000 + r);
-    // Even runs start from the k-means collage as it is; odd runs turn every copy by a random
-    // angle (rotated copies, as in dragons, are far from an axis-aligned start).
-    const double angle = r % 2 ? (rng.uniform() * 2 - 1) * M_PI : 0.0;
-    const auto x0 = initial_collage(target, grid, o.maps, angle, rng);
+    // Even runs start from the k-means collage as it is; odd runs from turned copies (rotated
+    // copies, as in dragons, are far from an axis-aligned start).
+    const Boxes boxes = cluster_boxes(target, grid, o.maps, rng);
+    std::vector<double> x0 = initial_collage(boxes);
+    if (r % 2) {
+      // Each map scaled by its part's share of the area, centroid onto centroid, turned (kTurns
+      // angles, from a seeded offset) and mirrored to keep its copy nearest the target: a map
+      // at a time, since one copy's distance to the target is its own share of Eq. 41's.
+      const double turn = rng.uniform();
+      for (int c = 0; c < o.maps; ++c) {
+        const auto& mc = boxes.mass[c];
+        const double sc = std::clamp(std::sqrt(mc[2] / target.count()), 0.05, o.max_contraction);
+        double best_score = std::numeric_limits<double>::infinity();
+        for (int k = 0; k < 2 * kTurns; ++k) {
+          double p[kParams] = {k % 2 ? -sc : sc, sc, 0, 0, 0, 0};
+          p[2] = p[3] = (k / 2 + turn) * 2 * M_PI / kTurns;
+          AffineMap m;
+          decode_map(p, o.max_contraction, m);
+          p[4] = mc[0] - (m.a(0, 0) * boxes.centroid[0] + m.a(0, 1) * boxes.centroid[1]);
+          p[5] = mc[1] - (m.a(1, 0) * boxes.centroid[0] + m.a(1, 1) * boxes.centroid[1]);
+          decode_map(p, o.max_contraction, m);
+          const double score = proxy.copy_outside(grid.pixel_map(m));
+          if (score < best_score) best_score = score, std::copy(p, p + kParams, &x0[std::size_t(c) * kParams]);
+        }
+      }
+      result.evaluations += 2 * kTurns * o.maps;
+    }
     std::vector<double> sigma(n);
     for (int i = 0; i < n; ++i) {
       const int k = i % kParams;
@@ -217,8 +290,34 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     if (after <= before) best = run.best;
     best_value = std::min(before, after);
   }
+  std::vector<AffineMap> final_maps = decode(best, o.max_contraction, nullptr);
+  // Last, the attractor's IoU itself at the picture's resolution (capped): the classic
+  // attractors' thin lines make it peak within a fraction of a pixel of the exact maps, which
+  // the collage (Eq. 42 bounds the distance, not the overlap) and the coarse grids cannot see.
+  if (o.final_generations > 0 && !stop()) {
+    const FitGrid fine = FitGrid::for_target(full, std::max(o.raster, std::min(o.refine_raster, int(grid.side))));
+    const PixelSet fine_target = fine.downsample(full);
+    auto value = [&](const std::vector<double>& y, int worker) {
+      double excess = 0;
+      const auto maps = from_corners(y, o.max_contraction, &excess);
+      std::vector<PixelMap> pm;
+      for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
+      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), fine_target, o.seed, scratch[worker]) + 10.0 * excess;
+    };
+    CmaOptions co;
+    co.population = 2 * (4 + static_cast<int>(3 * std::log(double(n))));
+    co.max_generations = o.final_generations;
+    co.seed = o.seed * 7919 + 1999;
+    co.threads = threads;
+    co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
+    // Half a pixel per corner coordinate: the peak is that narrow.
+    const CmaResult run = minimize_cma(value, to_corners(final_maps), std::vector<double>(n, 0.5 / fine.pixels_per_unit), co, stop);
+    result.evaluations += run.evaluations;
+    final_maps = from_corners(run.best, o.max_contraction, nullptr);
+    best_value = run.value;
+  }
   if (o.progress && !o.progress(1.0)) throw Cancelled();
-  const auto maps = decode(best, o.max_contraction, nullptr);
+  const auto& maps = final_maps;
   Ifs system("fit", ChannelLayout("xy"), maps);
   RenderDefaults d;
   d.window = {0.0, 0.0, double(full.width) / grid.side, double(full.height) / grid.side};

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "ifsforge/core/random.h"
+#include "ifsforge/model/map_sampler.h"
 #include "ifsforge/render/renderer.h"
 
 namespace ifsforge {
@@ -57,13 +58,22 @@ double CollageProxy::operator()(const std::vector<PixelMap>& maps, Scratch& s) c
   return outside / std::max<std::size_t>(cells, 1) + uncovered / n + overlap_weight_ * overlap / n;
 }
 
+double CollageProxy::copy_outside(const PixelMap& m) const {
+  const int W = target_.width + 2 * pad_, H = target_.height + 2 * pad_;
+  double sum = 0;
+  for (const auto& p : samples_) {
+    const double qx = m[0] * p[0] + m[1] * p[1] + m[2] + pad_, qy = m[3] * p[0] + m[4] * p[1] + m[5] + pad_;
+    const int ix = static_cast<int>(std::clamp(qx, 0.0, W - 1.0)), iy = static_cast<int>(std::clamp(qy, 0.0, H - 1.0));
+    sum += distance_to_target_[std::size_t(iy) * W + ix];
+  }
+  return sum / std::max<std::size_t>(samples_.size(), 1);
+}
+
 double chaos_iou(const std::vector<PixelMap>& maps, const std::vector<double>& probabilities, const PixelSet& target,
                  std::uint64_t seed, CollageProxy::Scratch& s) {
   const int w = target.width, h = target.height;
   s.hits.assign(std::size_t(w) * h, 0);
-  std::vector<double> cumulative(probabilities.size());
-  double total = 0;
-  for (std::size_t i = 0; i < probabilities.size(); ++i) cumulative[i] = total += probabilities[i];
+  const MapSampler sampler(probabilities);
   // Start at map 0's fixed point (on the attractor) when it has one.
   const PixelMap& m0 = maps[0];
   const double det = (1 - m0[0]) * (1 - m0[4]) - m0[1] * m0[3];
@@ -76,10 +86,7 @@ double chaos_iou(const std::vector<PixelMap>& maps, const std::vector<double>& p
   Rng rng(seed, 0x10F);
   std::uint64_t out = 0;
   for (std::uint64_t k = 0; k < points + 64; ++k) {
-    const double u = rng.uniform() * total;
-    std::size_t i = 0;
-    while (i + 1 < cumulative.size() && u >= cumulative[i]) ++i;
-    const PixelMap& m = maps[i];
+    const PixelMap& m = maps[sampler(rng.next())];
     const double nx = m[0] * x + m[1] * y + m[2];
     y = m[3] * x + m[4] * y + m[5];
     x = nx;

@@ -53,6 +53,9 @@ class CollageProxy {
   };
   CollageProxy(const PixelSet& target, double overlap_weight);
   double operator()(const std::vector<PixelMap>& maps, Scratch& scratch) const;
+  /// Mean distance (pixels) from the target's image under one map to the target: how far
+  /// that copy strays (one map's share of the collage distance, comparable across maps).
+  double copy_outside(const PixelMap& map) const;
 
  private:
   PixelSet target_;

@@ -2,7 +2,7 @@
 /// @file Automatic fitting: an IFS whose attractor looks like a target picture (the inverse
 /// problem of seed chapter 4). A separable CMA-ES with restarts searches the Eq. 5 parameters
 /// of every map under a collage proxy on a small raster, each map kept contractive; the best
-/// restart is then refined on the attractor itself.
+/// restart is then refined on the attractor itself, last on its IoU at the picture's resolution.
 #include <cstdint>
 
 #include "ifsforge/core/progress.h"
@@ -20,6 +20,7 @@ struct FitOptions {
   int generations = 150;         ///< per run
   int attractor_generations = 40;  ///< per run, on the attractor after the collage proxy
   int refine_generations = 60;   ///< of the final refinement on the attractor
+  int final_generations = 200;   ///< of the last search, on the attractor's IoU at the refinement's grid
   int refine_raster = 256;       ///< cells along the long side during the refinement (at most the picture's)
   double time_limit = 0;         ///< seconds; 0: none (only then is the run independent of speed)
   std::uint64_t seed = 0;

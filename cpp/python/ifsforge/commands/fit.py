@@ -1,9 +1,10 @@
 """ifsforge fit: an IFS whose attractor looks like a target picture (the inverse problem, seed chapter 4).
 
 A separable CMA-ES with restarts searches the maps' Eq. 5 parameters under a collage proxy on a
-small raster, polishes each run on the attractor, then refines the best on the collage at the
-picture's resolution; every map stays contractive. The written system carries render.window and
-the picture's size, so `ifsforge render SYSTEM.json` frames it like the target.
+small raster, polishes each run on the attractor, refines the best on the collage at the
+picture's resolution, then climbs the attractor's IoU there; every map stays contractive. The
+written system carries render.window and the picture's size, so `ifsforge render SYSTEM.json`
+frames it like the target.
 """
 import json
 
