@@ -25,7 +25,7 @@ void advise_huge_pages(void* data, std::size_t bytes) {
 #endif
 }
 
-void populate_pages(void* data, std::size_t bytes) {
+void populate_pages(void* data, std::size_t bytes, const ProgressCallback& poll) {
 #if defined(__linux__) && defined(MADV_POPULATE_WRITE)
   // The kernel zeroes each fresh page on the thread that first writes it: a serial fill of
   // 512 MB spent 1.7 s there. Faulted in ahead on every core, in 16 MB pieces (fixed, so the
@@ -38,10 +38,11 @@ void populate_pages(void* data, std::size_t bytes) {
   parallel_jobs(pieces, 0, [&](std::size_t k, int) {
     const std::uintptr_t from = first + k * kPiece, to = std::min(last, from + kPiece);
     madvise(reinterpret_cast<void*>(from), to - from, MADV_POPULATE_WRITE);  // a no-op where unsupported
-  });
+  }, poll);
 #else
   (void)data;
   (void)bytes;
+  (void)poll;
 #endif
 }
 

@@ -87,7 +87,7 @@ struct Settled {
 /// order (clearing the landings for the next step), rescales the masses by `factor`, and sums
 /// the L1 change against `image` on the new cells.
 Settled settle(std::vector<Landing>& landings, const Cells& at, const MassImage& image, double factor, int threads,
-               MassImage& next) {
+               MassImage& next, const ProgressCallback& poll) {
   constexpr std::size_t kWordsPerJob = kChunk / 64;
   const int values = at.values(), masses = at.masses();
   const std::size_t words = (at.count() + 63) / 64, jobs = (words + kWordsPerJob - 1) / kWordsPerJob;
@@ -101,7 +101,7 @@ Settled settle(std::vector<Landing>& landings, const Cells& at, const MassImage&
       count += __builtin_popcountll(bits);
     }
     offset[job + 1] = count;
-  });
+  }, poll);
   for (std::size_t job = 0; job < jobs; ++job) offset[job + 1] += offset[job];
   next.cells.resize(offset.back());
   next.records.resize(offset.back() * values);
@@ -140,7 +140,7 @@ Settled settle(std::vector<Landing>& landings, const Cells& at, const MassImage&
       for (Landing& l : landings) l.touched[word] = 0;
     }
     settled[job] = sum;
-  });
+  }, poll);
   Settled all;
   for (const Settled& s : settled) {
     all.change += s.change;
@@ -193,7 +193,10 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
     half.push_back({0.5 * std::min(std::hypot(m.a, m.b), double(kMaxCells - 2)), 0.5 * std::min(std::hypot(m.c, m.d), double(kMaxCells - 2))});
   std::vector<float> centroid, color;  // per cell: where its mass sits in it, channel means
   TransportResult result;
+  double reported = 0.0;
   for (result.iterations = 0; result.iterations < plan.max_iterations;) {
+    // A step over 8000^2 cells takes seconds: its passes hear Ctrl-C (progress stays put).
+    const ProgressCallback poll = progress_range(options.progress, reported, reported);
     const std::vector<std::uint32_t>& old_cells = image.cells;
     const bool box = at.position && ch == 0;  // transport_box decodes the centroids itself
     if (!at.by_component && !box) decode_records(at, image, codec, centroid, color);
@@ -206,7 +209,7 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
         transport_box(step, begin, end, landings[worker]);
       else
         transport_spread(step, begin, end, landings[worker]);
-    });
+    }, poll);
     result.operations += map_applications(at, weight, old_cells, maps);
     if (!condensation.empty() && plan.condensation_share > 0.0) {
       std::uint64_t codes[kMaxDim * 2 + 2] = {};
@@ -229,14 +232,15 @@ TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const Tr
     if (total == 0)
       throw InputError("all the mass left the image: the window misses the attractor of '" + ifs.name() + "'");
     const double factor = kUnit / static_cast<double>(total);
-    const Settled settled = settle(landings, at, image, factor, threads, next);
+    const Settled settled = settle(landings, at, image, factor, threads, next, poll);
     // (From the start, a pseudo component, everything changes; it takes two steps to stop.)
     result.change = static_cast<double>(settled.change + (old_total - settled.old_inside)) / kUnit;
     old_total = settled.total;
     const bool support_changed = next.cells != image.cells;
     std::swap(image, next);
     ++result.iterations;
-    report_progress(options, std::min(1.0, std::log(std::max(result.change, 1e-300)) / std::log(plan.threshold)));
+    reported = std::clamp(std::log(std::max(result.change, 1e-300)) / std::log(plan.threshold), 0.0, 1.0);
+    report_progress(options, reported);
     if (result.iterations >= 2 && result.change < plan.threshold && !support_changed) break;
   }
   result.pixel.reserve(image.cells.size());

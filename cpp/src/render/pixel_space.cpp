@@ -297,8 +297,8 @@ PixelSet full_pixel_set(const PixelSpace& space, const std::vector<float>& value
   // that Ctrl-C reaches.
   PixelSet set;
   const std::size_t n = space.pixels(), channels = space.channels;
-  resize_large(set.pixels, n);
-  if (channels) resize_large(set.values, n * channels);
+  resize_large(set.pixels, n, progress);
+  if (channels) resize_large(set.values, n * channels, progress);
   constexpr std::size_t kChunk = std::size_t(1) << 22;
   parallel_jobs((n + kChunk - 1) / kChunk, threads, [&](std::size_t job, int) {
     const std::size_t begin = job * kChunk, end = std::min(n, begin + kChunk);

@@ -7,6 +7,8 @@
 #include <iterator>
 #include <vector>
 
+#include "ifsforge/core/progress.h"
+
 namespace ifsforge {
 
 /// @brief Advises transparent huge pages for the 2 MB-aligned part of [data, data + bytes)
@@ -14,36 +16,37 @@ namespace ifsforge {
 void advise_huge_pages(void* data, std::size_t bytes);
 
 /// @brief Faults the pages of [data, data + bytes) in on every core (Linux 5.14+), for ranges
-/// of 64 MB or more; a no-op elsewhere.
-void populate_pages(void* data, std::size_t bytes);
+/// of 64 MB or more; a no-op elsewhere. `poll` hears it (Cancelled when it says stop): a
+/// gigabyte takes about a second.
+void populate_pages(void* data, std::size_t bytes, const ProgressCallback& poll = {});
 
 /// @brief Makes `v`'s capacity at least `n` elements, keeping its contents; a new buffer is
 /// advised huge pages before anything is written to it.
 template <class T>
-void reserve_large(std::vector<T>& v, std::size_t n) {
+void reserve_large(std::vector<T>& v, std::size_t n, const ProgressCallback& poll = {}) {
   if (v.capacity() >= n) return;
   std::vector<T> fresh;
   fresh.reserve(n);
   advise_huge_pages(fresh.data(), n * sizeof(T));
-  populate_pages(fresh.data(), n * sizeof(T));
+  populate_pages(fresh.data(), n * sizeof(T), poll);
   fresh.insert(fresh.end(), std::make_move_iterator(v.begin()), std::make_move_iterator(v.end()));
   v.swap(fresh);
 }
 
 /// @brief `v.assign(n, value)` through reserve_large: a buffer that already holds `n` is reused.
 template <class T>
-void assign_large(std::vector<T>& v, std::size_t n, const T& value) {
+void assign_large(std::vector<T>& v, std::size_t n, const T& value, const ProgressCallback& poll = {}) {
   if (v.capacity() < n) {
     std::vector<T>().swap(v);  // release first: the old and new buffers never coexist
-    reserve_large(v, n);
+    reserve_large(v, n, poll);
   }
   v.assign(n, value);
 }
 
 /// @brief `v.resize(n)` (new elements value-initialised) through reserve_large.
 template <class T>
-void resize_large(std::vector<T>& v, std::size_t n) {
-  reserve_large(v, n);
+void resize_large(std::vector<T>& v, std::size_t n, const ProgressCallback& poll = {}) {
+  reserve_large(v, n, poll);
   v.resize(n);
 }
 
