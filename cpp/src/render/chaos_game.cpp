@@ -97,6 +97,12 @@ ChaosJob chaos_job_for(int dim) {
   return kJobs[dim - 2];
 }
 
+/// A 3D pixel's hits beside its largest depth: one cache line per point, not two.
+struct HitDepth {
+  std::uint32_t hits;
+  float depth;
+};
+
 #ifdef IFSFORGE_CHAOS_AVX2
 
 /// Up to 8 maps in pixel space (N = 2), or in pixel space plus depth towards the viewer
@@ -197,12 +203,6 @@ struct Lanes {
 
 constexpr int kGroups = 4;  // independent lane groups in flight, to hide FMA latency
 constexpr std::uint64_t kLanes = 8 * kGroups;
-
-/// A 3D pixel's hits beside its largest depth: one cache line per point, not two.
-struct HitDepth {
-  std::uint32_t hits;
-  float depth;
-};
 
 /// One job of kGroups x 8 lanes: 32-bit hits into `histogram` (2D), or hits and the largest
 /// depth per pixel into `cells` (3D); both with a trash slot at the end.
