@@ -36,6 +36,7 @@ put("mesh", "huge_ply", b"\x00ply\nformat ascii 1.0\nelement vertex 4000000000\n
 put("mesh", "triangle_obj", b"\x01v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
 put("mesh", "slash_corner_obj", b"\x01v 0 0 0\nv 1 0 0\nv 0 1 0\nf /1 2 3\n")
 put("mesh", "triangle_off", b"\x02OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+put("mesh", "counts_beside_off", b"\x02OFF\x0b6 2 \n3 508000000\xde000000000\n")
 put("vdb_info", "empty", b"")
 PY
 # A .pifs seed: a small gradient coded by the project itself (its Python module, when built).

@@ -131,6 +131,8 @@ def test_ply_declaring_four_billion_vertices(tmp_path):
     ("noply.ply", b"plx\nformat ascii 1.0\nend_header\n", r"noply\.ply': a PLY file starts with the line 'ply'"),
     ("corners.off", b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3333333330 0 1 2\n",
      r"corners\.off': face 0 does not start with a corner count"),
+    # Counts beside the keyword: OpenMesh took the next line, "3 508000000", and reserved 6 GB.
+    ("beside.off", b"OFF\x0b6 2 \n3 508000000\xde000000000\n", r"beside\.off': the OFF counts must be on the line after"),
     # OpenMesh's OBJ reader aborts the process on a corner without a vertex index (CI's fuzzer).
     ("slash.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf /1 2 3\n", r"slash\.obj':4: face corner '/1' is not"),
     ("zero.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", r"zero\.obj':4: face corner '0'"),

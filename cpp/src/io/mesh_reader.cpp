@@ -68,8 +68,8 @@ double ply_header_elements(std::istream& in, const std::string& path) {
   throw InputError("mesh '" + path + "': the PLY header has no format line or no end_header in its first 1000 lines");
 }
 
-/// An OFF header: its keyword ([ST][C][N][4][n]OFF, optionally BINARY) and two non-negative
-/// counts, on the keyword's line or the next line that is not a comment. OpenMesh reads a
+/// An OFF header: its keyword ([ST][C][N][4][n]OFF) alone on its line, then two non-negative
+/// counts on the next line that is not a comment. OpenMesh reads a
 /// count that does not parse (or is negative) as a huge size (found by fuzzing).
 double off_header_elements(std::istream& in, const std::string& first, const std::string& path) {
   std::istringstream words(first);
@@ -90,6 +90,11 @@ double off_header_elements(std::istream& in, const std::string& first, const std
   } else if (v == "BINARY") {
     throw InputError("mesh '" + path + "': binary OFF is not read (its counts cannot be checked first); "
                      "write the mesh as PLY or ASCII OFF");
+  } else if (keyword_ok) {
+    // OpenMesh skips the rest of the keyword's line and takes the next line for the counts: it
+    // read a first vertex "3 508000000" as counts and reserved 6 GB (found by fuzzing).
+    throw InputError("mesh '" + path + "': the OFF counts must be on the line after the keyword '" + keyword +
+                     "' (the reader takes that line for them)");
   }
   counts >> f;
   auto count = [](const std::string& word) {
