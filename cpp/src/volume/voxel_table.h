@@ -22,8 +22,13 @@ class VoxelTable {
   }
   /// @brief Bytes a table spends per voxel it holds (slots at most half full): for estimates.
   static double bytes_per_voxel(int channels, bool extremes) { return 2.0 * 8.0 * slot_words(channels, extremes); }
-  VoxelTable(const VoxelTable& other) : VoxelTable(other.channels_, other.extremes_ > 0) {}
-  VoxelTable(VoxelTable&&) = default;
+  /// A copy holds the same voxels (its slots are aligned afresh, so base_ cannot be copied).
+  VoxelTable(const VoxelTable& other) : VoxelTable(other.channels_, other.extremes_ > 0) {
+    reset(other.capacity_);
+    std::copy(other.base_, other.base_ + other.capacity_ * stride_, base_);
+    used_ = other.used_;
+  }
+  VoxelTable(VoxelTable&&) = default;  // the buffer moves with its vector: base_ stays valid
 
   /// @brief Starts loading the slot `key` hashes to (the add that follows finds it in cache).
   void prefetch(std::uint64_t key) const {
