@@ -60,6 +60,47 @@ void chaos_job(const Ifs& ifs, const MapSampler& sampler, const VoxelGrid& grid,
   }
 }
 
+/// Voxels hit so far, and those hit exactly once and twice (f1, f2).
+struct Occupancy {
+  double voxels = 0, once = 0, twice = 0;
+  /// @brief Chao1's estimate of the voxels no point has hit yet, bias-corrected so that it
+  /// stays finite when no voxel was hit twice: f1 (f1 - 1) / (2 (f2 + 1)).
+  double unseen() const { return once * (once - 1.0) / (2.0 * (twice + 1.0)); }
+  void count(std::uint64_t hits) {
+    voxels += 1;
+    once += hits == 1;
+    twice += hits == 2;
+  }
+};
+
+Occupancy occupancy(const VoxelList& voxels) {
+  Occupancy o;
+  for (std::uint64_t h : voxels.hits) o.count(h);
+  return o;
+}
+
+/// The union of the threads' tables, read in place (taking them between rounds cost more
+/// than the points): a voxel counts in the first table that holds it, with its hits summed
+/// over the tables (only up to 3: above 2 they no longer matter).
+Occupancy occupancy(const std::vector<VoxelTable>& tables) {
+  Occupancy o;
+  for (std::size_t t = 0; t < tables.size(); ++t)
+    tables[t].for_each([&](std::uint64_t key, std::uint64_t hits) {
+      for (std::size_t u = 0; u < t; ++u)
+        if (tables[u].hits_of(key) > 0) return;
+      for (std::size_t u = t + 1; u < tables.size() && hits <= 2; ++u) hits += tables[u].hits_of(key);
+      o.count(hits);
+    });
+  return o;
+}
+
+/// The tables' voxels as one sorted list (each table taken on its own thread).
+VoxelList take_all(std::vector<VoxelTable>& tables, int threads) {
+  std::vector<VoxelList> lists(tables.size());
+  parallel_jobs(tables.size(), threads, [&](std::size_t t, int) { lists[t] = tables[t].take(); });
+  return merge_voxel_lists(lists, threads);
+}
+
 using ChaosJob = void (*)(const Ifs&, const MapSampler&, const VoxelGrid&, const ChannelQuantizer&,
                           std::uint64_t, std::uint64_t, std::uint64_t, VoxelTable&);
 
@@ -84,27 +125,26 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
   const MapSampler sampler(ifs.probabilities());
   const ChaosJob run = chaos_job_for(ifs.dim());
   std::vector<VoxelTable> tables(setup.threads, VoxelTable(channels));
-  VoxelList total(channels);
+  VoxelList total(channels);  // with `distribute`; otherwise the tables hold the points until the end
   std::uint64_t points = 0, jobs_done = 0;
 
-  // Plots jobs [first, last) (job j: points [j, j + 1) * kPointsPerJob, capped at `limit`) and
-  // adds them to `total`. Job j always draws stream (seed, j): the result never depends on
-  // the threads or on how the jobs were grouped into rounds.
-  // With `distribute`, the same jobs run elsewhere (random_iteration_jobs) and merge here.
+  // Plots jobs [first, last) (job j: points [j, j + 1) * kPointsPerJob, capped at `limit`).
+  // Job j always draws stream (seed, j): the result never depends on the threads or on how
+  // the jobs were grouped into rounds. With `distribute`, the same jobs run elsewhere
+  // (random_iteration_jobs) and merge here.
   auto round = [&](std::uint64_t first, std::uint64_t last, std::uint64_t limit, const ProgressCallback& progress) {
-    std::vector<VoxelList> lists;
-    lists.push_back(std::move(total));
     if (options.distribute) {
+      std::vector<VoxelList> lists;
+      lists.push_back(std::move(total));
       for (VolumeJobsResult& r : options.distribute(first, last)) lists.push_back(std::move(r.voxels));
+      total = merge_voxel_lists(lists, setup.threads);
     } else {
       parallel_jobs(last - first, setup.threads, [&](std::size_t k, int worker) {
         const std::uint64_t job = first + k;
         const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
         run(ifs, sampler, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
       }, progress);
-      for (VoxelTable& t : tables) lists.push_back(t.take());
     }
-    total = merge_voxel_lists(lists, setup.threads);
     points = std::min(limit, last * kPointsPerJob);
     jobs_done = last;
   };
@@ -113,27 +153,35 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
     const std::uint64_t jobs = (options.iterations + kPointsPerJob - 1) / kPointsPerJob;
     round(0, jobs, options.iterations, progress_range(options.progress, 0.0, 0.95));
   } else {
-    // Add points in rounds of +50% until occupancy's growth falls below 1% per doubling of
-    // the points (new voxels / voxels < 1% of new points / points): the volumetric form of
-    // Eq. 45's coupon collector. Voxels the attractor only grazes hold a tiny share of the
-    // measure and would need ever more points. Rounds of +50% (rather than doubling) measure
-    // that slope without spending a whole doubling past it.
-    std::size_t before = 0;
-    std::uint64_t points_before = 0;
-    double reported = 0.0;
-    for (std::uint64_t last = 2; last * kPointsPerJob <= kMaxAutoPoints; last += (last + 1) / 2) {
+    // Rounds of points until Chao1's estimate of the occupied voxels no point has hit yet
+    // (from the voxels hit once and twice) falls to kUnseen of those found: the volumetric
+    // form of Eq. 45's coupon collector for an uneven measure, whose grazed voxels hold a
+    // tiny share of it. Each round aims at the point count where the estimate, falling as a
+    // power of the points (its exponent read from the last two rounds), meets the bound:
+    // between +10% and +50%, so that no round overshoots by much.
+    constexpr double kUnseen = 0.008;
+    double unseen_before = 0.0, reported = 0.0;
+    std::uint64_t last = 2, jobs_before = 0;
+    while (last * kPointsPerJob <= kMaxAutoPoints) {
       const double next = reported + 0.5 * (0.95 - reported);
       round(jobs_done, last, last * kPointsPerJob, progress_range(options.progress, reported, next));
       reported = next;
-      if (points_before > 0) {
-        if (total.size() == 0) break;  // two rounds without a voxel: the bounds miss the attractor
-        const double growth = double(total.size() - before) / double(std::max<std::size_t>(before, 1));
-        if (growth < 0.01 * double(points - points_before) / double(points_before)) break;
+      const Occupancy found = options.distribute ? occupancy(total) : occupancy(tables);
+      if (found.voxels == 0.0) {
+        if (jobs_before > 0) break;  // two rounds without a voxel: the bounds miss the attractor
+      } else if (found.unseen() <= kUnseen * found.voxels) {
+        break;
       }
-      before = total.size();
-      points_before = points;
+      double factor = 1.5;
+      if (unseen_before > found.unseen() && found.unseen() > 0.0)
+        factor = std::pow(found.unseen() / (kUnseen * found.voxels),
+                          std::log(double(last) / double(jobs_before)) / std::log(unseen_before / found.unseen()));
+      jobs_before = last;
+      unseen_before = found.unseen();
+      last = std::max(last + 1, static_cast<std::uint64_t>(std::ceil(double(last) * std::clamp(factor, 1.1, 1.5))));
     }
   }
+  if (!options.distribute) total = take_all(tables, setup.threads);
   Volume volume = finish_volume(std::move(total), setup.grid, ifs, setup.quantizer, options.density,
                                 static_cast<double>(points), setup.threads);
   volume.algorithm = name();
@@ -160,9 +208,7 @@ VolumeJobsResult RandomIterationVolume::run_jobs(const Ifs& ifs, const VolumeOpt
       const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
       run(ifs, sampler, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
     }, options.progress);
-  std::vector<VoxelList> lists;
-  for (VoxelTable& t : tables) lists.push_back(t.take());
-  out.voxels = merge_voxel_lists(lists, setup.threads);
+  out.voxels = take_all(tables, setup.threads);
   for (std::uint64_t job = first; job < last; ++job) out.points += std::min(kPointsPerJob, limit - job * kPointsPerJob);
   return out;
 }
