@@ -2,7 +2,7 @@
 exposes register(subparsers); they are discovered, so adding one touches no shared file."""
 import argparse
 import importlib
-import pkgutil
+import os
 import sys
 
 import ifsforge
@@ -10,8 +10,10 @@ import ifsforge.commands
 
 
 def command_names():
-    """The sub-command modules, listed without importing them."""
-    return sorted(m.name for m in pkgutil.iter_modules(ifsforge.commands.__path__))
+    """The sub-command modules, listed without importing them (from the folder: pkgutil would
+    import inspect, 7 ms of every command's start)."""
+    folder = ifsforge.commands.__path__[0]
+    return sorted(name[:-3] for name in os.listdir(folder) if name.endswith(".py") and not name.startswith("_"))
 
 
 def build_parser(only=None):

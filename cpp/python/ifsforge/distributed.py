@@ -13,7 +13,6 @@ of a worker that dies; the result does not change.
 Every worker needs the same ifsforge build (connect() checks it and names a worker without it).
 """
 import contextlib
-import hashlib
 import os
 
 import ifsforge
@@ -36,6 +35,7 @@ class ClusterError(ifsforge.Error, ConnectionError):
 
 def build_digest():
     """The digest of this process's compiled core (what every worker must match)."""
+    import hashlib  # here: loading OpenSSL costs every command 5 ms, and only clusters need it
     with open(_core.__file__, "rb") as f:
         return hashlib.sha256(f.read()).hexdigest()
 
