@@ -1,6 +1,7 @@
 // Scale-out: the job API a cluster (ifsforge.distributed, on Dask) drives. Options travel as
 // plain dicts (picklable, the same names as render / render_volume); job results as bytes.
 #include "bindings.h"
+#include "ifsforge/core/parallel.h"
 #include "ifsforge/render/parameters.h"
 #include "ifsforge/render/renderer.h"
 #include "ifsforge/volume/volume_jobs.h"
@@ -50,9 +51,11 @@ void bind_distributed(py::module_& m) {
           VolumeOptions o = options_from<VolumeOptions>("render_volume", options);
           o.progress = wrap_progress(progress);
           const auto runner = bytes_runner(distribute);
-          o.distribute = [runner](std::uint64_t first, std::uint64_t last) {
-            std::vector<VolumeJobsResult> results;
-            for (const std::string& bytes : runner(first, last)) results.push_back(decode_volume_jobs(bytes));
+          o.distribute = [runner, threads = o.threads](std::uint64_t first, std::uint64_t last) {
+            const std::vector<std::string> bytes = runner(first, last);
+            std::vector<VolumeJobsResult> results(bytes.size());
+            parallel_jobs(bytes.size(), resolve_threads(threads),
+                          [&](std::size_t k, int) { results[k] = decode_volume_jobs(bytes[k]); });
             return results;
           };
           const VolumeRenderer& r = volume_renderer(algorithm);

@@ -1,6 +1,7 @@
 #include "ifsforge/volume/volume_jobs.h"
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/varint.h"
 
 namespace ifsforge {
@@ -52,10 +53,12 @@ VolumeJobsResult decode_volume_jobs(const std::string& bytes) {
   r.depth = static_cast<int>(in.next());
   VoxelList& v = r.voxels;
   v.channels = static_cast<int>(channels);
-  v.keys.resize(n);
-  v.hits.assign(n, 1);
-  v.mass.assign(n, 0);
-  v.sums.resize(n * channels);
+  // Through the large-buffer helpers: a driver decodes every worker's voxels, hundreds of MB
+  // whose first touch on small pages cost more than the decoding.
+  resize_large(v.keys, n);
+  assign_large(v.hits, n, std::uint64_t(1));
+  assign_large(v.mass, n, std::uint64_t(0));
+  resize_large(v.sums, n * channels);
   std::uint64_t key = 0;
   for (std::uint64_t i = 0; i < n; ++i) {
     const std::uint64_t delta = in.next();
@@ -68,7 +71,7 @@ VolumeJobsResult decode_volume_jobs(const std::string& bytes) {
     for (auto& m : v.mass) m = in.next();
   for (auto& s : v.sums) s = in.next();
   if (extremes) {
-    v.points.resize(n * VoxelList::kExtremes);
+    resize_large(v.points, n * VoxelList::kExtremes);
     for (auto& p : v.points) p = in.next();
   }
   if (!in.done()) throw InputError("volume job result: trailing bytes");
