@@ -239,6 +239,7 @@ void bind_model(py::module_& m) {
              out["layout"] = s.layout().text();
              out["channels"] = s.layout().names();
              py::list maps;
+             double ratio = 0.0;  // max s_i (Eq. 10; Eq. 30 for polar maps)
              for (std::size_t i = 0; i < s.size(); ++i) {
                const AffineMap& m = s.map(i);
                py::list matrix;
@@ -252,17 +253,33 @@ void bind_model(py::module_& m) {
                const std::vector<double> point(fixed[i].begin(), fixed[i].begin() + s.dim());
                const bool none = std::any_of(point.begin(), point.end(), [](double v) { return std::isnan(v); });
                py::dict map;
-               map["matrix"] = matrix;
-               map["offset"] = offset;
                map["probability"] = s.probabilities()[i];
-               map["contraction_factor"] = factors[i];
-               map["determinant"] = m.determinant(s.spatial_dims());
+               if (s.polar() && s.polar_maps()[i]) {
+                 // Its shadow's matrix would mislead: the map itself, and s_i of Eq. 30.
+                 const PolarMap& p = *s.polar_maps()[i];
+                 py::dict polar;
+                 polar["center"] = p.center;
+                 polar["k"] = p.k;
+                 polar["F"] = p.f;
+                 polar["G"] = p.g;
+                 polar["winding"] = p.winding;
+                 polar["f_bound"] = p.f_bound();
+                 map["polar"] = polar;
+                 map["contraction_factor"] = p.contraction();
+                 ratio = std::max(ratio, p.contraction());
+               } else {
+                 map["matrix"] = matrix;
+                 map["offset"] = offset;
+                 map["contraction_factor"] = factors[i];
+                 ratio = std::max(ratio, factors[i]);
+                 map["determinant"] = m.determinant(s.spatial_dims());
+               }
                map["fixed_point"] = none ? py::object(py::none()) : py::cast(point);
                maps.append(map);
              }
              out["maps"] = maps;
              out["classification"] = std::string(name_of(kind));
-             out["contraction_ratio"] = *std::max_element(factors.begin(), factors.end());
+             out["contraction_ratio"] = ratio;
              out["average_log_contraction"] = s.average_log_contraction();
              out["lyapunov_exponent"] = s.lyapunov_exponent();
              if (s.recurrent()) {
