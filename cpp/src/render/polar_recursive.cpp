@@ -19,12 +19,16 @@ namespace {
 // its linearisation q + J (S_k - S_0) once it is under kLinearBelow pixels (J fitted to those
 // images by least squares, then carried by each map's Jacobian at q: 3 map evaluations a
 // node instead of kSamples). A piece stops once the estimate is under `cut` pixels and plots
-// its kSamples estimated points, each with 1/kSamples of its mass; also at depth kMaxDepth,
-// or once its job has walked its node budget (job-local: threads never change the image).
+// its kSamples estimated points, each with 1/kSamples of its mass; also once its mass is under
+// 1 / (kLeavesPerPixel H V): random iteration's Eq. 44-45 counts give such a piece a few points
+// at most, and without this cut heavily overlapping systems (sum s_i^2 > 1) split into far
+// more pieces than pixels. Depth kMaxDepth and a job-local node budget end the rest (neither
+// depends on the threads).
 constexpr int kSamples = 16;
 constexpr double kLinearBelow = 16.0;
 constexpr int kMaxDepth = 60;
 constexpr std::uint64_t kJobsWanted = 256;
+constexpr double kLeavesPerPixel = 4.0;
 
 using Mat = std::array<double, 4>;  // row-major 2 x 2
 
@@ -54,7 +58,7 @@ struct Setup {
   double h = 0.0;                                  // finite-difference step of the Jacobians
   int depth = 0, prefix = 0;
   std::uint64_t jobs = 1, budget = 0;
-  double cut = 1.0;
+  double cut = 1.0, min_mass = 0.0;
   std::vector<double> lo, hi;
 
   Setup(const Ifs& system, const RenderOptions& options, const Renderer& renderer)
@@ -99,6 +103,7 @@ struct Setup {
     const std::uint64_t total =
         std::max<std::uint64_t>(std::uint64_t(1) << 24, 128 * std::uint64_t(frame.width()) * frame.height());
     budget = std::max<std::uint64_t>(4096, total / jobs);
+    min_mass = 1.0 / (kLeavesPerPixel * frame.width() * frame.height());
     channel_ranges(ifs, lo, hi);
   }
 
@@ -189,7 +194,7 @@ struct Setup {
       const double size = std::max(hi[0] - lo[0], hi[1] - lo[1]);
       const double pad = 0.5 * size + 1.0;  // the estimate may miss the piece's rim
       if (hi[0] + pad < 0.0 || lo[0] - pad >= width || hi[1] + pad < 0.0 || lo[1] - pad >= height) continue;
-      if (size < cut || at + 1 == kMaxDepth || w.nodes > budget) {
+      if (size < cut || piece.mass < min_mass || at + 1 == kMaxDepth || w.nodes > budget) {
         // A piece above the prefix is shared by many jobs: the one below it by 0s plots it.
         if (in_prefix && std::any_of(w.digits.begin() + at + 1, w.digits.end(), [](std::uint32_t v) { return v; }))
           return;
