@@ -71,7 +71,7 @@ def test_default_prr_renders_every_sample_at_1024():
 PIXEL_GRID = ["dia", "dia-s", "mpa", "cma", "self-congruent", "photocopy", "ibr"]
 PLANAR = [os.path.basename(p) for p in SAMPLES if p.endswith(".json")
           and ifsforge.load(p).spatial_dims == 2 and not ifsforge.load(p).recurrent
-          and ifsforge.load(p).condensation is None]
+          and ifsforge.load(p).condensation is None and not ifsforge.load(p).polar]  # polar: chaos and prr only
 # PRR cannot be the reference where its pieces overlap so much that no pixel-stop walk ends:
 # the superfractal pair's union of two trees has similarity dimension about 3.3 (sum of r^D = 1
 # over its 0.6 and 0.7 branches), so PRR falls back to a fixed depth and finds 0.90 of the

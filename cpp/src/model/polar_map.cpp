@@ -96,6 +96,12 @@ void Ifs::set_polar_maps(std::vector<std::optional<PolarMap>> polar) {
   polar_ = std::move(polar);
 }
 
+void Ifs::require_affine(const std::string& what) const {
+  if (polar())
+    throw InputError(what + " needs affine maps, and system '" + name_ +
+                     "' has polar maps (3.3.3); render it with chaos or prr");
+}
+
 Ifs polar_ifs(std::string name, const std::vector<PolarMap>& maps, std::vector<double> probabilities) {
   if (maps.empty()) throw InputError("a system needs at least one map");
   std::vector<AffineMap> shadows;

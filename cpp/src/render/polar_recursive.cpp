@@ -25,7 +25,7 @@ namespace {
 // more pieces than pixels. Depth kMaxDepth and a job-local node budget end the rest (neither
 // depends on the threads).
 constexpr int kSamples = 16;
-constexpr double kLinearBelow = 16.0;
+constexpr double kLinearBelow = 4.0;
 constexpr int kMaxDepth = 60;
 constexpr std::uint64_t kJobsWanted = 256;
 constexpr double kLeavesPerPixel = 4.0;

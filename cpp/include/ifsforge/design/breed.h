@@ -13,7 +13,7 @@ struct BreedOptions {
   std::uint64_t seed = 0;         ///< the same seed draws the same phenotypes
   int maps = 0;                   ///< maps per phenotype (2..16); 0: 2 to 4, drawn
   int probe = 64;                 ///< side of the chaos render that judges a draw
-  double min_coverage = 0.05;     ///< share of the probe's pixels the attractor must cover
+  double min_coverage = 0.1;      ///< share of the probe's pixels the attractor must cover
   double max_coverage = 0.6;      ///< ... and may cover at most (a blob is no picture)
   double min_extent = 0.2;        ///< the attractor's box side relative to the centres' spread
   int attempts = 500;             ///< draws per phenotype before giving up

@@ -119,6 +119,9 @@ class Ifs {
   const std::vector<std::optional<PolarMap>>& polar_maps() const { return polar_; }
   void set_polar_maps(std::vector<std::optional<PolarMap>> polar);
   bool polar() const { return !polar_.empty(); }
+  /// @brief InputError naming `what` when the system has polar maps: for code that composes,
+  /// inverts or interpolates the affine maps (it would silently use the shadows).
+  void require_affine(const std::string& what) const;
 
  private:
   std::string name_ = "untitled";

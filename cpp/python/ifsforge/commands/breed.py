@@ -41,8 +41,8 @@ def tinted(raster, k):
         grey = grey[:, :, :3].mean(axis=2)
     hue = colorsys.hsv_to_rgb((0.12 + 0.618034 * k) % 1.0, 0.75, 1.0)
     tint = np.asarray(hue, np.float32)[None, None, :]
-    g = grey[:, :, None]
-    return np.clip(g * tint + g ** 3 * (1.0 - tint), 0.0, 1.0)
+    g = np.sqrt(grey[:, :, None])  # lifts the faint swirls that most of a polar attractor is
+    return np.clip(g * tint + g ** 4 * (1.0 - tint), 0.0, 1.0)
 
 
 def run(args):
