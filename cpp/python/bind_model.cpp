@@ -281,7 +281,8 @@ void bind_model(py::module_& m) {
              out["classification"] = std::string(name_of(kind));
              out["contraction_ratio"] = ratio;
              out["average_log_contraction"] = s.average_log_contraction();
-             out["lyapunov_exponent"] = s.lyapunov_exponent();
+             // The linear parts of polar maps are only their shadows: no Lyapunov exponent.
+             out["lyapunov_exponent"] = s.polar() ? py::object(py::none()) : py::cast(s.lyapunov_exponent());
              if (s.recurrent()) {
                py::list rows;
                for (std::size_t i = 0; i < s.size(); ++i) rows.append(py::cast(s.transitions().row(i)));

@@ -63,6 +63,7 @@ def test_info_reports_local_contraction(cli, samples):
     system = ifsforge.read_json(str(path))
     assert [m["contraction_factor"] for m in info["maps"]] == [p.contraction() for p in system.polar_maps]
     assert info["classification"] == "locally-contractive" and "polar" in info["maps"][0]
+    assert info["lyapunov_exponent"] is None  # the shadows' linear parts say nothing of the maps
     assert "(local, about P=(0, 0.8), Eq. 30)" in cli("info", path, check=True).stdout
 
 

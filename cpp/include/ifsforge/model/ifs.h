@@ -95,8 +95,8 @@ class Ifs {
   /// @brief A point on (or, for non-hyperbolic systems, near) the attractor.
   Point start_point() const;
   /// @brief Bounds of the attractor per channel, from a seeded sample of `samples` points.
-  /// Hyperbolic or locally contractive (polar): min/max. Otherwise the 0.1% / 99.9% quantiles (the measure's bulk; the
-  /// support may be unbounded).
+  /// Hyperbolic or locally contractive (polar): min/max. Otherwise the 0.1% / 99.9%
+  /// quantiles (the measure's bulk; the support may be unbounded).
   Bounds attractor_bounds(std::size_t samples = 1u << 20) const;
 
   /// @name Extensions of the model (the setters validate; they are defined in recurrent.cpp,

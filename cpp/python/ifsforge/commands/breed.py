@@ -60,7 +60,7 @@ def run(args):
         raster = ifsforge.render(system, "chaos", args.size, threads=args.threads)
         images.append(tinted(raster, k))
         s = max(m.contraction() for m in system.polar_maps)
-        labels.append(f"{k:02d}  {len(system)} maps  max s {s:.2f}")
+        labels.append(f"{k:02d}: {len(system)} maps, s {s:.2f}")
     sheet = contact_sheet(images, labels, columns=min(args.columns, len(images)), cell=args.size)
     os.makedirs(folder, exist_ok=True)
     paths = [os.path.join(folder, f"phenotype_{k:02d}.json") for k in range(len(systems))]

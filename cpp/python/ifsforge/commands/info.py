@@ -130,8 +130,9 @@ def run(args):
         print_super_ifs(info["super_ifs"])
     if "condensation" in info:
         print_condensation(info["condensation"])
+    lyapunov = "" if info["lyapunov_exponent"] is None else f", Lyapunov {info['lyapunov_exponent']:.4f}"
     print(f"classification: {info['classification']}  (max s = {info['contraction_ratio']:.4f}, "
-          f"sum p log s = {info['average_log_contraction']:.4f}, Lyapunov {info['lyapunov_exponent']:.4f})")
+          f"sum p log s = {info['average_log_contraction']:.4f}{lyapunov})")
     for name, (lo, hi) in info.get("bounds", {}).items():
         print(f"  {name}: [{lo:.6g}, {hi:.6g}]")
     if "box_counting_dimension" in info:
