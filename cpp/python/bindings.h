@@ -25,7 +25,6 @@ namespace py = pybind11;
 /// order (types before the functions that take or return them).
 void bind_core(py::module_& m);
 void bind_model(py::module_& m);
-void bind_polar(py::module_& m);
 void bind_render(py::module_& m);
 void bind_texture(py::module_& m);
 void bind_vector(py::module_& m);

@@ -6,7 +6,6 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "ifsforge core: iterated function systems in n dimensions, their analysis and rendering";
   bind_core(m);
   bind_model(m);
-  bind_polar(m);
   bind_render(m);
   bind_texture(m);
   bind_vector(m);
