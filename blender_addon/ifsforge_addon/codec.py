@@ -120,10 +120,12 @@ def system_record(system):
 
 def extensions(json_text):
     """Parts of an ifsforge/1 document the map list cannot edit (recurrent transitions, super
-    IFS members, condensation sets), so that an import can say what it leaves out."""
+    IFS members, condensation sets, polar maps: their affine shadows come in instead), so that an
+    import can say what it leaves out."""
     document = json.loads(json_text)
     known = {"format", "name", "description", "layout", "maps", "probabilities", "render"}
-    return sorted(k for k in document if k not in known)
+    polar = any(isinstance(m, dict) and "polar" in m for m in document.get("maps", []))
+    return sorted(k for k in document if k not in known) + (["polar maps"] if polar else [])
 
 
 def load_entries(path):

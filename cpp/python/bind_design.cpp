@@ -1,5 +1,6 @@
-// Interactive design: preview point clouds (the collage of chapter 4) and morphing.
+// Interactive design: preview point clouds (the collage of chapter 4), morphing, breeding polar systems.
 #include "bindings.h"
+#include "ifsforge/design/breed.h"
 #include "ifsforge/design/morph.h"
 #include "ifsforge/design/preview.h"
 
@@ -82,6 +83,22 @@ void bind_design(py::module_& m) {
         "continuous in t, so frames animate smoothly).");
   m.def("pad_maps", &pad_maps, py::arg("ifs"), py::arg("maps"),
         "The system with its last map repeated up to `maps` maps (same attractor and measure).");
+
+  options_class<BreedOptions>(m, "BreedOptions", "The settings of breed(); its keywords are these fields, their defaults these.")
+      .def_readwrite("count", &BreedOptions::count, "phenotypes to draw")
+      .def_readwrite("seed", &BreedOptions::seed, "the same seed draws the same phenotypes")
+      .def_readwrite("maps", &BreedOptions::maps, "maps per phenotype (2..16); 0: 2 to 4, drawn")
+      .def_readwrite("probe", &BreedOptions::probe, "side of the chaos render that judges a draw")
+      .def_readwrite("min_coverage", &BreedOptions::min_coverage, "share of the probe the attractor must cover")
+      .def_readwrite("max_coverage", &BreedOptions::max_coverage, "share of the probe it may cover at most")
+      .def_readwrite("min_extent", &BreedOptions::min_extent, "attractor's box side relative to the centres' spread")
+      .def_readwrite("attempts", &BreedOptions::attempts, "draws per phenotype before giving up");
+  m.def("breed", [](const py::kwargs& kwargs) {
+    const BreedOptions o = options_from<BreedOptions>("breed", kwargs);
+    py::gil_scoped_release release;
+    return breed(o);
+  }, "The BreedOptions given as keywords. Random locally contractive polar systems (the seed's phenotypes), "
+     "each redrawn from its own stream until its attractor is neither a point nor a blob: the same for a seed.");
 }
 
 }  // namespace ifsforge::python

@@ -1,9 +1,12 @@
 // The model: affine maps, their parameters, channel layouts, systems and their analysis;
-// condensation sets, recurrent and super IFS.
+// condensation sets, recurrent and super IFS, polar maps.
+#include <pybind11/operators.h>
+
 #include "bindings.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/model/condensation.h"
 #include "ifsforge/model/map_params.h"
+#include "ifsforge/model/polar_map.h"
 #include "ifsforge/model/recurrent.h"
 #include "ifsforge/model/super_ifs.h"
 
@@ -140,6 +143,53 @@ void bind_model_extensions(py::module_& m, py::class_<Ifs>& ifs) {
      "render its V-variable fractals with algorithm 'dia-s'.");
 }
 
+/// Polar maps (seed 3.3.3, Eq. 30-32) and the Ifs's polar_maps.
+void bind_polar_maps(py::module_& m, py::class_<Ifs>& ifs) {
+  py::class_<PolarMap>(m, "PolarMap",
+                       "A map locally contractive about its centre P (Eq. 30-32): rho' = rho (tanh(k F) + 1) / 2, "
+                       "theta' = G, with F = f0 + f1 tanh(rho) + f2 cos t + f3 sin t + f4 cos 2t + f5 sin 2t and "
+                       "G = w t + g0 + g1 rho + g2 cos t + g3 sin t in polar coordinates (rho, t) about P.")
+      .def(py::init([](std::array<double, 2> center, double k, std::array<double, PolarMap::kF> F,
+                       std::array<double, PolarMap::kG> G, int winding) {
+             PolarMap p;
+             p.center = center;
+             p.k = k;
+             p.f = F;
+             p.g = G;
+             p.winding = winding;
+             p.validate("PolarMap");
+             return p;
+           }),
+           py::arg("center"), py::arg("k"), py::arg("F"), py::arg("G"), py::arg("winding") = PolarMap{}.winding)
+      .def_readonly("center", &PolarMap::center)
+      .def_readonly("k", &PolarMap::k)
+      .def_readonly("F", &PolarMap::f)
+      .def_readonly("G", &PolarMap::g)
+      .def_readonly("winding", &PolarMap::winding)
+      .def("f_bound", &PolarMap::f_bound, "sup F over the plane")
+      .def("contraction", &PolarMap::contraction, "s_i of Eq. 30: |P w(M)| <= s_i |P M| for every M")
+      .def("__call__", [](const PolarMap& p, std::array<double, 2> point) {
+             std::array<double, 2> out;
+             p.apply(point.data(), out.data());
+             return out;
+           }, py::arg("point"), "The image of (x, y)")
+      .def(py::self == py::self)
+      .def("__repr__", [](const PolarMap& p) {
+        return "PolarMap(center=(" + std::to_string(p.center[0]) + ", " + std::to_string(p.center[1]) +
+               "), k=" + std::to_string(p.k) + ", s=" + std::to_string(p.contraction()) + ")";
+      });
+
+  m.def("polar_ifs", [](const std::vector<PolarMap>& maps, std::optional<std::vector<double>> probabilities,
+                        const std::string& name) { return polar_ifs(name, maps, probabilities.value_or(std::vector<double>{})); },
+        py::arg("maps"), py::arg("probabilities") = py::none(), py::arg("name") = "polar",
+        "A 2D system of polar maps; probabilities=None gives them in proportion to s_i^2.");
+
+  ifs.def_property("polar_maps", &Ifs::polar_maps, &Ifs::set_polar_maps,
+                    "one PolarMap or None (affine) per map; [] for an affine system. Setting it replaces each "
+                    "polar map's affine map by its shadow x -> P + s (x - P), keeping its channel rows")
+      .def_property_readonly("polar", &Ifs::polar, "whether the system has polar maps (3.3.3)");
+}
+
 }  // namespace
 
 void bind_model(py::module_& m) {
@@ -239,6 +289,7 @@ void bind_model(py::module_& m) {
              out["layout"] = s.layout().text();
              out["channels"] = s.layout().names();
              py::list maps;
+             double ratio = 0.0;  // max s_i (Eq. 10; Eq. 30 for polar maps)
              for (std::size_t i = 0; i < s.size(); ++i) {
                const AffineMap& m = s.map(i);
                py::list matrix;
@@ -252,19 +303,36 @@ void bind_model(py::module_& m) {
                const std::vector<double> point(fixed[i].begin(), fixed[i].begin() + s.dim());
                const bool none = std::any_of(point.begin(), point.end(), [](double v) { return std::isnan(v); });
                py::dict map;
-               map["matrix"] = matrix;
-               map["offset"] = offset;
                map["probability"] = s.probabilities()[i];
-               map["contraction_factor"] = factors[i];
-               map["determinant"] = m.determinant(s.spatial_dims());
+               if (s.polar() && s.polar_maps()[i]) {
+                 // Its shadow's matrix would mislead: the map itself, and s_i of Eq. 30.
+                 const PolarMap& p = *s.polar_maps()[i];
+                 py::dict polar;
+                 polar["center"] = p.center;
+                 polar["k"] = p.k;
+                 polar["F"] = p.f;
+                 polar["G"] = p.g;
+                 polar["winding"] = p.winding;
+                 polar["f_bound"] = p.f_bound();
+                 map["polar"] = polar;
+                 map["contraction_factor"] = p.contraction();
+                 ratio = std::max(ratio, p.contraction());
+               } else {
+                 map["matrix"] = matrix;
+                 map["offset"] = offset;
+                 map["contraction_factor"] = factors[i];
+                 ratio = std::max(ratio, factors[i]);
+                 map["determinant"] = m.determinant(s.spatial_dims());
+               }
                map["fixed_point"] = none ? py::object(py::none()) : py::cast(point);
                maps.append(map);
              }
              out["maps"] = maps;
              out["classification"] = std::string(name_of(kind));
-             out["contraction_ratio"] = *std::max_element(factors.begin(), factors.end());
+             out["contraction_ratio"] = ratio;
              out["average_log_contraction"] = s.average_log_contraction();
-             out["lyapunov_exponent"] = s.lyapunov_exponent();
+             // The linear parts of polar maps are only their shadows: no Lyapunov exponent.
+             out["lyapunov_exponent"] = s.polar() ? py::object(py::none()) : py::cast(s.lyapunov_exponent());
              if (s.recurrent()) {
                py::list rows;
                for (std::size_t i = 0; i < s.size(); ++i) rows.append(py::cast(s.transitions().row(i)));
@@ -322,6 +390,7 @@ void bind_model(py::module_& m) {
   }, py::arg("maps"), py::arg("spatial_dims"), "Eq. 46: p_i proportional to |det A_i|, floored at 1% of the largest.");
   m.def("contraction_factor_2d", &contraction_factor_2d, "Eq. 8-9.");
   bind_model_extensions(m, ifs);
+  bind_polar_maps(m, ifs);
 }
 
 }  // namespace ifsforge::python

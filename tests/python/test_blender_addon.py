@@ -78,7 +78,7 @@ def test_codec_round_trip(samples):
         np.testing.assert_allclose(a.matrix, b.matrix, atol=1e-12)
 
 
-def test_codec_defaults_and_errors():
+def test_codec_defaults_and_errors(samples):
     codec = load_codec()
     record = {"name": "t", "layout": "xy+rgb+k", "probabilities": "uniform",
               "maps": [codec.default_map(i, 3, "xy+rgb+k") for i in range(3)]}
@@ -95,6 +95,8 @@ def test_codec_defaults_and_errors():
     with pytest.raises(ifsforge.InputError, match="probability mode"):
         codec.build_system(dict(record, probabilities="random"))
     assert codec.extensions(json.dumps({"name": "x", "maps": [], "transitions": [[1]]})) == ["transitions"]
+    polar = ifsforge.read_json(str(samples / "polar_spirals.json"))  # the import warns, not the shadows silently
+    assert codec.extensions(ifsforge.to_json(polar)) == ["polar maps"]
 
 
 def test_design_in_blender(tmp_path):

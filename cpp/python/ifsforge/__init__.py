@@ -45,6 +45,7 @@ from ifsforge._core import (  # noqa: F401  (terrain: fractal interpolation, ter
     pov_color_map, random_heights, random_shifts, read_palette_recipe, read_terrain_recipe,
     sample_heights, vertical_scaling, write_terrain_mesh, write_terrain_pov,
 )
+from ifsforge._core import BreedOptions, PolarMap, breed, polar_ifs  # noqa: F401  (polar IFS, 3.3.3)
 from ifsforge._core import (  # noqa: F401  (algorithms: recurrent/super IFS, condensation, chapter-5 extras)
     Condensation, color_bounds, growth_frames, make_super_ifs, proximity_bound, renderer_parameters,
 )

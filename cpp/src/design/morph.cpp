@@ -55,6 +55,7 @@ void require_plain(const Ifs& ifs, const char* role) {
 }  // namespace
 
 Ifs pad_maps(const Ifs& ifs, std::size_t maps) {
+  ifs.require_affine("padding with maps");
   if (maps < ifs.size() || ifs.size() == 0)
     throw InputError("cannot pad system '" + ifs.name() + "' of " + std::to_string(ifs.size()) + " maps to " +
                      std::to_string(maps));
@@ -74,6 +75,8 @@ Ifs pad_maps(const Ifs& ifs, std::size_t maps) {
 }
 
 Ifs morph(const Ifs& from, const Ifs& to, double t) {
+  from.require_affine("morphing");
+  to.require_affine("morphing");
   if (!std::isfinite(t) || t < 0.0 || t > 1.0)
     throw InputError("the morph parameter t must lie in [0, 1], got " + std::to_string(t));
   if (!(from.layout() == to.layout()))

@@ -137,6 +137,7 @@ void piece_color(std::size_t index, bool dim, float* rgba) {
 }
 
 PreviewCloud preview_cloud(const Ifs& ifs, const PreviewOptions& options) {
+  ifs.require_affine("the preview cloud");
   ifs.require_attractor();
   if (options.count == 0) throw InputError("a preview needs at least one point");
   const int n = ifs.dim(), spatial = ifs.spatial_dims(), extra = n - spatial;

@@ -84,6 +84,7 @@ std::vector<PixelMap> pixel_maps(const Ifs& ifs, const Frame& frame) {
 }
 
 CollageReport collage_distance(const Ifs& ifs, const PixelSet& target, const std::optional<Window>& window) {
+  ifs.require_affine("the collage distance");
   if (ifs.spatial_dims() != 2)
     throw InputError("the collage distance is defined here for planar systems; system '" + ifs.name() + "' is " +
                      std::to_string(ifs.spatial_dims()) + "D in space");

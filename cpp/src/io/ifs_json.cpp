@@ -11,6 +11,7 @@
 #include "ifsforge/model/recurrent.h"
 #include "ifsforge/model/super_ifs.h"
 #include "json_reader.h"
+#include "polar_json.h"
 
 namespace ifsforge {
 namespace {
@@ -19,14 +20,47 @@ using nlohmann::json;
 
 using detail::JsonReader;
 
-AffineMap read_map(const JsonReader& r, const json& m, const std::string& path, const ChannelLayout& layout) {
+/// The rows of the non-spatial channels ("channels": n coefficients then the offset, per
+/// channel) into `map`, whose spatial rows are set.
+void read_channel_rows(const JsonReader& r, const json& m, const std::string& path, const ChannelLayout& layout,
+                       AffineMap& map) {
+  const int n = layout.dim(), k = layout.spatial_dims();
+  if (n > k) {
+    if (!m.contains("channels"))
+      r.fail(path, "layout '" + layout.text() + "' needs 'channels': one row of " + std::to_string(n + 1) +
+                       " numbers (coefficients, offset) per channel after the spatial ones");
+    const json& rows = m["channels"];
+    if (!rows.is_array() || rows.size() != static_cast<std::size_t>(n - k))
+      r.fail(path + "/channels", "expected " + std::to_string(n - k) + " rows");
+    for (int i = k; i < n; ++i) {
+      auto row = r.coefficients(rows[i - k], path + "/channels/" + std::to_string(i - k), n + 1);
+      for (int j = 0; j < n; ++j) map.a(i, j) = row[j];
+      map.b(i) = row[n];
+    }
+  } else if (m.contains("channels")) {
+    r.fail(path + "/channels", "layout '" + layout.text() + "' has no extra channels");
+  }
+}
+
+/// One map of "maps": affine, or polar (3.3.3), whose AffineMap is its shadow and is
+/// returned with the polar map in `polar`.
+AffineMap read_map(const JsonReader& r, const json& m, const std::string& path, const ChannelLayout& layout,
+                   std::optional<PolarMap>& polar) {
   if (!m.is_object()) r.fail(path, "a map must be an object, found " + JsonReader::describe(m));
   const int n = layout.dim(), k = layout.spatial_dims();
+  if (m.contains("polar")) {
+    r.only(m, path, {"polar", "probability", "channels", "name"}, "a polar map has polar, probability, channels");
+    if (k != 2) r.fail(path + "/polar", "polar maps are maps of the plane; layout '" + layout.text() + "' is not 2D");
+    polar = detail::read_polar_map(r, m["polar"], path + "/polar");
+    AffineMap channels(n);
+    read_channel_rows(r, m, path, layout, channels);
+    return polar->shadow(channels);
+  }
   static const char* kParamKeys[] = {"scale", "rotation", "shear", "reflect", "translation"};
   bool has_params = false;
   for (const char* key : kParamKeys) has_params |= m.contains(key);
   r.only(m, path, {"matrix", "offset", "probability", "channels", "scale", "rotation", "shear", "reflect", "translation", "name"},
-         "a map has matrix + offset, or scale, rotation, shear, reflect, translation");
+         "a map has matrix + offset, or scale, rotation, shear, reflect, translation, or is {\"polar\": ...}");
   if (m.contains("matrix")) {
     if (has_params) r.fail(path, "give either matrix + offset or parameters, not both");
     const json& rows = m["matrix"];
@@ -82,22 +116,7 @@ AffineMap read_map(const JsonReader& r, const json& m, const std::string& path, 
     for (int j = 0; j < k; ++j) map.a(i, j) = spatial.a(i, j);
     map.b(i) = spatial.b(i);
   }
-  if (n > k) {
-    // Rows of the non-spatial channels: n coefficients then the offset.
-    if (!m.contains("channels"))
-      r.fail(path, "layout '" + layout.text() + "' needs 'channels': one row of " + std::to_string(n + 1) +
-                       " numbers (coefficients, offset) per channel after the spatial ones");
-    const json& rows = m["channels"];
-    if (!rows.is_array() || rows.size() != static_cast<std::size_t>(n - k))
-      r.fail(path + "/channels", "expected " + std::to_string(n - k) + " rows");
-    for (int i = k; i < n; ++i) {
-      auto row = r.coefficients(rows[i - k], path + "/channels/" + std::to_string(i - k), n + 1);
-      for (int j = 0; j < n; ++j) map.a(i, j) = row[j];
-      map.b(i) = row[n];
-    }
-  } else if (m.contains("channels")) {
-    r.fail(path + "/channels", "layout '" + layout.text() + "' has no extra channels");
-  }
+  read_channel_rows(r, m, path, layout, map);
   return map;
 }
 
@@ -109,12 +128,14 @@ Ifs read_maps(const JsonReader& r, const json& obj, const std::string& at, const
   if (!obj.contains("maps") || !obj["maps"].is_array() || obj["maps"].empty())
     r.fail(at + "/maps", "expected a non-empty array of maps");
   std::vector<AffineMap> maps;
+  std::vector<std::optional<PolarMap>> polar;
   std::vector<double> probabilities;
   std::size_t with_probability = 0;
   const json& list = obj["maps"];
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string path = at + "/maps/" + std::to_string(i);
-    maps.push_back(read_map(r, list[i], path, layout));
+    polar.emplace_back();
+    maps.push_back(read_map(r, list[i], path, layout, polar.back()));
     if (list[i].contains("probability")) {
       if (recurrent)
         r.fail(path + "/probability", "a recurrent system's map frequencies come from its transitions; remove it");
@@ -136,7 +157,9 @@ Ifs read_maps(const JsonReader& r, const json& obj, const std::string& at, const
     r.fail(at + "/probabilities", "the maps already give their probabilities");
   }
   try {
-    return Ifs(name, layout, maps, probabilities);
+    Ifs ifs(name, layout, maps, probabilities);
+    ifs.set_polar_maps(std::move(polar));
+    return ifs;
   } catch (const InputError& e) {
     throw InputError(source + ": " + (at.empty() ? "" : at + ": ") + e.what());
   }
@@ -280,13 +303,26 @@ std::string to_ifs_json(const Ifs& ifs) {
     out << indent << "\"maps\": [\n";
     for (std::size_t i = first; i < last; ++i) {
       const AffineMap& m = ifs.map(i);
-      json matrix = json::array();
-      for (int r = 0; r < n; ++r) {
-        json row = json::array();
-        for (int c = 0; c < n; ++c) row.push_back(m.a(r, c));
-        matrix.push_back(row);
+      if (ifs.polar() && ifs.polar_maps()[i]) {
+        // The polar map, and its shadow's channel rows as read_channel_rows reads them.
+        out << indent << "  {\"polar\": " << detail::polar_map_json(*ifs.polar_maps()[i]).dump();
+        json channels = json::array();
+        for (int r = ifs.spatial_dims(); r < n; ++r) {
+          json row = json::array();
+          for (int c = 0; c < n; ++c) row.push_back(m.a(r, c));
+          row.push_back(m.b(r));
+          channels.push_back(row);
+        }
+        if (!channels.empty()) out << ", \"channels\": " << channels.dump();
+      } else {
+        json matrix = json::array();
+        for (int r = 0; r < n; ++r) {
+          json row = json::array();
+          for (int c = 0; c < n; ++c) row.push_back(m.a(r, c));
+          matrix.push_back(row);
+        }
+        out << indent << "  {\"matrix\": " << matrix.dump() << ", \"offset\": " << json(m.offset()).dump();
       }
-      out << indent << "  {\"matrix\": " << matrix.dump() << ", \"offset\": " << json(m.offset()).dump();
       if (!ifs.recurrent()) out << ", \"probability\": " << json(ifs.probabilities()[i] / share).dump();
       out << "}" << (i + 1 < last ? ",\n" : "\n");
     }

@@ -81,8 +81,8 @@ void Ifs::set_condensation(Condensation c) {
     if (!std::isfinite(v)) throw InputError(what + ": a channel value is not finite");
   if (!(c.probability >= 0.0 && c.probability < 1.0))
     throw InputError(what + ": its probability p_0 must be in [0, 1)");
-  if (recurrent() || !super_.empty())
-    throw InputError("system '" + name_ + "': a system with a condensation set cannot also be recurrent or a super IFS");
+  if (recurrent() || !super_.empty() || polar())
+    throw InputError("system '" + name_ + "': a system with a condensation set cannot also be recurrent, a super IFS or have polar maps");
   condensation_ = std::move(c);
 }
 

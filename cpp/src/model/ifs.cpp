@@ -114,6 +114,13 @@ double Ifs::lyapunov_exponent(std::size_t steps, std::uint64_t seed) const {
 
 Classification Ifs::classify() const {
   const auto s = contraction_factors();
+  if (polar()) {
+    // Eq. 30 bounds each polar map's orbit about its centre; contracting affine maps beside
+    // them keep every orbit in a bounded disc too.
+    for (std::size_t i = 0; i < s.size(); ++i)
+      if (!polar_[i] && !(s[i] < 1.0)) return Classification::Divergent;
+    return Classification::LocallyContractive;
+  }
   if (*std::max_element(s.begin(), s.end()) < 1.0) return Classification::Hyperbolic;
   if (average_log_contraction() < 0.0) return Classification::AverageContractive;
   // A small margin keeps borderline systems (lambda ~ 0, e.g. a pure rotation) out.
@@ -165,10 +172,10 @@ void sample_attractor(const Ifs& ifs, std::size_t count, std::uint64_t seed,
   Rng rng(seed, 0);
   const MapSampler sampler(ifs.probabilities());
   Point p = ifs.start_point();
-  for (int i = 0; i < 100; ++i) p = ifs.map(sampler(rng.next()))(p);
+  for (int i = 0; i < 100; ++i) p = ifs.apply(sampler(rng.next()), p);
   const int n = ifs.dim();
   for (std::size_t s = 0; s < count; ++s) {
-    p = ifs.map(sampler(rng.next()))(p);
+    p = ifs.apply(sampler(rng.next()), p);
     for (int c = 0; c < n; ++c)
       if (!std::isfinite(p[c]))
         throw DivergentSystemError("system '" + ifs.name() + "' escapes to infinity under iteration");
@@ -178,17 +185,20 @@ void sample_attractor(const Ifs& ifs, std::size_t count, std::uint64_t seed,
 
 Bounds Ifs::attractor_bounds(std::size_t samples) const {
   require_attractor();
-  const bool hyperbolic = classify() == Classification::Hyperbolic;
-  if (!hyperbolic) samples = std::min<std::size_t>(samples, 1u << 18);
+  const Classification kind = classify();
+  const bool hyperbolic = kind == Classification::Hyperbolic;
+  // Polar systems stay in a bounded disc (Eq. 30): their support's extent is the samples' own.
+  const bool bounded = hyperbolic || kind == Classification::LocallyContractive;
+  if (!bounded) samples = std::min<std::size_t>(samples, 1u << 18);
   const int n = dim();
   Bounds b{std::vector<double>(n, std::numeric_limits<double>::infinity()),
            std::vector<double>(n, -std::numeric_limits<double>::infinity())};
-  std::vector<std::vector<double>> values(hyperbolic ? 0 : n);
+  std::vector<std::vector<double>> values(bounded ? 0 : n);
   sample_attractor(*this, samples, 0xB0B5, [&](const Point& p) {
     for (int c = 0; c < n; ++c) {
       b.lo[c] = std::min(b.lo[c], p[c]);
       b.hi[c] = std::max(b.hi[c], p[c]);
-      if (!hyperbolic) values[c].push_back(p[c]);
+      if (!bounded) values[c].push_back(p[c]);
     }
   });
   for (int c = 0; c < static_cast<int>(values.size()); ++c) {

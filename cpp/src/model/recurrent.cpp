@@ -160,8 +160,8 @@ void Ifs::set_transitions(TransitionMatrix transitions) {
   if (transitions.size() != maps_.size())
     throw InputError("system '" + name_ + "' has " + std::to_string(maps_.size()) + " maps but the transition matrix is " +
                      std::to_string(transitions.size()) + " x " + std::to_string(transitions.size()));
-  if (!super_.empty() || !condensation_.empty())
-    throw InputError("system '" + name_ + "': a recurrent system cannot also be a super IFS or have a condensation set");
+  if (!super_.empty() || !condensation_.empty() || polar())
+    throw InputError("system '" + name_ + "': a recurrent system cannot also be a super IFS, have a condensation set or polar maps");
   probabilities_ = transitions.stationary();
   transitions_ = std::move(transitions);
 }

@@ -34,9 +34,9 @@ Ifs make_super_ifs(const std::string& name, const std::vector<Ifs>& members,
     if (!(member.layout() == members[0].layout()))
       throw InputError("member system " + std::to_string(n + 1) + " ('" + member.name() + "') has layout '" +
                        member.layout().text() + "' but member 1 has '" + members[0].layout().text() + "'");
-    if (member.recurrent() || !member.super_ifs().empty() || !member.condensation().empty())
+    if (member.recurrent() || !member.super_ifs().empty() || !member.condensation().empty() || member.polar())
       throw InputError("member system " + std::to_string(n + 1) + " ('" + member.name() +
-                       "') must be an ordinary IFS (no transitions, members or condensation set)");
+                       "') must be an ordinary IFS (no transitions, members, condensation set or polar maps)");
     parts.sizes.push_back(member.size());
     parts.names.push_back(member.name());
     parts.probabilities.push_back(probabilities[n] / total);
@@ -100,8 +100,8 @@ void Ifs::set_super_ifs(SuperIfs parts) {
     if (parts.names[n].empty()) parts.names[n] = "member " + std::to_string(n + 1);
   if (parts.variability < 1 || parts.variability > 64)
     throw InputError("super IFS '" + name_ + "': the variability V must be 1..64");
-  if (recurrent() || !condensation_.empty())
-    throw InputError("system '" + name_ + "': a super IFS cannot also be recurrent or have a condensation set");
+  if (recurrent() || !condensation_.empty() || polar())
+    throw InputError("system '" + name_ + "': a super IFS cannot also be recurrent, have a condensation set or polar maps");
   super_ = std::move(parts);
 }
 

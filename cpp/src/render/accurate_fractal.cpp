@@ -43,6 +43,7 @@ std::vector<double> solve(std::vector<double> a, std::vector<double> b, int n) {
 }  // namespace
 
 Raster AccurateFractal::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   check_parameters(*this, options);
   ifs.require_attractor();
   refuse_recurrent(ifs, name());

@@ -17,6 +17,7 @@
 #include "ifsforge/model/fixed_maps.h"
 #include "ifsforge/model/map_sampler.h"
 #include "ifsforge/render/accumulator.h"
+#include "polar_render.h"
 
 namespace ifsforge {
 namespace {
@@ -295,7 +296,7 @@ ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads
 #ifdef IFSFORGE_CHAOS_AVX2
   // The lanes: a 2D system, or a purely spatial 3D one (its depth rides as the third lane).
   const bool simd = (ifs.dim() == 2 || (ifs.dim() == 3 && ifs.spatial_dims() == 3)) && ifs.size() <= 8 &&
-                    !ifs.recurrent();
+                    !ifs.recurrent() && !ifs.polar();
 #else
   const bool simd = false;
 #endif
@@ -332,7 +333,8 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   const MapSampler sampler(ifs.probabilities());
   std::vector<MapSampler> rows;
   for (std::size_t i = 0; i < ifs.size() && ifs.recurrent(); ++i) rows.emplace_back(ifs.transitions().row(i));
-  const ChaosJob scalar_job = chaos_job_for(ifs.dim());
+  // Polar maps (3.3.3) take their own simple path: the affine kernels stay specialised.
+  const ChaosJob scalar_job = ifs.polar() ? polar::chaos_job : chaos_job_for(ifs.dim());
 
 #ifdef IFSFORGE_CHAOS_AVX2
   // Per worker: 8-bit hits (32-bit hits beside depths in 3D) flushed into the wide

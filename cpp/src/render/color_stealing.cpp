@@ -9,6 +9,7 @@
 #include "ifsforge/core/random.h"
 #include "ifsforge/model/map_sampler.h"
 #include "ifsforge/render/accumulator.h"
+#include "ifsforge/render/pixel_space.h"
 
 namespace ifsforge {
 
@@ -27,6 +28,7 @@ Ifs grid_reference_system(std::size_t n) {
 double grid_reference_height(std::size_t n) { return n > 1 ? 1.0 / std::sqrt(static_cast<double>(n)) : 0.5; }
 
 Raster ColorStealing::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   if (!options.reference_image || options.reference_image->width < 1)
     throw InputError("colour stealing needs a reference image");
   const Image& picture = *options.reference_image;

@@ -5,10 +5,12 @@
 
 #include "ifsforge/render/mass_transport.h"
 #include "ifsforge/render/parameters.h"
+#include "ifsforge/render/pixel_space.h"
 
 namespace ifsforge {
 
 Raster ConstantMass::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   const ParameterValues params(*this, options);
   refuse_recurrent(ifs, name());
   const int supersample = static_cast<int>(params.integer("supersample", 1, 8));

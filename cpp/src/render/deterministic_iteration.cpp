@@ -25,6 +25,7 @@ double channel_change(const PixelSpace& space, const PixelSet& a, const PixelSet
 }  // namespace
 
 Raster DeterministicIteration::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   const ParameterValues params(*this, options);
   refuse_recurrent(ifs, name());
   const int supersample = static_cast<int>(params.integer("supersample", 1, 8));

@@ -150,6 +150,7 @@ struct Node {
 }  // namespace
 
 Raster EscapeTime::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   const ParameterValues params(*this, options);
   refuse_recurrent(ifs, name());
   refuse_condensation(ifs, name());

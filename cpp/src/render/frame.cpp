@@ -41,7 +41,11 @@ Frame Frame::fit(const Ifs& ifs, int width, int height, const std::optional<Wind
       throw InputError("the window must be finite with xmin < xmax and ymin < ymax");
   } else {
     ifs.require_attractor();
-    const bool hyperbolic = ifs.classify() == Classification::Hyperbolic;
+    const Classification kind = ifs.classify();
+    const bool hyperbolic = kind == Classification::Hyperbolic;
+    // Polar systems stay in a bounded disc (Eq. 30): all their samples count, and a thin
+    // margin takes the extremes no sample reached (there is no affine support function).
+    const bool polar = kind == Classification::LocallyContractive;
     std::vector<double> us, vs;
     const std::size_t samples = 1u << 15;  // extremes converge fast; the margin covers the rest
     us.reserve(samples);
@@ -57,13 +61,13 @@ Frame Frame::fit(const Ifs& ifs, int width, int height, const std::optional<Wind
         us.push_back(uv[0]);
         vs.push_back(uv[1]);
       }
-    const double lo = hyperbolic ? 0.0 : 0.001, hi = hyperbolic ? 1.0 : 0.999;
+    const double lo = hyperbolic || polar ? 0.0 : 0.001, hi = hyperbolic || polar ? 1.0 : 0.999;
     w = {quantile(us, lo), quantile(vs, lo), quantile(us, hi), quantile(vs, hi)};
     double dx = w.xmax - w.xmin, dy = w.ymax - w.ymin;
     const double extent = std::max({dx, dy, 1e-9 * (std::abs(w.xmin) + std::abs(w.ymin)), 1e-12});
     dx = std::max(dx, extent * 1e-3);
     dy = std::max(dy, extent * 1e-3);
-    const double pad = hyperbolic ? 0.0 : margin;
+    const double pad = hyperbolic ? 0.0 : polar ? 0.02 : margin;
     w = {w.xmin - pad * dx, w.ymin - pad * dy, w.xmax + pad * dx, w.ymax + pad * dy};
   }
   // Keep pixels square: grow the window's short side about its centre.

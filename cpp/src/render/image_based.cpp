@@ -71,6 +71,7 @@ inline float bilinear1(const float* image, int w, int h, double x, double y) {
 }  // namespace
 
 Raster ImageBased::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   const ParameterValues params(*this, options);
   refuse_recurrent(ifs, name());
   const int supersample = static_cast<int>(params.integer("supersample", 1, 8));

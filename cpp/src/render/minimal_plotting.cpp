@@ -22,6 +22,7 @@ double proximity_bound(const Ifs& ifs, const Frame& frame) {
 }
 
 Raster MinimalPlotting::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   const ParameterValues params(*this, options);
   refuse_recurrent(ifs, name());
   const int supersample = static_cast<int>(params.integer("supersample", 1, 8));

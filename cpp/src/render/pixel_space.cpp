@@ -158,6 +158,12 @@ void refuse_condensation(const Ifs& ifs, const std::string& algorithm) {
                      "'; use dia, dia-s, mpa, cma, ibr or self-congruent");
 }
 
+void refuse_polar(const Ifs& ifs, const std::string& algorithm) {
+  if (ifs.polar())
+    throw InputError("algorithm " + algorithm + " does not render polar maps (system '" + ifs.name() +
+                     "'); use chaos or prr");
+}
+
 void report_progress(const RenderOptions& options, double fraction) {
   if (options.progress && !options.progress(std::clamp(fraction, 0.0, 1.0))) throw Cancelled();
 }

@@ -15,6 +15,7 @@
 #include "ifsforge/render/parameters.h"
 #include "ifsforge/render/recursion.h"
 #include "point_recursive_leaves.h"
+#include "polar_render.h"
 
 namespace ifsforge {
 namespace {
@@ -233,6 +234,7 @@ struct PrrImage {
 }  // namespace
 
 Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) const {
+  if (ifs.polar()) return polar::point_recursive(ifs, options, *this);  // non-linear maps: their own rule
   const PrrImage setup(ifs, options, *this);
   const Frame& frame = setup.frame;
   const std::size_t pixels = setup.pixels();
@@ -344,6 +346,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
 
 std::string PointRecursive::run_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
                                      std::uint64_t last) const {
+  if (ifs.polar()) return polar::point_recursive_jobs(ifs, options, *this, first, last);
   const PrrImage setup(ifs, options, *this);
   last = std::min(last, setup.plan.jobs);
   std::vector<LeafList> lists(last > first ? last - first : 0);

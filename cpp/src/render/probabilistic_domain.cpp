@@ -71,6 +71,7 @@ std::vector<std::vector<Point>> piece_spreads(const Ifs& ifs) {
 }  // namespace
 
 Raster ProbabilisticDomain::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   const ParameterValues params(*this, options);
   refuse_condensation(ifs, name());
   ifs.require_attractor();

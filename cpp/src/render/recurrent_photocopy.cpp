@@ -6,10 +6,12 @@
 #include "ifsforge/model/recurrent.h"
 #include "ifsforge/render/mass_transport.h"
 #include "ifsforge/render/parameters.h"
+#include "ifsforge/render/pixel_space.h"
 
 namespace ifsforge {
 
 Raster RecurrentPhotocopy::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   const ParameterValues params(*this, options);
   refuse_condensation(ifs, name());
   const int supersample = static_cast<int>(params.integer("supersample", 1, 8));

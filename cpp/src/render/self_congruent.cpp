@@ -23,6 +23,7 @@ struct Growth {
 
 Growth grow(const Ifs& ifs, const RenderOptions& options, const ParameterValues& params, const std::string& name) {
   refuse_recurrent(ifs, name);
+  refuse_polar(ifs, name);
   Growth g;
   g.supersample = static_cast<int>(params.integer("supersample", 1, 8));
   g.space = make_pixel_space(ifs, options, name, g.supersample);

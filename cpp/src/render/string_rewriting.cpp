@@ -39,6 +39,7 @@ struct Strings {
 }  // namespace
 
 Raster StringRewriting::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   check_parameters(*this, options);
   refuse_recurrent(ifs, name());
   refuse_condensation(ifs, name());

@@ -13,6 +13,7 @@
 namespace ifsforge {
 
 Raster TesseralSynecdoche::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   const ParameterValues params(*this, options);
   refuse_recurrent(ifs, name());
   refuse_condensation(ifs, name());

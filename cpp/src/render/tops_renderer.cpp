@@ -1,12 +1,14 @@
 #include "ifsforge/render/tops_renderer.h"
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/render/pixel_space.h"
 #include "ifsforge/render/tops.h"
 #include "ifsforge/render/color_stealing.h"
 
 namespace ifsforge {
 
 Raster TopsRenderer::render(const Ifs& ifs, const RenderOptions& options) const {
+  refuse_polar(ifs, name());
   if (!options.reference_image || options.reference_image->width < 1)
     throw InputError("the tops renderer needs a reference image (--reference)");
   const Image& picture = *options.reference_image;

@@ -94,6 +94,7 @@ std::vector<std::string> string_rewriting(const Ifs& ifs, int depth, AddressSpel
 AddressLeaves tesseral_synecdoche(const Ifs& ifs, int depth, double min_probability,
                                   const std::vector<double>& start, int threads,
                                   const ProgressCallback& progress) {
+  ifs.require_affine("tesseral synecdoche");
   const detail::TreeShape shape = detail::plan_tree(ifs, depth, min_probability);
   Point q0 = ifs.start_point();
   if (!start.empty()) {

@@ -190,6 +190,7 @@ std::vector<double> spatial_vector(const std::vector<double>& given, int k, cons
 }  // namespace
 
 InstanceList instances(const Ifs& ifs, const InstanceOptions& options) {
+  ifs.require_affine("an instance list");
   ifs.require_attractor();
   const int k = ifs.spatial_dims(), n = ifs.dim();
   const int depth = options.depth > 0 ? options.depth : default_instance_depth(ifs.size());

@@ -2,6 +2,7 @@
 /// @file The nD iterated function system with probabilities (seed Definition 10, Eq. 22).
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include "ifsforge/model/affine_map.h"
 #include "ifsforge/model/channel_layout.h"
 #include "ifsforge/model/condensation.h"
+#include "ifsforge/model/polar_map.h"
 #include "ifsforge/model/recurrent.h"
 #include "ifsforge/model/super_ifs.h"
 
@@ -16,8 +18,10 @@ namespace ifsforge {
 
 /// @brief Hyperbolic: every map contracts. AverageContractive: Eq. 14 holds. Eventually
 /// contractive: neither, but the random matrix products contract (negative top Lyapunov
-/// exponent), so random iteration still converges. Divergent: none of these.
-enum class Classification { Hyperbolic, AverageContractive, EventuallyContractive, Divergent };
+/// exponent), so random iteration still converges. LocallyContractive: a system with polar maps,
+/// each contracting about its centre only (Eq. 30); its orbits stay in a bounded disc.
+/// Divergent: none of these.
+enum class Classification { Hyperbolic, AverageContractive, EventuallyContractive, LocallyContractive, Divergent };
 template <>
 struct EnumNames<Classification> {
   static constexpr const char* what = "classification";
@@ -25,6 +29,7 @@ struct EnumNames<Classification> {
       {Classification::Hyperbolic, "hyperbolic"},
       {Classification::AverageContractive, "average-contractive"},
       {Classification::EventuallyContractive, "eventually-contractive"},
+      {Classification::LocallyContractive, "locally-contractive"},
       {Classification::Divergent, "divergent"}};
 };
 
@@ -63,8 +68,16 @@ class Ifs {
   const std::vector<AffineMap>& maps() const { return maps_; }
   const AffineMap& map(std::size_t i) const { return maps_[i]; }
   const std::vector<double>& probabilities() const { return probabilities_; }
+  /// @brief Map i applied to p: its polar map where it has one, else its affine map.
+  Point apply(std::size_t i, const Point& p) const {
+    if (polar_.empty() || !polar_[i]) return maps_[i](p);
+    Point q = maps_[i](p);
+    polar_[i]->apply(p.data(), q.data());
+    return q;
+  }
 
-  /// @brief Spectral norm of each map's whole linear part (Eq. 8-9 in 2D).
+  /// @brief Spectral norm of each map's whole linear part (Eq. 8-9 in 2D); for a polar map,
+  /// its shadow's, whose spatial block is s_i I (Eq. 30).
   std::vector<double> contraction_factors() const;
   /// @brief Spectral norm of each map's spatial block.
   std::vector<double> spatial_contraction_factors() const;
@@ -82,12 +95,12 @@ class Ifs {
   /// @brief A point on (or, for non-hyperbolic systems, near) the attractor.
   Point start_point() const;
   /// @brief Bounds of the attractor per channel, from a seeded sample of `samples` points.
-  /// Hyperbolic: min/max. Otherwise the 0.1% / 99.9% quantiles (the measure's bulk; the
-  /// support may be unbounded).
+  /// Hyperbolic or locally contractive (polar): min/max. Otherwise the 0.1% / 99.9%
+  /// quantiles (the measure's bulk; the support may be unbounded).
   Bounds attractor_bounds(std::size_t samples = 1u << 20) const;
 
   /// @name Extensions of the model (the setters validate; they are defined in recurrent.cpp,
-  /// super_ifs.cpp and condensation.cpp). At most one of them is set on a system.
+  /// super_ifs.cpp, condensation.cpp and polar_map.cpp). At most one of them is set on a system.
   /// @brief Recurrent IFS (3.3.1): empty, or N x N transitions. Setting them replaces the
   /// probabilities by the chain's stationary distribution (the long-run map frequencies).
   const TransitionMatrix& transitions() const { return transitions_; }
@@ -99,6 +112,16 @@ class Ifs {
   /// @brief Condensation set (3.1): empty, or the set C of w_0 (2D systems).
   const Condensation& condensation() const { return condensation_; }
   void set_condensation(Condensation condensation);
+  /// @brief Polar maps (3.3.3, Eq. 30-32; defined in polar_map.cpp): empty, or one entry per
+  /// map of a 2D system, nullopt for an affine map. Setting them makes each polar map's
+  /// AffineMap its shadow (PolarMap::shadow), which keeps its channel rows; the renderers that
+  /// know polar maps (chaos, prr) apply the polar map itself, the others refuse the system.
+  const std::vector<std::optional<PolarMap>>& polar_maps() const { return polar_; }
+  void set_polar_maps(std::vector<std::optional<PolarMap>> polar);
+  bool polar() const { return !polar_.empty(); }
+  /// @brief InputError naming `what` when the system has polar maps: for code that composes,
+  /// inverts or interpolates the affine maps (it would silently use the shadows).
+  void require_affine(const std::string& what) const;
 
  private:
   std::string name_ = "untitled";
@@ -110,6 +133,7 @@ class Ifs {
   TransitionMatrix transitions_;
   SuperIfs super_;
   Condensation condensation_;
+  std::vector<std::optional<PolarMap>> polar_;
 };
 
 /// @brief Calls `visit` with `count` points of a seeded random iteration (5.1.1) that starts

@@ -8,7 +8,8 @@ namespace ifsforge {
 /// (seed, job): the image depends on the seed and the point count, never on the threads.
 /// Purely spatial 2D systems with at most 8 maps take an 8-lane AVX2 path in single
 /// precision, iterating directly in pixel coordinates (the maps are conjugated by the
-/// world-to-pixel transform); everything else takes the general nD path.
+/// world-to-pixel transform); systems with polar maps (3.3.3) a scalar path that applies
+/// them; everything else the general nD path.
 class ChaosGame : public Renderer {
  public:
   std::string name() const override { return "chaos"; }

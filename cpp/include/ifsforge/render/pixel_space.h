@@ -65,6 +65,9 @@ Raster reduce_supersampled(Raster fine, int k, bool sum);
 void refuse_recurrent(const Ifs& ifs, const std::string& algorithm);
 /// @brief InputError naming `algorithm` when `ifs` has a condensation set it cannot draw.
 void refuse_condensation(const Ifs& ifs, const std::string& algorithm);
+/// @brief InputError naming `algorithm` when `ifs` has polar maps (3.3.3): only chaos and prr
+/// apply them; the others would draw their affine shadows.
+void refuse_polar(const Ifs& ifs, const std::string& algorithm);
 
 /// @brief Quantises channel values to integers (2^20 steps of [lo, hi], clamped) so that
 /// parallel sums are exact and order-independent.

@@ -13,7 +13,9 @@ namespace ifsforge {
 /// or is smaller than a pixel; such a straddling piece plots the images of a few attractor
 /// points spread over it (W^d of the fixed points) so that no pixel it touches is missed.
 /// This needs far fewer leaves than Eq. 59's N^L. Branches that miss the image are pruned in
-/// both modes. Jobs are address prefixes merged in address order.
+/// both modes. Jobs are address prefixes merged in address order. Systems with polar maps
+/// (3.3.3) estimate the size of a piece from the images of a few attractor points instead
+/// (Eq. 30 bounds distances from a centre, not diameters: see polar_recursive.cpp).
 class PointRecursive : public Renderer {
  public:
   std::string name() const override { return "prr"; }

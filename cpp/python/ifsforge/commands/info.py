@@ -97,6 +97,15 @@ def print_condensation(c):
         print("  channels: " + "  ".join(f"{name}={v:.6g}" for name, v in c["channels"].items()))
 
 
+def print_polar_map(i, m):
+    """3.3.3: s is the local contraction ratio about the centre (Eq. 30), not a spectral norm."""
+    p = m["polar"]
+    print(f"  map {i}: polar  p={m['probability']:.4f}  s={m['contraction_factor']:.4f} (local, about "
+          f"P=({p['center'][0]:.4g}, {p['center'][1]:.4g}), Eq. 30)  k={p['k']:.4g}  sup F={p['f_bound']:.4g}")
+    print("      F: [" + " ".join(f"{v:.4f}" for v in p["F"]) + "]  G: [" + " ".join(f"{v:.4f}" for v in p["G"]) +
+          f"]  winding {p['winding']}")
+
+
 def run(args):
     if args.system.lower().endswith(".pifs"):  # a fractal-compressed image (ifsforge compress)
         return pifs_info(args)
@@ -108,6 +117,9 @@ def run(args):
     print(f"{info['name']}  ({info['layout']}, {len(info['maps'])} maps)")
     for i, m in enumerate(info["maps"], 1):
         fp = "none" if m["fixed_point"] is None else "(" + ", ".join(f"{v:.4g}" for v in m["fixed_point"]) + ")"
+        if "polar" in m:
+            print_polar_map(i, m)
+            continue
         print(f"  map {i}: p={m['probability']:.4f}  s={m['contraction_factor']:.4f}  "
               f"det={m['determinant']:.4g}  fixed point {fp}")
         for row, b in zip(m["matrix"], m["offset"]):
@@ -118,8 +130,9 @@ def run(args):
         print_super_ifs(info["super_ifs"])
     if "condensation" in info:
         print_condensation(info["condensation"])
+    lyapunov = "" if info["lyapunov_exponent"] is None else f", Lyapunov {info['lyapunov_exponent']:.4f}"
     print(f"classification: {info['classification']}  (max s = {info['contraction_ratio']:.4f}, "
-          f"sum p log s = {info['average_log_contraction']:.4f}, Lyapunov {info['lyapunov_exponent']:.4f})")
+          f"sum p log s = {info['average_log_contraction']:.4f}{lyapunov})")
     for name, (lo, hi) in info.get("bounds", {}).items():
         print(f"  {name}: [{lo:.6g}, {hi:.6g}]")
     if "box_counting_dimension" in info:
