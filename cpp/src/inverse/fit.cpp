@@ -10,6 +10,8 @@
 #include "ifsforge/core/random.h"
 #include "ifsforge/inverse/cma_es.h"
 #include "ifsforge/inverse/collage.h"
+#include "fit_clusters.h"
+#include "fit_corners.h"
 #include "fit_raster.h"
 #include "ifsforge/model/map_params.h"
 #include "ifsforge/render/renderer.h"
@@ -30,12 +32,7 @@ double decode_map(const double* p, double max_contraction, AffineMap& out) {
   mp.rotation = {p[2] * 180 / M_PI, p[3] * 180 / M_PI, 0};
   mp.translation = {p[4], p[5], 0};
   out = map_from_params(mp);
-  const double s = out.contraction_factor(2);
-  if (s <= max_contraction) return 0;
-  const double k = max_contraction / s;
-  for (int r = 0; r < 2; ++r)
-    for (int c = 0; c < 2; ++c) out.a(r, c) *= k;
-  return s - max_contraction;
+  return clamp_contraction(out, 2, max_contraction);
 }
 
 std::vector<AffineMap> decode(const std::vector<double>& x, double max_contraction, double* excess) {
@@ -46,75 +43,15 @@ std::vector<AffineMap> decode(const std::vector<double>& x, double max_contracti
   return maps;
 }
 
-/// The target's box and its k-means clusters' boxes (xmin, ymin, xmax, ymax in the plane).
-struct Boxes {
-  std::array<double, 4> whole;
-  std::vector<std::array<double, 4>> parts;
-  std::array<double, 2> centroid;            ///< of the whole target
-  std::vector<std::array<double, 3>> mass;   ///< per part: centroid x, y and pixel count
-};
+using Boxes = Clusters<2>;
 
-/// k-means of the target's pixels into n clusters (k-means++ start, seeded).
-Boxes cluster_boxes(const PixelSet& t, const FitGrid& grid, int n, Rng& rng) {
+/// k-means of the target's pixels into n clusters (fit_clusters.h), in the plane.
+Boxes pixel_clusters(const PixelSet& t, const FitGrid& grid, int n, Rng& rng) {
   std::vector<std::array<double, 2>> pts;
   for (int y = 0; y < t.height; ++y)
     for (int x = 0; x < t.width; ++x)
       if (t.cells[std::size_t(y) * t.width + x]) pts.push_back(grid.to_plane(x + 0.5, y + 0.5));
-  std::vector<std::array<double, 2>> centres;
-  centres.push_back(pts[static_cast<std::size_t>(rng.uniform() * pts.size())]);
-  std::vector<double> d2(pts.size());
-  while (static_cast<int>(centres.size()) < n) {
-    double total = 0;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      double best = std::numeric_limits<double>::infinity();
-      for (const auto& c : centres) best = std::min(best, std::hypot(pts[i][0] - c[0], pts[i][1] - c[1]));
-      d2[i] = best * best;
-      total += d2[i];
-    }
-    double pick = rng.uniform() * total;
-    std::size_t i = 0;
-    while (i + 1 < pts.size() && (pick -= d2[i]) > 0) ++i;
-    centres.push_back(pts[i]);
-  }
-  std::vector<int> label(pts.size());
-  for (int it = 0; it < 20; ++it) {
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      double best = std::numeric_limits<double>::infinity();
-      for (int c = 0; c < n; ++c) {
-        const double d = std::hypot(pts[i][0] - centres[c][0], pts[i][1] - centres[c][1]);
-        if (d < best) best = d, label[i] = c;
-      }
-    }
-    std::vector<std::array<double, 3>> sum(n, {0, 0, 0});
-    for (std::size_t i = 0; i < pts.size(); ++i) sum[label[i]][0] += pts[i][0], sum[label[i]][1] += pts[i][1], sum[label[i]][2] += 1;
-    for (int c = 0; c < n; ++c)
-      if (sum[c][2] > 0) centres[c] = {sum[c][0] / sum[c][2], sum[c][1] / sum[c][2]};
-  }
-  const double inf = std::numeric_limits<double>::infinity();
-  Boxes out{{inf, inf, -inf, -inf}, std::vector<std::array<double, 4>>(n, {inf, inf, -inf, -inf}), {0, 0},
-            std::vector<std::array<double, 3>>(n, {0, 0, 0})};
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    auto& m = out.mass[label[i]];
-    m[0] += pts[i][0], m[1] += pts[i][1], m[2] += 1;
-    out.centroid[0] += pts[i][0] / pts.size(), out.centroid[1] += pts[i][1] / pts.size();
-  }
-  for (auto& m : out.mass)
-    if (m[2] > 0) m[0] /= m[2], m[1] /= m[2];
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    for (auto* b : {&out.whole, &out.parts[label[i]]}) {
-      (*b)[0] = std::min((*b)[0], pts[i][0]);
-      (*b)[1] = std::min((*b)[1], pts[i][1]);
-      (*b)[2] = std::max((*b)[2], pts[i][0]);
-      (*b)[3] = std::max((*b)[3], pts[i][1]);
-    }
-  const double cell = 1.0 / grid.pixels_per_unit;
-  for (int c = 0; c < n; ++c) {
-    auto& b = out.parts[c];
-    if (b[0] > b[2]) b = {centres[c][0], centres[c][1], centres[c][0], centres[c][1]};
-    b[2] += cell, b[3] += cell;
-  }
-  out.whole[2] += cell, out.whole[3] += cell;
-  return out;
+  return cluster_boxes<2>(pts, n, 1.0 / grid.pixels_per_unit, rng);
 }
 
 /// The initial collage: map c sends the whole target's box onto part c's box.
@@ -130,36 +67,6 @@ std::vector<double> initial_collage(const Boxes& boxes) {
       x.push_back(v);
   }
   return x;
-}
-
-/// A map by where it sends the corners (0, 0), (1, 0), (0, 1) of the plane: a step of one
-/// pixel in any coordinate moves part of the copy by at most a pixel (well scaled for a local search).
-std::vector<double> to_corners(const std::vector<AffineMap>& maps) {
-  std::vector<double> y;
-  for (const AffineMap& m : maps)
-    for (double v : {m.b(0), m.b(1), m.a(0, 0) + m.b(0), m.a(1, 0) + m.b(1), m.a(0, 1) + m.b(0), m.a(1, 1) + m.b(1)})
-      y.push_back(v);
-  return y;
-}
-
-std::vector<AffineMap> from_corners(const std::vector<double>& y, double max_contraction, double* excess) {
-  std::vector<AffineMap> maps;
-  double e = 0;
-  for (std::size_t i = 0; i + kParams <= y.size(); i += kParams) {
-    AffineMap m(2);
-    m.b(0) = y[i], m.b(1) = y[i + 1];
-    m.a(0, 0) = y[i + 2] - y[i], m.a(1, 0) = y[i + 3] - y[i + 1];
-    m.a(0, 1) = y[i + 4] - y[i], m.a(1, 1) = y[i + 5] - y[i + 1];
-    const double s = m.contraction_factor(2);
-    if (s > max_contraction) {
-      for (int r = 0; r < 2; ++r)
-        for (int c = 0; c < 2; ++c) m.a(r, c) *= max_contraction / s;
-      e += s - max_contraction;
-    }
-    maps.push_back(m);
-  }
-  if (excess) *excess = e;
-  return maps;
 }
 
 }  // namespace
@@ -213,7 +120,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     Rng rng(o.seed, 1000 + r);
     // Even runs start from the k-means collage as it is; odd runs from turned copies (rotated
     // copies, as in dragons, are far from an axis-aligned start).
-    const Boxes boxes = cluster_boxes(target, grid, o.maps, rng);
+    const Boxes boxes = pixel_clusters(target, grid, o.maps, rng);
     std::vector<double> x0 = initial_collage(boxes);
     if (r % 2) {
       // Each map scaled by its part's share of the area, centroid onto centroid, turned (kTurns
@@ -299,7 +206,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     const PixelSet fine_target = fine.downsample(full);
     auto value = [&](const std::vector<double>& y, int worker) {
       double excess = 0;
-      const auto maps = from_corners(y, o.max_contraction, &excess);
+      const auto maps = from_corners(y, 2, o.max_contraction, &excess);
       std::vector<PixelMap> pm;
       for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
       return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), fine_target, o.seed, scratch[worker]) + 10.0 * excess;
@@ -311,9 +218,9 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     co.threads = threads;
     co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
     // Half a pixel per corner coordinate: the peak is that narrow.
-    const CmaResult run = minimize_cma(value, to_corners(final_maps), std::vector<double>(n, 0.5 / fine.pixels_per_unit), co, stop);
+    const CmaResult run = minimize_cma(value, to_corners(final_maps, 2), std::vector<double>(n, 0.5 / fine.pixels_per_unit), co, stop);
     result.evaluations += run.evaluations;
-    final_maps = from_corners(run.best, o.max_contraction, nullptr);
+    final_maps = from_corners(run.best, 2, o.max_contraction, nullptr);
     best_value = run.value;
   }
   if (o.progress && !o.progress(1.0)) throw Cancelled();
