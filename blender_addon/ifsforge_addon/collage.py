@@ -53,7 +53,7 @@ def refresh(context):
     try:
         _, pg, _ = state.target(context)
         system = state.system_of(pg)
-        if system.layout.spatial_dims != 2:
+        if system.spatial_dims != 2:
             raise ifsforge.InputError("the collage distance is for planar (xy) systems")
         report = prepared(settings).distance(system, window=tuple(settings.window))
         settings.distance_pixels = report["distance_pixels"]

@@ -65,7 +65,7 @@ def _draw_target(context, system):
     import gpu
     from gpu_extras.batch import batch_for_shader
     settings = context.scene.ifsforge.collage
-    if not settings.show or settings.image is None or system is None or system.layout.spatial_dims != 2:
+    if not settings.show or settings.image is None or system is None or system.spatial_dims != 2:
         return
     xmin, ymin, xmax, ymax = settings.window
     texture = gpu.texture.from_image(settings.image)
