@@ -222,6 +222,14 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     result.evaluations += run.evaluations;
     final_maps = from_corners(run.best, 2, o.max_contraction, nullptr);
     best_value = run.value;
+    // Corners on the pixel lattice when the IoU allows (snap_corners): the plane's pixel
+    // corners lie at (i, ymax - j) / pixels_per_unit.
+    const auto snapped = snap_corners(to_corners(final_maps, 2), 2, {0.0, fine.ymax, 0.0}, 1.0 / fine.pixels_per_unit);
+    const double snapped_value = value(snapped, 0);
+    if (snapped_value <= best_value + kSnapTolerance) {
+      final_maps = from_corners(snapped, 2, o.max_contraction, nullptr);
+      best_value = snapped_value;
+    }
   }
   if (o.progress && !o.progress(1.0)) throw Cancelled();
   const auto& maps = final_maps;

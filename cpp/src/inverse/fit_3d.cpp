@@ -20,7 +20,6 @@ namespace {
 
 constexpr int kParams = 9;   // per map: Mx, My, Mz (signed: a negative one reflects), rx, ry, rz (radians), t
 constexpr int kTurns = 48;   // random turns tried per map for the rotated starts
-constexpr double kSnapTolerance = 0.005;  // IoU a snap of the corners to the voxel lattice may cost
 
 /// The 3D analogue of Eq. 5 (map_params.h), contractive (clamp_contraction).
 double decode_map(const double* p, double max_contraction, AffineMap& out) {
@@ -189,15 +188,8 @@ Fit3dResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
     final_maps = from_corners(run.best, 3, o.max_contraction, nullptr);
     best_value = run.value;
   }
-  // A voxelised target is often made of copies whose corners sit on its voxel lattice (grid-aligned
-  // attractors): the IoU cannot tell a corner a hundredth of a voxel off from one on the lattice,
-  // but the off one spreads the attractor over the neighbouring voxels of any finer rendering.
-  // Corners snapped to the lattice are kept when the IoU does not drop by more than noise.
-  std::vector<double> snapped = to_corners(final_maps, 3);
-  for (std::size_t c = 0; c < snapped.size(); ++c) {
-    const double origin = fine.grid.origin[c % 3], h = fine.grid.voxel_size;
-    snapped[c] = origin + std::round((snapped[c] - origin) / h) * h;
-  }
+  // Corners on the voxel lattice when the IoU allows (snap_corners).
+  const std::vector<double> snapped = snap_corners(to_corners(final_maps, 3), 3, fine.grid.origin, fine.grid.voxel_size);
   const double snapped_value = fine_value(snapped, 0);
   if (snapped_value <= best_value + kSnapTolerance) {
     final_maps = from_corners(snapped, 3, o.max_contraction, nullptr);

@@ -1,6 +1,8 @@
 #pragma once
 // What the fits (2D and 3D) share about a map's linear part: keeping it contractive, and the
 // corner parametrisation of their last, local searches.
+#include <array>
+#include <cmath>
 #include <vector>
 
 #include "ifsforge/model/affine_map.h"
@@ -44,5 +46,19 @@ inline std::vector<AffineMap> from_corners(const std::vector<double>& y, int dim
   if (excess) *excess = e;
   return maps;
 }
+
+/// The corners (to_corners) moved onto the nearest points of the target's lattice, the grid of
+/// cells of size `cell` through `origin`. A raster target is often made of copies whose corners
+/// sit on its lattice (grid-aligned attractors); the IoU barely tells a corner a fraction of a cell
+/// off from one on it, but the off one spreads the attractor over neighbouring cells of any
+/// finer drawing, so the fits keep the snapped corners when the IoU does not drop.
+inline std::vector<double> snap_corners(std::vector<double> y, int dim, const std::array<double, 3>& origin,
+                                        double cell) {
+  for (std::size_t c = 0; c < y.size(); ++c) y[c] = origin[c % dim] + std::round((y[c] - origin[c % dim]) / cell) * cell;
+  return y;
+}
+
+/// IoU a snap of the corners to the target's lattice may cost (the chaos game's noise).
+constexpr double kSnapTolerance = 0.005;
 
 }  // namespace ifsforge
