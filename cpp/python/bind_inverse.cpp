@@ -58,6 +58,17 @@ Frame frame_of(const Ifs& ifs, int width, int height, const std::optional<std::v
   return Frame::fit(ifs, width, height, w);
 }
 
+py::dict fit_result_dict(const FitResult& r) {
+  py::dict d;
+  d["system"] = r.system;
+  d["iou"] = r.iou;
+  d["proxy"] = r.proxy;
+  d["evaluations"] = r.evaluations;
+  d["restarts"] = r.restarts;
+  d["time_limited"] = r.time_limited;
+  return d;
+}
+
 /// A bool (nx, ny, nz) array laid on cubic voxels of `voxel_size` from `origin` (as
 /// read_voxel_target returns it and Volume.to_dense lays it out).
 VoxelSet voxel_set_from_numpy(const py::array& mask, const std::array<double, 3>& origin, double voxel_size) {
@@ -132,19 +143,12 @@ void bind_fit_extensions(py::module_& m) {
   m.def("fit_3d", [](const py::array& mask, std::array<double, 3> origin, double voxel_size, const py::kwargs& kwargs) {
     const Fit3dOptions o = options_from<Fit3dOptions>("fit_3d", kwargs);
     const VoxelSet t = voxel_set_from_numpy(mask, origin, voxel_size);
-    Fit3dResult r;
+    FitResult r;
     {
       py::gil_scoped_release release;
       r = fit_3d(t, o);
     }
-    py::dict d;
-    d["system"] = r.system;
-    d["iou"] = r.iou;
-    d["proxy"] = r.proxy;
-    d["evaluations"] = r.evaluations;
-    d["restarts"] = r.restarts;
-    d["time_limited"] = r.time_limited;
-    return d;
+    return fit_result_dict(r);
   }, py::arg("mask"), py::arg("origin") = std::array<double, 3>{0, 0, 0}, py::arg("voxel_size") = 1.0,
         "An xyz IFS whose attractor fills the target: mask bool (nx, ny, nz), voxel (i, j, k) covering "
         "origin + [i, i+1] x [j, j+1] x [k, k+1] * voxel_size (read_voxel_target's dict can be passed as "
@@ -238,14 +242,7 @@ void bind_inverse(py::module_& m) {
       py::gil_scoped_release release;
       r = fit_ifs(t, o);
     }
-    py::dict d;
-    d["system"] = r.system;
-    d["iou"] = r.iou;
-    d["proxy"] = r.proxy;
-    d["evaluations"] = r.evaluations;
-    d["restarts"] = r.restarts;
-    d["time_limited"] = r.time_limited;
-    return d;
+    return fit_result_dict(r);
   }, py::arg("target"), py::arg("threshold") = 0.5,
         "The FitOptions given as keywords. "
         "An IFS of `maps` maps whose attractor resembles the target (a bool mask or a picture): CMA-ES "

@@ -49,7 +49,9 @@ def colour_panel(target, fit):
 
 def shape_panel(target, fit):
     """The voxels projected along z (rows: y, top up) and along x (rows: z), as target | fit | overlay."""
-    rows = [panel(target.any(axis=axis).T[::-1], fit.any(axis=axis).T[::-1]) for axis in (2, 0)]
+    def view(mask, axis):  # 3 x 3 screen pixels per voxel: a 64^3 target is small
+        return np.kron(mask.any(axis=axis).T[::-1], np.ones((3, 3), bool))
+    rows = [panel(view(target, axis), view(fit, axis)) for axis in (2, 0)]
     width = max(r.shape[1] for r in rows)
     rows = [np.pad(r, ((0, 0), (0, width - r.shape[1]), (0, 0)), constant_values=0.3) for r in rows]
     return np.concatenate([rows[0], np.full((4, width, 3), 0.3, np.float32), rows[1]], axis=0)

@@ -17,10 +17,15 @@
 namespace ifsforge {
 namespace {
 
+/// The Sierpinski triangle, drawn on the unit square (render.window).
 Ifs sierpinski() {
-  return Ifs("sierpinski", ChannelLayout("xy"),
-             {AffineMap(2, {0.5, 0, 0, 0.5}, {0, 0}), AffineMap(2, {0.5, 0, 0, 0.5}, {0.5, 0}),
-              AffineMap(2, {0.5, 0, 0, 0.5}, {0.25, 0.5})});
+  Ifs ifs("sierpinski", ChannelLayout("xy"),
+          {AffineMap(2, {0.5, 0, 0, 0.5}, {0, 0}), AffineMap(2, {0.5, 0, 0, 0.5}, {0.5, 0}),
+           AffineMap(2, {0.5, 0, 0, 0.5}, {0.25, 0.5})});
+  RenderDefaults d;
+  d.window = {0, 0, 1, 1};
+  ifs.set_render_defaults(d);
+  return ifs;
 }
 
 TEST(FitColour, RecoversTheRowsOfALinearColourField) {
@@ -28,10 +33,7 @@ TEST(FitColour, RecoversTheRowsOfALinearColourField) {
   // f(w_i(p)) = c f(p) + g_i . p + o_i exactly with c = 1/2, g_i = A_i^T a - a / 2 and
   // o_i = a . b_i + d / 2: the fit must find rows that close the collage to the pixel's size.
   const int n = 128;
-  Ifs shape = sierpinski();
-  RenderDefaults d;
-  d.window = {0, 0, 1, 1};
-  shape.set_render_defaults(d);
+  const Ifs shape = sierpinski();
   Image picture(n, n, 3);
   PixelSet mask{n, n, std::vector<std::uint8_t>(std::size_t(n) * n, 1)};  // the whole square
   const double a[3][2] = {{0.6, 0.2}, {-0.3, 0.5}, {0.1, -0.4}}, base[3] = {0.1, 0.3, 0.6};
@@ -55,10 +57,7 @@ TEST(FitColour, RecoversTheRowsOfALinearColourField) {
 TEST(FitColour, ClampsTheColourContraction) {
   // A colour that doubles from copy to copy asks for c = 2: it is held at max_contraction.
   const int n = 64;
-  Ifs shape = sierpinski();
-  RenderDefaults d;
-  d.window = {0, 0, 1, 1};
-  shape.set_render_defaults(d);
+  const Ifs shape = sierpinski();
   Image picture(n, n, 3);
   Rng rng(3, 0);
   for (float& v : picture.pixels) v = static_cast<float>(rng.uniform());
@@ -143,9 +142,9 @@ TEST(Fit3d, RecoversATetrahedronAndIsIndependentOfThreads) {
   o.final_generations = 150;
   o.seed = 2;
   o.threads = 1;
-  const Fit3dResult one = fit_3d(t, o);
+  const FitResult one = fit_3d(t, o);
   o.threads = 2;
-  const Fit3dResult two = fit_3d(t, o);
+  const FitResult two = fit_3d(t, o);
   EXPECT_EQ(one.iou, two.iou);
   for (std::size_t i = 0; i < one.system.size(); ++i) {
     EXPECT_EQ(one.system.map(i).matrix(), two.system.map(i).matrix());

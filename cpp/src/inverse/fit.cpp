@@ -1,7 +1,6 @@
 #include "ifsforge/inverse/fit.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -11,37 +10,15 @@
 #include "ifsforge/inverse/cma_es.h"
 #include "ifsforge/inverse/collage.h"
 #include "fit_clusters.h"
-#include "fit_corners.h"
+#include "fit_shared.h"
 #include "fit_raster.h"
-#include "ifsforge/model/map_params.h"
 #include "ifsforge/render/renderer.h"
 
 namespace ifsforge {
 namespace {
 
-constexpr int kParams = 6;
-constexpr int kTurns = 36;  // turns tried per map for the rotated starts  // per map: Mx, My, theta_x, theta_y (radians), tx, ty (Eq. 5)
-
-/// Eq. 5 with signed scales (a negative one is the reflection F), the linear part shrunk onto
-/// s = max_contraction when it would exceed it; returns the excess (a penalty keeps the search
-/// inside the feasible set instead of piling up on its border).
-double decode_map(const double* p, double max_contraction, AffineMap& out) {
-  MapParams mp;
-  mp.scale = {std::abs(p[0]), std::abs(p[1]), 1};
-  mp.reflect = {p[0] < 0, p[1] < 0, false};
-  mp.rotation = {p[2] * 180 / M_PI, p[3] * 180 / M_PI, 0};
-  mp.translation = {p[4], p[5], 0};
-  out = map_from_params(mp);
-  return clamp_contraction(out, 2, max_contraction);
-}
-
-std::vector<AffineMap> decode(const std::vector<double>& x, double max_contraction, double* excess) {
-  std::vector<AffineMap> maps(x.size() / kParams);
-  double e = 0;
-  for (std::size_t i = 0; i < maps.size(); ++i) e += decode_map(&x[i * kParams], max_contraction, maps[i]);
-  if (excess) *excess = e;
-  return maps;
-}
+constexpr int kParams = 6;   // per map: Mx, My, theta_x, theta_y (radians), tx, ty (Eq. 5, decode_map)
+constexpr int kTurns = 36;  // turns tried per map for the rotated starts
 
 using Boxes = Clusters<2>;
 
@@ -77,7 +54,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   if (!(o.max_contraction > 0 && o.max_contraction < 1))
     throw InputError("the largest contraction must lie in (0, 1), got " + std::to_string(o.max_contraction));
   if (full.count() == 0) throw InputError("the target has no pixels");
-  const auto start_time = std::chrono::steady_clock::now();
+  FitDeadline deadline(o.time_limit);
   const FitGrid grid = FitGrid::for_target(full, o.raster);
   const PixelSet target = grid.downsample(full);
   const int threads = resolve_threads(o.threads);
@@ -90,7 +67,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   };
   auto collage_value = [&](const std::vector<double>& x, int worker) {
     double excess = 0;
-    const auto maps = decode(x, o.max_contraction, &excess);
+    const auto maps = decode_maps(x, 2, o.max_contraction, &excess);
     return proxy(to_pixels(maps), scratch[worker]) + 10.0 * excess;
   };
   // The attractor's overlap with the target on a grid (the search's, or the finer one of the
@@ -98,20 +75,14 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   auto attractor_on = [&](const FitGrid& g, const PixelSet& t) {
     return [&, g, t](const std::vector<double>& x, int worker) {
       double excess = 0;
-      const auto maps = decode(x, o.max_contraction, &excess);
+      const auto maps = decode_maps(x, 2, o.max_contraction, &excess);
       std::vector<PixelMap> pm;
       for (const AffineMap& m : maps) pm.push_back(g.pixel_map(m));
       return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), t, o.seed, scratch[worker]) + 10.0 * excess;
     };
   };
   const auto attractor_value = attractor_on(grid, target);
-  bool timed_out = false;
-  auto stop = [&] {
-    if (o.time_limit > 0 &&
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count() > o.time_limit)
-      timed_out = true;
-    return timed_out;
-  };
+  auto stop = [&] { return deadline.stop(); };
   FitResult result;
   std::vector<double> best;
   double best_value = std::numeric_limits<double>::infinity();
@@ -135,10 +106,10 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
           double p[kParams] = {k % 2 ? -sc : sc, sc, 0, 0, 0, 0};
           p[2] = p[3] = (k / 2 + turn) * 2 * M_PI / kTurns;
           AffineMap m;
-          decode_map(p, o.max_contraction, m);
+          decode_map(p, 2, o.max_contraction, m);
           p[4] = mc[0] - (m.a(0, 0) * boxes.centroid[0] + m.a(0, 1) * boxes.centroid[1]);
           p[5] = mc[1] - (m.a(1, 0) * boxes.centroid[0] + m.a(1, 1) * boxes.centroid[1]);
-          decode_map(p, o.max_contraction, m);
+          decode_map(p, 2, o.max_contraction, m);
           const double score = proxy.copy_outside(grid.pixel_map(m));
           if (score < best_score) best_score = score, std::copy(p, p + kParams, &x0[std::size_t(c) * kParams]);
         }
@@ -150,11 +121,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
       const int k = i % kParams;
       sigma[i] = k < 2 ? 0.1 : k < 4 ? (r % 2 ? 0.6 : 0.3) : 0.08 * grid.extent;
     }
-    CmaOptions co;
-    co.population = 2 * (4 + static_cast<int>(3 * std::log(double(n))));
-    co.max_generations = o.generations;
-    co.seed = o.seed * 7919 + r;
-    co.threads = threads;
+    CmaOptions co = fit_cma_options(n, o.generations, o.seed * 7919 + r, threads);
     const CmaResult run = minimize_cma(collage_value, x0, sigma, co, stop);
     // The collage's optimum is near, not at, the attractor's (Eq. 42 only bounds the gap): a
     // short run on the attractor itself, on the same grid, closes it; restarts compete on it.
@@ -173,18 +140,14 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
       const int k = i % kParams;
       sigma[i] = k < 2 ? 0.02 : k < 4 ? 0.03 : 0.01 * grid.extent;
     }
-    CmaOptions co;
-    co.population = 2 * (4 + static_cast<int>(3 * std::log(double(n))));
-    co.max_generations = o.refine_generations;
-    co.seed = o.seed * 7919 + 999;
-    co.threads = threads;
+    const CmaOptions co = fit_cma_options(n, o.refine_generations, o.seed * 7919 + 999, threads);
     // On the collage, at the picture's resolution (capped): a collage exact to a pixel puts the
     // attractor within eps / (1 - s) pixels of the target (Eq. 42), which the coarse grids cannot.
     const FitGrid fine = FitGrid::for_target(full, std::max(o.raster, std::min(o.refine_raster, int(grid.side))));
     const CollageProxy fine_proxy(fine.downsample(full), o.overlap_weight);
     auto fine_value = [&](const std::vector<double>& x, int worker) {
       double excess = 0;
-      const auto maps = decode(x, o.max_contraction, &excess);
+      const auto maps = decode_maps(x, 2, o.max_contraction, &excess);
       std::vector<PixelMap> pm;
       for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
       return fine_proxy(pm, scratch[worker]) + 10.0 * excess;
@@ -197,7 +160,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     if (after <= before) best = run.best;
     best_value = std::min(before, after);
   }
-  std::vector<AffineMap> final_maps = decode(best, o.max_contraction, nullptr);
+  std::vector<AffineMap> final_maps = decode_maps(best, 2, o.max_contraction, nullptr);
   // Last, the attractor's IoU itself at the picture's resolution (capped): the classic
   // attractors' thin lines make it peak within a fraction of a pixel of the exact maps, which
   // the collage (Eq. 42 bounds the distance, not the overlap) and the coarse grids cannot see.
@@ -211,11 +174,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
       for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
       return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), fine_target, o.seed, scratch[worker]) + 10.0 * excess;
     };
-    CmaOptions co;
-    co.population = 2 * (4 + static_cast<int>(3 * std::log(double(n))));
-    co.max_generations = o.final_generations;
-    co.seed = o.seed * 7919 + 1999;
-    co.threads = threads;
+    CmaOptions co = fit_cma_options(n, o.final_generations, o.seed * 7919 + 1999, threads);
     co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
     // Half a pixel per corner coordinate: the peak is that narrow.
     const CmaResult run = minimize_cma(value, to_corners(final_maps, 2), std::vector<double>(n, 0.5 / fine.pixels_per_unit), co, stop);
@@ -242,7 +201,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   result.system = std::move(system);
   result.iou = 1.0 - best_value;
   result.proxy = proxy(to_pixels(maps), scratch[0]);
-  result.time_limited = timed_out;
+  result.time_limited = deadline.passed();
   return result;
 }
 

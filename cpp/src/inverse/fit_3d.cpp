@@ -1,7 +1,6 @@
 #include "ifsforge/inverse/fit_3d.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -10,36 +9,15 @@
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/random.h"
 #include "ifsforge/inverse/cma_es.h"
-#include "ifsforge/model/map_params.h"
 #include "fit_clusters.h"
-#include "fit_corners.h"
+#include "fit_shared.h"
 #include "fit_voxels.h"
 
 namespace ifsforge {
 namespace {
 
-constexpr int kParams = 9;   // per map: Mx, My, Mz (signed: a negative one reflects), rx, ry, rz (radians), t
+constexpr int kParams = 9;   // per map: Mx, My, Mz (signed: a negative one reflects), rx, ry, rz (radians), t (decode_map)
 constexpr int kTurns = 48;   // random turns tried per map for the rotated starts
-
-/// The 3D analogue of Eq. 5 (map_params.h), contractive (clamp_contraction).
-double decode_map(const double* p, double max_contraction, AffineMap& out) {
-  MapParams mp;
-  mp.dim = 3;
-  mp.scale = {std::abs(p[0]), std::abs(p[1]), std::abs(p[2])};
-  mp.reflect = {p[0] < 0, p[1] < 0, p[2] < 0};
-  mp.rotation = {p[3] * 180 / M_PI, p[4] * 180 / M_PI, p[5] * 180 / M_PI};
-  mp.translation = {p[6], p[7], p[8]};
-  out = map_from_params(mp);
-  return clamp_contraction(out, 3, max_contraction);
-}
-
-std::vector<AffineMap> decode(const std::vector<double>& x, double max_contraction, double* excess) {
-  std::vector<AffineMap> maps(x.size() / kParams);
-  double e = 0;
-  for (std::size_t i = 0; i < maps.size(); ++i) e += decode_map(&x[i * kParams], max_contraction, maps[i]);
-  if (excess) *excess = e;
-  return maps;
-}
 
 Clusters<3> voxel_clusters(const VoxelSet& t, int n, Rng& rng) {
   std::vector<std::array<double, 3>> pts;
@@ -49,11 +27,11 @@ Clusters<3> voxel_clusters(const VoxelSet& t, int n, Rng& rng) {
         if (t.cells[t.index(i, j, k)]) pts.push_back(t.grid.center(i, j, k));
   // Centres to extents: the boxes start half a voxel lower, and cluster_boxes adds a voxel above.
   auto c = cluster_boxes<3>(pts, n, t.grid.voxel_size, rng);
-  const double half = 0.5 * t.grid.voxel_size;
-  for (auto* b : {&c.whole})
-    for (int a = 0; a < 3; ++a) (*b)[a] -= half, (*b)[a + 3] -= half;
-  for (auto& b : c.parts)
-    for (int a = 0; a < 3; ++a) b[a] -= half, b[a + 3] -= half;
+  auto lower = [half = 0.5 * t.grid.voxel_size](std::array<double, 6>& b) {
+    for (double& v : b) v -= half;
+  };
+  lower(c.whole);
+  for (auto& b : c.parts) lower(b);
   return c;
 }
 
@@ -70,18 +48,9 @@ std::vector<double> initial_collage(const Clusters<3>& boxes) {
   return x;
 }
 
-CmaOptions cma_options(int n, int generations, std::uint64_t seed, int threads) {
-  CmaOptions co;
-  co.population = 2 * (4 + static_cast<int>(3 * std::log(double(n))));
-  co.max_generations = generations;
-  co.seed = seed;
-  co.threads = threads;
-  return co;
-}
-
 }  // namespace
 
-Fit3dResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
+FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
   if (o.maps < 1 || o.maps > 64) throw InputError("--maps must be 1..64, got " + std::to_string(o.maps));
   if (o.raster < 8 || o.raster > 256) throw InputError("the 3D fit raster must be 8..256 voxels, got " + std::to_string(o.raster));
   if (o.refine_raster < 8 || o.refine_raster > 512)
@@ -92,7 +61,7 @@ Fit3dResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
       !(full.grid.voxel_size > 0))
     throw InputError("the 3D target's cells do not match its grid");
   if (full.count() == 0) throw InputError("the 3D target has no voxels");
-  const auto start_time = std::chrono::steady_clock::now();
+  FitDeadline deadline(o.time_limit);
   const int side = std::max({full.grid.dims[0], full.grid.dims[1], full.grid.dims[2]});
   const FitVoxelGrid grid = FitVoxelGrid::for_target(full, std::min(o.raster, side));
   const VoxelSet target = grid.downsample(full);
@@ -108,23 +77,17 @@ Fit3dResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
   };
   auto collage_value = [&](const std::vector<double>& x, int worker) {
     double excess = 0;
-    const auto maps = decode(x, o.max_contraction, &excess);
+    const auto maps = decode_maps(x, 3, o.max_contraction, &excess);
     return proxy(voxel_maps(grid, maps), scratch[worker]) + 10.0 * excess;
   };
   auto attractor_value = [&](const std::vector<double>& x, int worker) {
     double excess = 0;
-    const auto maps = decode(x, o.max_contraction, &excess);
+    const auto maps = decode_maps(x, 3, o.max_contraction, &excess);
     return 1.0 - chaos_iou_3d(voxel_maps(grid, maps), jacobian_probabilities(maps, 3), target, o.seed, scratch[worker]) +
            10.0 * excess;
   };
-  bool timed_out = false;
-  auto stop = [&] {
-    if (o.time_limit > 0 &&
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count() > o.time_limit)
-      timed_out = true;
-    return timed_out;
-  };
-  Fit3dResult result;
+  auto stop = [&] { return deadline.stop(); };
+  FitResult result;
   std::vector<double> best;
   double best_value = std::numeric_limits<double>::infinity();
   const int n = o.maps * kParams;
@@ -144,10 +107,10 @@ Fit3dResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
           double p[kParams] = {k % 2 ? -sc : sc, sc, sc, 0, 0, 0, 0, 0, 0};
           for (int a = 3; a < 6; ++a) p[a] = (2 * rng.uniform() - 1) * M_PI;
           AffineMap m;
-          decode_map(p, o.max_contraction, m);
+          decode_map(p, 3, o.max_contraction, m);
           for (int a = 0; a < 3; ++a)
             p[6 + a] = mc[a] - (m.a(a, 0) * boxes.centroid[0] + m.a(a, 1) * boxes.centroid[1] + m.a(a, 2) * boxes.centroid[2]);
-          decode_map(p, o.max_contraction, m);
+          decode_map(p, 3, o.max_contraction, m);
           const double score = proxy.copy_outside(grid.voxel_map(m));
           if (score < best_score) best_score = score, std::copy(p, p + kParams, &x0[std::size_t(c) * kParams]);
         }
@@ -159,7 +122,7 @@ Fit3dResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
       const int k = i % kParams;
       sigma[i] = k < 3 ? 0.1 : k < 6 ? (r % 2 ? 0.6 : 0.3) : 0.08 * extent;
     }
-    CmaOptions co = cma_options(n, o.generations, o.seed * 7919 + r, threads);
+    CmaOptions co = fit_cma_options(n, o.generations, o.seed * 7919 + r, threads);
     const CmaResult run = minimize_cma(collage_value, x0, sigma, co, stop);
     // The collage's optimum is near, not at, the attractor's (Eq. 42 only bounds the gap).
     for (double& v : sigma) v *= 0.25;
@@ -170,7 +133,7 @@ Fit3dResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
     if (polish.value < best_value) best_value = polish.value, best = polish.best;
     if (o.progress && !o.progress(0.7 * (r + 1) / o.restarts)) throw Cancelled();
   }
-  std::vector<AffineMap> final_maps = decode(best, o.max_contraction, nullptr);
+  std::vector<AffineMap> final_maps = decode_maps(best, 3, o.max_contraction, nullptr);
   // Last, the attractor's IoU on the finer grid, by the copies' corners (half a voxel steps).
   auto fine_value = [&](const std::vector<double>& y, int worker) {
     double excess = 0;
@@ -180,7 +143,7 @@ Fit3dResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
   };
   best_value = fine_value(to_corners(final_maps, 3), 0);
   if (o.final_generations > 0 && !stop()) {
-    CmaOptions co = cma_options(o.maps * 12, o.final_generations, o.seed * 7919 + 1999, threads);
+    CmaOptions co = fit_cma_options(o.maps * 12, o.final_generations, o.seed * 7919 + 1999, threads);
     co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
     const CmaResult run = minimize_cma(fine_value, to_corners(final_maps, 3),
                                        std::vector<double>(std::size_t(o.maps) * 12, 0.5 * fine.grid.voxel_size), co, stop);
@@ -204,7 +167,7 @@ Fit3dResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
   result.system = std::move(system);
   result.iou = 1.0 - best_value;
   result.proxy = proxy(voxel_maps(grid, final_maps), scratch[0]);
-  result.time_limited = timed_out;
+  result.time_limited = deadline.passed();
   return result;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fit_shared.h"
 #include "ifsforge/core/random.h"
 #include "ifsforge/model/map_sampler.h"
 
@@ -130,14 +131,7 @@ double chaos_iou_3d(const std::vector<VoxelMap>& maps, const std::vector<double>
     else
       ++out;
   }
-  std::size_t inter = 0, uni = 0, covered = 0;
-  for (std::size_t c = 0; c < s.hits.size(); ++c) {
-    inter += s.hits[c] && target.cells[c];
-    uni += s.hits[c] || target.cells[c];
-    covered += s.hits[c];
-  }
-  const double lost = covered * (double(out) / std::max<std::uint64_t>(points - out, 1));
-  return uni ? inter / (uni + lost) : 0.0;
+  return hits_iou(s.hits, target.cells, points, out);
 }
 
 }  // namespace ifsforge

@@ -121,9 +121,12 @@ VoxelSet from_mesh(const std::string& path, const VoxelTargetOptions& o) {
   transform->postTranslate(openvdb::Vec3d(box[0] + 0.5 * h, box[1] + 0.5 * h, box[2] + 0.5 * h));
   const auto level_set = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, 2.0f);
   auto accessor = level_set->getConstAccessor();
+  // Inside, or the surface within half a voxel of the centre: a plate thinner than a voxel (the
+  // iso-surface of a thin fractal) keeps its voxels although no centre lies inside it.
+  const float near = static_cast<float>(0.5 * h);
   VoxelSet out = resample(box, o.resolution, [&](const std::array<double, 3>& p) {
     const openvdb::Coord c = openvdb::Coord::round(transform->worldToIndex(openvdb::Vec3d(p[0], p[1], p[2])));
-    return accessor.getValue(c) <= 0.0f;
+    return accessor.getValue(c) <= near;
   }, {});
   if (out.count() == 0) throw InputError("the mesh '" + path + "' encloses no voxel at resolution " + std::to_string(o.resolution));
   return out;

@@ -8,6 +8,7 @@
 
 #include "ifsforge/core/progress.h"
 #include "ifsforge/inverse/distance_transform.h"
+#include "ifsforge/inverse/fit.h"
 #include "ifsforge/model/ifs.h"
 
 namespace ifsforge {
@@ -28,19 +29,11 @@ struct Fit3dOptions {
   ProgressCallback progress;
 };
 
-struct Fit3dResult {
-  Ifs system;                 ///< layout xyz, maps in the target's coordinates
-  double iou = 0;             ///< of the attractor and the target on the refinement grid
-  double proxy = 0;           ///< collage proxy of the result on the search grid
-  std::uint64_t evaluations = 0;
-  int restarts = 0;           ///< runs completed
-  bool time_limited = false;  ///< the time limit cut the search short
-};
-
-/// @brief Fits `options.maps` maps to `target`. The maps act on the target's own coordinates
-/// (its grid's box), so `volume` frames the attractor where the target lies. InputError for an
-/// empty target or options out of range.
-Fit3dResult fit_3d(const VoxelSet& target, const Fit3dOptions& options);
+/// @brief Fits `options.maps` maps to `target`: a system of layout xyz whose maps act on the
+/// target's own coordinates (its grid's box), so `volume` frames the attractor where the target
+/// lies; iou on the refinement grid, proxy on the search grid. InputError for an empty target or
+/// options out of range.
+FitResult fit_3d(const VoxelSet& target, const Fit3dOptions& options);
 
 /// @brief Intersection over union of the attractor of `ifs` (an xyz system; chaos game,
 /// seeded) and `target`, on the target's grid.

@@ -15,7 +15,8 @@ struct VoxelTargetOptions {
 
 /// @brief The shape in `path`, by extension: .vdb (the grid named "density", else the first
 /// float grid; a level set's inside or a fog volume's voxels above the threshold), or a mesh
-/// (.obj, .ply, .stl, .off: its inside, through OpenVDB's mesh-to-level-set) resampled onto
+/// (.obj, .ply, .stl, .off: its inside and the voxels its surface passes within half a voxel of
+/// their centre, through OpenVDB's mesh-to-level-set) resampled onto
 /// cubic voxels, options.resolution along the longest side of the shape's box, in the file's
 /// coordinates. FileError when the file cannot be opened; InputError for an unknown extension,
 /// a file that is no OpenVDB, a .vdb without a float grid or with a non-uniform transform, or an
