@@ -106,6 +106,10 @@ def cube_obj(path, lo=-1.0, hi=1.0):
 
 
 def test_a_mesh_is_voxelised_inside(tmp_path):
+    # A flat triangle is a sheet one voxel thick (its surface passes within half a voxel).
+    (tmp_path / "flat.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    sheet = ifsforge.read_voxel_target(str(tmp_path / "flat.obj"))
+    assert sheet["mask"].shape == (64, 64, 1) and 0.45 < sheet["mask"].mean() < 0.55
     cube_obj(tmp_path / "cube.obj")
     target = ifsforge.read_voxel_target(str(tmp_path / "cube.obj"), resolution=16)
     assert target["mask"].shape == (16, 16, 16) and target["mask"].all()
@@ -117,13 +121,15 @@ def test_a_mesh_is_voxelised_inside(tmp_path):
 
 def test_bad_3d_targets_are_input_errors(cli, tmp_path):
     (tmp_path / "junk.vdb").write_bytes(b"not a vdb at all" * 8)
-    (tmp_path / "flat.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
-    for name, fragment in (("junk.vdb", "OpenVDB"), ("flat.obj", "encloses no voxel"), ("t.xyz", "3D target")):
+    (tmp_path / "line.obj").write_text("v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")  # no area
+    (tmp_path / "point.obj").write_text("v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n")
+    for name, fragment in (("junk.vdb", "OpenVDB"), ("line.obj", "encloses no voxel"), ("point.obj", "no volume"),
+                           ("t.xyz", "3D target")):
         if name == "t.xyz":
             (tmp_path / name).write_text("1 2 3")
         with pytest.raises(ifsforge.InputError, match=fragment):
             ifsforge.read_voxel_target(str(tmp_path / name))
-    for name in ("junk.vdb", "flat.obj"):
+    for name in ("junk.vdb", "line.obj"):
         result = cli("fit", name, "-o", "x.json")
         assert result.returncode != 0 and name in result.stderr and "Traceback" not in result.stderr
     assert not (tmp_path / "x.json").exists()

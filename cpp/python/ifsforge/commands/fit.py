@@ -38,7 +38,9 @@ def register(subparsers):
     p.add_argument("--restarts", type=int, default=None, help=f"CMA-ES runs per map count (default {o.restarts}; 3D {o3.restarts})")
     p.add_argument("--raster", type=int, default=None,
                    help=f"cells along the long side during the search (default {o.raster}; 3D {o3.raster})")
-    p.add_argument("--max-contraction", type=float, default=o.max_contraction, help="largest contraction factor of a map")
+    p.add_argument("--max-contraction", type=float, default=None,
+                   help=f"largest contraction factor of a map (default {o.max_contraction}; 3D {o3.max_contraction}; "
+                   f"colour maps {colour.max_contraction})")
     p.add_argument("--threshold", type=float, default=0.5, help="gray pictures: luminance splitting shape from background")
     p.add_argument("--no-colour", action="store_true", help="colour pictures: fit the shape only (layout xy)")
     p.add_argument("--colour-tolerance", type=float, default=colour.tolerance,
@@ -72,10 +74,10 @@ def fit_picture(picture, maps, threshold, time_limit=None, **options):
 
 
 def common_options(args, defaults):
-    options = {"seed": args.seed, "threads": args.threads, "max_contraction": args.max_contraction,
-               "restarts": defaults.restarts if args.restarts is None else args.restarts,
-               "raster": defaults.raster if args.raster is None else args.raster}
-    return options
+    """The options `fit` and `fit_3d` share, each left unset on the command line from `defaults`."""
+    given = {"restarts": args.restarts, "raster": args.raster, "max_contraction": args.max_contraction}
+    return {"seed": args.seed, "threads": args.threads,
+            **{key: getattr(defaults, key) if value is None else value for key, value in given.items()}}
 
 
 def run_picture(args, bar):
@@ -98,7 +100,7 @@ def run_picture(args, bar):
             f"{collage['distance_pixels']:.2f} px (attractor within {collage['bound_pixels']:.2f} px), "
             f"s = {collage['contraction']:.3f}, {result['evaluations']} evaluations")
     if colour:
-        fitted = ifsforge.fit_colour(system, picture, shape, max_contraction=args.max_contraction)
+        fitted = ifsforge.fit_colour(system, picture, shape, max_contraction=args.max_contraction)  # None: its default
         system = fitted["system"]
         summary["layout"] = "xy+rgb"
         summary["colour_collage_error"] = dict(zip("rgb", fitted["collage_error"]))
