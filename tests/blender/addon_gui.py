@@ -89,17 +89,23 @@ def draws_the_preview():
     checks.values["gpu"] = __import__("gpu").platform.renderer_get()
 
 
-def pixels_show_the_pieces():
-    window, area, region, _ = view3d()
-    system = bpy.context.scene.ifsforge.system
-    system.active_map = 1  # the big leaf, highlighted
-    redraw(window, area, region)
-    path = OUT / "viewport.png"
+def screenshot(window, area, name):
+    """The viewport as an RGB array (rows bottom to top), also kept as OUT/name."""
+    path = OUT / name
     with bpy.context.temp_override(window=window, area=area):
         bpy.ops.screen.screenshot_area(filepath=str(path))
     image = bpy.data.images.load(str(path), check_existing=False)
     rgb = np.array(image.pixels[:]).reshape(image.size[1], image.size[0], 4)[:, :, :3]
     bpy.data.images.remove(image)
+    return rgb
+
+
+def pixels_show_the_pieces():
+    window, area, region, _ = view3d()
+    system = bpy.context.scene.ifsforge.system
+    system.active_map = 1  # the big leaf, highlighted
+    redraw(window, area, region)
+    rgb = screenshot(window, area, "viewport.png")
     bright = np.array(ifsforge.piece_color(1)[:3])
     near = np.abs(rgb - bright).max(axis=2) < 0.06
     checks.values["highlighted_pixels"] = int(near.sum())
@@ -120,12 +126,7 @@ def draws_the_target():
     settings.image = image
     assert settings.error == "" and settings.distance_pixels >= 0, settings.error
     redraw(window, area, region)
-    path = OUT / "viewport_target.png"
-    with bpy.context.temp_override(window=window, area=area):
-        bpy.ops.screen.screenshot_area(filepath=str(path))
-    shot = bpy.data.images.load(str(path), check_existing=False)
-    rgb = np.array(shot.pixels[:]).reshape(shot.size[1], shot.size[0], 4)[:, :, :3]
-    bpy.data.images.remove(shot)
+    rgb = screenshot(window, area, "viewport_target.png")
     magenta = (rgb[..., 0] > 0.6) & (rgb[..., 1] < 0.35) & (rgb[..., 2] > 0.6)
     checks.values["target_pixels"] = int(magenta.sum())
     settings.image = None  # the later checks look at the preview alone

@@ -121,14 +121,10 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
       const int k = i % kParams;
       sigma[i] = k < 2 ? 0.1 : k < 4 ? (r % 2 ? 0.6 : 0.3) : 0.08 * grid.extent;
     }
-    CmaOptions co = fit_cma_options(n, o.generations, o.seed * 7919 + r, threads);
-    const CmaResult run = minimize_cma(collage_value, x0, sigma, co, stop);
-    // The collage's optimum is near, not at, the attractor's (Eq. 42 only bounds the gap): a
-    // short run on the attractor itself, on the same grid, closes it; restarts compete on it.
-    for (double& v : sigma) v *= 0.25;
-    co.max_generations = o.attractor_generations;
-    const CmaResult polish = minimize_cma(attractor_value, run.best, sigma, co, stop);
-    result.evaluations += run.evaluations + polish.evaluations;
+    const CmaResult polish = collage_then_attractor(collage_value, attractor_value, x0, sigma,
+                                                    fit_cma_options(n, o.generations, o.seed * 7919 + r, threads),
+                                                    o.attractor_generations, stop);
+    result.evaluations += polish.evaluations;
     ++result.restarts;
     if (polish.value < best_value) best_value = polish.value, best = polish.best;
     if (o.progress && !o.progress(0.8 * (r + 1) / o.restarts)) throw Cancelled();

@@ -122,13 +122,10 @@ FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
       const int k = i % kParams;
       sigma[i] = k < 3 ? 0.1 : k < 6 ? (r % 2 ? 0.6 : 0.3) : 0.08 * extent;
     }
-    CmaOptions co = fit_cma_options(n, o.generations, o.seed * 7919 + r, threads);
-    const CmaResult run = minimize_cma(collage_value, x0, sigma, co, stop);
-    // The collage's optimum is near, not at, the attractor's (Eq. 42 only bounds the gap).
-    for (double& v : sigma) v *= 0.25;
-    co.max_generations = o.attractor_generations;
-    const CmaResult polish = minimize_cma(attractor_value, run.best, sigma, co, stop);
-    result.evaluations += run.evaluations + polish.evaluations;
+    const CmaResult polish = collage_then_attractor(collage_value, attractor_value, x0, sigma,
+                                                    fit_cma_options(n, o.generations, o.seed * 7919 + r, threads),
+                                                    o.attractor_generations, stop);
+    result.evaluations += polish.evaluations;
     ++result.restarts;
     if (polish.value < best_value) best_value = polish.value, best = polish.best;
     if (o.progress && !o.progress(0.7 * (r + 1) / o.restarts)) throw Cancelled();

@@ -25,6 +25,20 @@ inline CmaOptions fit_cma_options(int n, int generations, std::uint64_t seed, in
   return co;
 }
 
+/// One restart of a fit: CMA-ES from x0 on the collage proxy, then a short run on the attractor
+/// itself with a quarter of the steps (the collage's optimum is near, not at, the attractor's:
+/// Eq. 42 only bounds the gap); the restarts compete on the attractor's value, returned.
+template <typename Collage, typename Attractor, typename Stop>
+CmaResult collage_then_attractor(const Collage& collage, const Attractor& attractor, const std::vector<double>& x0,
+                                 std::vector<double> sigma, CmaOptions co, int attractor_generations, const Stop& stop) {
+  const CmaResult run = minimize_cma(collage, x0, sigma, co, stop);
+  for (double& v : sigma) v *= 0.25;
+  co.max_generations = attractor_generations;
+  CmaResult polish = minimize_cma(attractor, run.best, sigma, co, stop);
+  polish.evaluations += run.evaluations;
+  return polish;
+}
+
 /// The time limit of a fit (0: none): stop() turns true, and stays so, once it has passed.
 class FitDeadline {
  public:
