@@ -68,7 +68,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   auto collage_value = [&](const std::vector<double>& x, int worker) {
     double excess = 0;
     const auto maps = decode_maps(x, 2, o.max_contraction, &excess);
-    return proxy(to_pixels(maps), scratch[worker]) + 10.0 * excess;
+    return proxy(to_pixels(maps), scratch[worker]) + kExcessPenalty * excess;
   };
   // The attractor's overlap with the target on a grid (the search's, or the finer one of the
   // refinement, where one cell of the search's grid would hide misplaced detail).
@@ -78,7 +78,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
       const auto maps = decode_maps(x, 2, o.max_contraction, &excess);
       std::vector<PixelMap> pm;
       for (const AffineMap& m : maps) pm.push_back(g.pixel_map(m));
-      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), t, o.seed, scratch[worker]) + 10.0 * excess;
+      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), t, o.seed, scratch[worker]) + kExcessPenalty * excess;
     };
   };
   const auto attractor_value = attractor_on(grid, target);
@@ -146,7 +146,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
       const auto maps = decode_maps(x, 2, o.max_contraction, &excess);
       std::vector<PixelMap> pm;
       for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
-      return fine_proxy(pm, scratch[worker]) + 10.0 * excess;
+      return fine_proxy(pm, scratch[worker]) + kExcessPenalty * excess;
     };
     const CmaResult run = minimize_cma(fine_value, best, sigma, co, stop);
     result.evaluations += run.evaluations;
@@ -168,7 +168,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
       const auto maps = from_corners(y, 2, o.max_contraction, &excess);
       std::vector<PixelMap> pm;
       for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
-      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), fine_target, o.seed, scratch[worker]) + 10.0 * excess;
+      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), fine_target, o.seed, scratch[worker]) + kExcessPenalty * excess;
     };
     CmaOptions co = fit_cma_options(n, o.final_generations, o.seed * 7919 + 1999, threads);
     co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence

@@ -78,13 +78,13 @@ FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
   auto collage_value = [&](const std::vector<double>& x, int worker) {
     double excess = 0;
     const auto maps = decode_maps(x, 3, o.max_contraction, &excess);
-    return proxy(voxel_maps(grid, maps), scratch[worker]) + 10.0 * excess;
+    return proxy(voxel_maps(grid, maps), scratch[worker]) + kExcessPenalty * excess;
   };
   auto attractor_value = [&](const std::vector<double>& x, int worker) {
     double excess = 0;
     const auto maps = decode_maps(x, 3, o.max_contraction, &excess);
     return 1.0 - chaos_iou_3d(voxel_maps(grid, maps), jacobian_probabilities(maps, 3), target, o.seed, scratch[worker]) +
-           10.0 * excess;
+           kExcessPenalty * excess;
   };
   auto stop = [&] { return deadline.stop(); };
   FitResult result;
@@ -136,7 +136,7 @@ FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
     double excess = 0;
     const auto maps = from_corners(y, 3, o.max_contraction, &excess);
     return 1.0 - chaos_iou_3d(voxel_maps(fine, maps), jacobian_probabilities(maps, 3), fine_target, o.seed,
-                              scratch[worker]) + 10.0 * excess;
+                              scratch[worker]) + kExcessPenalty * excess;
   };
   best_value = fine_value(to_corners(final_maps, 3), 0);
   if (o.final_generations > 0 && !stop()) {

@@ -70,6 +70,9 @@ inline double hits_iou(const std::vector<std::uint8_t>& hits, const std::vector<
   return uni ? inter / (uni + lost) : 0.0;
 }
 
+/// Fitness added per unit of contraction beyond the limit (clamp_contraction's excess).
+constexpr double kExcessPenalty = 10.0;
+
 /// Shrinks the leading dim x dim block onto s = max_contraction when it exceeds it; returns the
 /// excess (a penalty keeps the search inside the feasible set instead of piling up on its border).
 inline double clamp_contraction(AffineMap& m, int dim, double max_contraction) {
