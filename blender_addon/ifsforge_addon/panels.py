@@ -238,6 +238,35 @@ class IFSFORGE_PT_preview(SidebarPanel, Panel):
             layout.label(text=f"{preview.current.cloud.count:,} points in {1e3 * preview.current.seconds:.1f} ms")
 
 
+class IFSFORGE_PT_collage(SidebarPanel, Panel):
+    """A target picture behind the 2D design and the collage distance to it (Eq. 41-42)."""
+    bl_label = "Target and Collage"
+    bl_parent_id = "IFSFORGE_PT_design"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw_header(self, context):
+        self.layout.prop(context.scene.ifsforge.collage, "show", text="")
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.ifsforge.collage
+        layout.template_ID(settings, "image", open="image.open")
+        layout.prop(settings, "filepath")
+        layout.prop(settings, "window")
+        row = layout.row(align=True)
+        row.prop(settings, "threshold")
+        row.prop(settings, "raster")
+        if settings.image is None:
+            layout.label(text="Choose a target picture", icon='INFO')
+        elif settings.error:
+            layout.label(text=settings.error[:60], icon='ERROR')
+        elif settings.distance_pixels >= 0:
+            layout.label(text=f"Collage distance {settings.distance_pixels:.2f} px = {settings.distance:.4g}",
+                         icon='MOD_MASK')
+            bound = f"{settings.bound:.4g}" if settings.bound >= 0 else "unbounded (a map does not contract)"
+            layout.label(text=f"Attractor within {bound} ({1e3 * settings.seconds:.1f} ms)")
+
+
 class IFSFORGE_PT_library(SidebarPanel, Panel):
     bl_label = "Library and Morph"
     bl_parent_id = "IFSFORGE_PT_design"
@@ -355,5 +384,5 @@ class IFSFORGE_PT_image(Panel):
 
 classes = (IFSFORGE_UL_maps, IFSFORGE_UL_library, IFSFORGE_MT_layouts, IFSFORGE_PT_design, IFSFORGE_PT_map,
            IFSFORGE_PT_channels, IFSFORGE_PT_feedback,
-           IFSFORGE_PT_preview, IFSFORGE_PT_library, IFSFORGE_PT_generate, *GENERATOR_PANELS, IFSFORGE_PT_export,
+           IFSFORGE_PT_preview, IFSFORGE_PT_collage, IFSFORGE_PT_library, IFSFORGE_PT_generate, *GENERATOR_PANELS, IFSFORGE_PT_export,
            IFSFORGE_PT_image)

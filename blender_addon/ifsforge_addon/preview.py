@@ -8,7 +8,7 @@ import bpy
 
 import ifsforge
 
-from . import state
+from . import collage, state
 
 _handle = None
 # Generated objects in the system's own coordinates: the preview follows their transform.
@@ -60,6 +60,41 @@ def _batches(cloud):
     return shader, points, frames
 
 
+def _draw_target(context, system):
+    """The target picture on its window, just below the plane, and each map's copy of the window."""
+    import gpu
+    from gpu_extras.batch import batch_for_shader
+    settings = context.scene.ifsforge.collage
+    if not settings.show or settings.image is None or system is None or system.spatial_dims != 2:
+        return
+    xmin, ymin, xmax, ymax = settings.window
+    texture = gpu.texture.from_image(settings.image)
+    shader = _image_shader()
+    quad = batch_for_shader(shader, 'TRI_FAN', {
+        "pos": [(xmin, ymin, -1e-4), (xmax, ymin, -1e-4), (xmax, ymax, -1e-4), (xmin, ymax, -1e-4)],
+        "texCoord": [(0, 0), (1, 0), (1, 1), (0, 1)]})
+    shader.bind()
+    shader.uniform_sampler("image", texture)
+    quad.draw(shader)
+    lines, colors = [], []
+    for i, corners in enumerate(collage.outlines(system, settings.window)):
+        color = tuple(ifsforge.piece_color(i))
+        for k in range(4):
+            lines += [corners[k], corners[(k + 1) % 4]]
+            colors += [color, color]
+    flat = gpu.shader.from_builtin('FLAT_COLOR')
+    batch_for_shader(flat, 'LINES', {"pos": lines, "color": colors}).draw(flat)
+
+
+def _image_shader():
+    """The built-in textured shader taking 3D positions: 'IMAGE' (Blender 3.4 on), else '3D_IMAGE'."""
+    import gpu
+    try:
+        return gpu.shader.from_builtin('IMAGE')
+    except ValueError:
+        return gpu.shader.from_builtin('3D_IMAGE')
+
+
 def draw():
     """SpaceView3D draw handler (POST_VIEW)."""
     context = bpy.context
@@ -86,6 +121,7 @@ def draw():
     gpu.state.depth_test_set('LESS_EQUAL')
     gpu.state.blend_set('ALPHA')
     gpu.state.point_size_set(settings.point_size)
+    _draw_target(context, state.analyse(state.target(context)[1]).system)
     shader.bind()
     points.draw(shader)
     if settings.show_frames:

@@ -32,7 +32,20 @@ def tag_redraw(context=None):
 
 
 def _changed(self, context):
+    from . import collage  # collage imports state, which imports this module
+    collage.refresh(context)
     tag_redraw(context)
+
+
+def _target_file_changed(self, context):
+    """A target picture given by path becomes an image datablock (what the viewport draws)."""
+    if self.filepath:
+        try:
+            self.image = bpy.data.images.load(bpy.path.abspath(self.filepath), check_existing=True)
+        except RuntimeError as error:
+            self.error = str(error)
+            return
+    _changed(self, context)
 
 
 def _layout_changed(self, context):
@@ -212,6 +225,27 @@ class IFSFORGE_PG_preview(PropertyGroup):
     highlight_active: BoolProperty(name="Highlight active map", default=True, update=_changed)
 
 
+class IFSFORGE_PG_collage(PropertyGroup):
+    """A target picture for the 2D design and the collage distance to it (Eq. 41-42)."""
+    image: PointerProperty(name="Target", type=bpy.types.Image, update=_changed,
+                           description="The picture the design should tile with copies of itself")
+    filepath: StringProperty(name="File", subtype='FILE_PATH', update=_target_file_changed,
+                             description="Load the target picture from a file")
+    window: FloatVectorProperty(name="Window", size=4, default=(0.0, 0.0, 1.0, 1.0), precision=3, update=_changed,
+                                description="Where the picture lies in the plane: xmin, ymin, xmax, ymax")
+    threshold: FloatProperty(name="Threshold", default=0.5, min=0.0, max=1.0, update=_changed,
+                             description="Luminance splitting the shape from the background")
+    raster: IntProperty(name="Raster", default=96, min=16, max=1024, update=_changed,
+                        description="Pixels along the picture's long side for the collage distance (small: fast)")
+    show: BoolProperty(name="Show target", default=True, update=_changed,
+                       description="Draw the picture behind the preview and each map's copy of it")
+    distance_pixels: FloatProperty(name="Collage distance (pixels)", default=-1.0)
+    distance: FloatProperty(name="Collage distance", default=-1.0)
+    bound: FloatProperty(name="Attractor within", default=-1.0)
+    seconds: FloatProperty(name="Seconds", default=0.0)
+    error: StringProperty(name="Error")
+
+
 class IFSFORGE_PG_saved(PropertyGroup):
     """A system in the scene's library (for morphing and quick recall)."""
     name: StringProperty(name="Name")
@@ -222,6 +256,7 @@ class IFSFORGE_PG_scene(PropertyGroup):
     system: PointerProperty(type=IFSFORGE_PG_system)
     settings: PointerProperty(type=IFSFORGE_PG_settings)
     preview: PointerProperty(type=IFSFORGE_PG_preview)
+    collage: PointerProperty(type=IFSFORGE_PG_collage)
     library: CollectionProperty(type=IFSFORGE_PG_saved)
     library_index: IntProperty(name="Saved system")
     morph_source: StringProperty(name="From", description="A saved system")
@@ -232,7 +267,7 @@ class IFSFORGE_PG_scene(PropertyGroup):
 
 
 classes = (IFSFORGE_PG_channel_row, IFSFORGE_PG_map, IFSFORGE_PG_morph, IFSFORGE_PG_system, IFSFORGE_PG_settings,
-           IFSFORGE_PG_generated, IFSFORGE_PG_preview, IFSFORGE_PG_saved, IFSFORGE_PG_scene)
+           IFSFORGE_PG_generated, IFSFORGE_PG_preview, IFSFORGE_PG_collage, IFSFORGE_PG_saved, IFSFORGE_PG_scene)
 
 
 def register_pointers():

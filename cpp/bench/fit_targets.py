@@ -1,13 +1,21 @@
-"""Benchmark of `ifsforge fit`: held-out classic attractors and a natural silhouette.
+"""Benchmark of `ifsforge fit`: held-out classic attractors, a natural silhouette, colour
+pictures and 3D shapes.
 
-Each target is a 256-pixel picture (the attractors rendered by the chaos game, skimage's horse
+Each 2D target is a 256-pixel picture (the attractors rendered by the chaos game, skimage's horse
 as it is); the fit runs with a 60 s time limit on the given threads. Prints, per target, the
 IoU of the fitted attractor with the target, the Hausdorff distance (Eq. 12, pixels) between
 the fitted attractor drawn at the target's size and the target, the collage distance
-(Eq. 41) and the time.  Run: PYTHONPATH=build/python python3 cpp/bench/fit_targets.py [--threads 2]
+(Eq. 41) and the time. Colour targets (the colour samples drawn as `render` draws them) add the
+mean colour error per pixel both cover and the colour collage error (RMS per channel, seed
+Fig. 4.3); 3D targets (3D samples as 64^3 .vdb volumes, one also as a voxelised mesh) get 120 s
+and report the IoU of the fitted attractor's volume (`volume` on the target's box) with the target.
+Run: PYTHONPATH=build/python python3 cpp/bench/fit_targets.py [--threads 2]
 """
 import argparse
 import json
+import os
+import pathlib
+import tempfile
 import time
 
 import numpy as np
@@ -66,6 +74,73 @@ def evaluate(name, target, maps, threads=2, seed=0, time_limit=60.0):
             "time_limited": result["time_limited"], "system": system, "fit": picture}
 
 
+SAMPLES = pathlib.Path(__file__).resolve().parents[2] / "samples" / "systems"
+COLOUR = {"colour sierpinski": ("colour5d_sierpinski_rgb.json", 3), "colour dragon": ("colour5d_dragon_rgb.json", 2)}
+SHAPES = {"tetrahedron (.vdb)": ("sierpinski_tetrahedron.json", 4, ".vdb"),
+          "tetrahedron (.ply mesh)": ("sierpinski_tetrahedron.json", 4, ".ply"),
+          "3D fern (.vdb)": ("volume_fern_3d.json", 4, ".vdb")}
+
+
+def colour_targets(size=256):
+    """(name, RGB picture drawn as `render` draws the sample, maps)."""
+    out = []
+    for name, (file, maps) in COLOUR.items():
+        system = ifsforge.load(str(SAMPLES / file))
+        d = system.render_defaults
+        raster = ifsforge.render(system, d.get("algorithm", "chaos"), size, size, window=d.get("window"))
+        out.append((name, np.ascontiguousarray(np.asarray(raster.to_image(), np.float32)[..., :3]), maps))
+    return out
+
+
+def evaluate_colour(name, picture, maps, threads=2, seed=0, time_limit=60.0):
+    start = time.perf_counter()
+    shape = ifsforge.colour_foreground(picture)
+    result = ifsforge.fit(shape, maps=maps, time_limit=time_limit, seed=seed, threads=threads)
+    coloured = ifsforge.fit_colour(result["system"], picture, shape)
+    seconds = time.perf_counter() - start
+    system = coloured["system"]
+    h, w = shape.shape
+    drawn = np.asarray(ifsforge.render(system, "chaos", w, h, window=system.render_defaults["window"]).to_image(),
+                       np.float32)[..., :3]
+    covered = drawn.max(axis=2) > 0
+    both = covered & shape
+    return {"target": name, "maps": maps, "iou": float(both.sum() / (covered | shape).sum()),
+            "colour_error": float(np.abs(drawn - picture)[both].mean()), "collage_error": coloured["collage_error"],
+            "seconds": seconds, "time_limited": result["time_limited"], "system": system, "fit": drawn}
+
+
+def shape_target(file, extension, folder, resolution=64):
+    """The sample's volume as a .vdb, or its iso-surface as a mesh, read back as fit reads it."""
+    system = ifsforge.load(str(SAMPLES / file))
+    volume = ifsforge.render_volume(system, "prr", resolution=resolution)
+    path = os.path.join(folder, pathlib.Path(file).stem + extension)
+    if extension == ".vdb":
+        ifsforge.write_vdb(path, volume)
+    else:
+        ifsforge.write_mesh(path, **{k: v for k, v in ifsforge.volume_to_mesh(volume).items()
+                                      if k in ("positions", "triangles")})
+    return ifsforge.read_voxel_target(path, resolution=resolution)
+
+
+def occupancy(system, target):
+    """The fitted attractor as `volume` draws it (prr) on the target's own voxels."""
+    size, (nx, ny, nz) = target["voxel_size"], target["mask"].shape
+    box = list(target["origin"]) + [o + n * size for o, n in zip(target["origin"], (nx, ny, nz))]
+    volume = ifsforge.render_volume(system, "prr", resolution=max(nx, ny, nz), bounds=box)
+    return volume.to_dense("occupancy")[:nx, :ny, :nz] > 0
+
+
+def evaluate_3d(name, target, maps, threads=2, seed=0, time_limit=120.0):
+    start = time.perf_counter()
+    result = ifsforge.fit_3d(**target, maps=maps, time_limit=time_limit, seed=seed, threads=threads)
+    seconds = time.perf_counter() - start
+    drawn = occupancy(result["system"], target)
+    mask = target["mask"]
+    return {"target": name, "maps": maps, "iou": float((drawn & mask).sum() / (drawn | mask).sum()),
+            "fit_iou": result["iou"], "seconds": seconds, "time_limited": result["time_limited"],
+            "system": result["system"], "fit": drawn, "voxels": mask.shape}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--threads", type=int, default=2)
@@ -76,6 +151,17 @@ def main():
         r = evaluate(name, target, maps, args.threads, args.seed)
         print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['hausdorff_pixels']:12.2f} {r['collage_pixels']:10.2f} "
               f"{r['seconds']:7.1f}" + (" (time limit)" if r["time_limited"] else ""), flush=True)
+    print(f"\n{'colour target':18} {'maps':>4} {'IoU':>6} {'colour error':>12} {'collage RMS r g b':>20} {'time s':>7}")
+    for name, picture, maps in colour_targets():
+        r = evaluate_colour(name, picture, maps, args.threads, args.seed)
+        print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['colour_error']:12.4f} "
+              f"{' '.join(f'{e:.3f}' for e in r['collage_error']):>20} {r['seconds']:7.1f}", flush=True)
+    print(f"\n{'3D target':24} {'maps':>4} {'IoU':>6} {'fit IoU':>7} {'time s':>7}")
+    with tempfile.TemporaryDirectory() as folder:
+        for name, (file, maps, extension) in SHAPES.items():
+            r = evaluate_3d(name, shape_target(file, extension, folder), maps, args.threads, args.seed)
+            print(f"{name:24} {maps:4d} {r['iou']:6.3f} {r['fit_iou']:7.3f} {r['seconds']:7.1f}"
+                  + (" (time limit)" if r["time_limited"] else ""), flush=True)
 
 
 if __name__ == "__main__":

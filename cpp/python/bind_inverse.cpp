@@ -4,6 +4,8 @@
 #include "ifsforge/inverse/address_of.h"
 #include "ifsforge/inverse/collage.h"
 #include "ifsforge/inverse/fit.h"
+#include "ifsforge/inverse/fit_3d.h"
+#include "ifsforge/inverse/fit_colour.h"
 #include "ifsforge/render/tops.h"
 
 namespace ifsforge::python {
@@ -56,9 +58,117 @@ Frame frame_of(const Ifs& ifs, int width, int height, const std::optional<std::v
   return Frame::fit(ifs, width, height, w);
 }
 
+py::dict fit_result_dict(const FitResult& r) {
+  py::dict d;
+  d["system"] = r.system;
+  d["iou"] = r.iou;
+  d["proxy"] = r.proxy;
+  d["evaluations"] = r.evaluations;
+  d["restarts"] = r.restarts;
+  d["time_limited"] = r.time_limited;
+  return d;
+}
+
+/// A bool (nx, ny, nz) array laid on cubic voxels of `voxel_size` from `origin` (as
+/// read_voxel_target returns it and Volume.to_dense lays it out).
+VoxelSet voxel_set_from_numpy(const py::array& mask, const std::array<double, 3>& origin, double voxel_size) {
+  if (mask.ndim() != 3) throw InputError("a 3D target is a (nx, ny, nz) array, got " + std::to_string(mask.ndim()) + " dimensions");
+  if (!(voxel_size > 0)) throw InputError("voxel_size must be positive");
+  auto a = py::array_t<bool, py::array::c_style | py::array::forcecast>::ensure(mask);
+  VoxelSet s;
+  s.grid.origin = origin;
+  s.grid.voxel_size = voxel_size;
+  for (int k = 0; k < 3; ++k) s.grid.dims[k] = static_cast<int>(a.shape(k));
+  s.cells.assign(a.size(), 0);
+  const bool* p = a.data();
+  for (int i = 0; i < s.grid.dims[0]; ++i)
+    for (int j = 0; j < s.grid.dims[1]; ++j)
+      for (int k = 0; k < s.grid.dims[2]; ++k) s.cells[s.index(i, j, k)] = *p++;
+  return s;
+}
+
+void bind_fit_extensions(py::module_& m) {
+  options_class<ColourFitOptions>(m, "ColourFitOptions", "The settings of fit_colour() (keywords of the same names).")
+      .def_readwrite("max_contraction", &ColourFitOptions::max_contraction,
+                     "every map's contraction factor on (x, y, r, g, b) stays at most this")
+      .def_readwrite("positional", &ColourFitOptions::positional, "colour rows may depend on x, y")
+      .def_readwrite("mixing", &ColourFitOptions::mixing, "a channel's row may read the other channels")
+      .def_readwrite("tolerance", &ColourFitOptions::tolerance,
+                     "colour_foreground: a channel difference from the border's colour above this is shape");
+  m.def("has_colour", [](const py::array& picture) { return has_colour(image_from_numpy(picture)); }, py::arg("picture"),
+        "True when the picture has three or more channels that are not all equal.");
+  m.def("colour_foreground", [](const py::array& picture, double tolerance) {
+    return pixel_set_to_numpy(colour_foreground(image_from_numpy(picture), tolerance));
+  }, py::arg("picture"), py::arg("tolerance") = ColourFitOptions().tolerance,
+        "bool (h, w): the pixels whose colour differs from the border's usual colour by more than `tolerance` "
+        "in some channel.");
+  m.def("fit_colour", [](const Ifs& shape_system, const py::array& picture, const py::object& shape, const py::kwargs& kwargs) {
+    const ColourFitOptions o = options_from<ColourFitOptions>("fit_colour", kwargs);
+    const Image image = image_from_numpy(picture);
+    const PixelSet s = shape.is_none() ? colour_foreground(image, o.tolerance) : pixel_set_from_numpy(shape, 0.5);
+    ColourFitResult r;
+    {
+      py::gil_scoped_release release;
+      r = fit_colour(shape_system, image, s, o);
+    }
+    py::dict d;
+    d["system"] = r.system;
+    d["collage_error"] = py::make_tuple(r.collage_error[0], r.collage_error[1], r.collage_error[2]);
+    d["samples"] = r.samples;
+    return d;
+  }, py::arg("shape_system"), py::arg("picture"), py::arg("shape") = py::none(),
+        "Seed Fig. 4.3, one collage per channel: the xy system `shape_system` (fitted to the picture's shape) "
+        "extended to xy+rgb, each map's colour rows (C_i (r, g, b) + g_i . (x, y) + o_i) solved by least "
+        "squares so that the picture's colour at w_i(p) matches the colour map of its colour at p; colour maps "
+        "contractive. shape: bool (h, w), default colour_foreground(picture). The ColourFitOptions given as "
+        "keywords. Returns a dict: system, collage_error (RMS per channel r, g, b, in [0, 1] units), samples.");
+  options_class<Fit3dOptions>(m, "Fit3dOptions", "The settings of fit_3d(); its keywords are these fields, their defaults these.")
+      .def_readwrite("maps", &Fit3dOptions::maps, "N, the number of maps")
+      .def_readwrite("raster", &Fit3dOptions::raster, "voxels along the target's longest side during the search")
+      .def_readwrite("refine_raster", &Fit3dOptions::refine_raster, "voxels along the longest side in the last search")
+      .def_readwrite("max_contraction", &Fit3dOptions::max_contraction, "every map's s_i stays at most this")
+      .def_readwrite("overlap_weight", &Fit3dOptions::overlap_weight, "weight of the copies' overlap in the collage proxy")
+      .def_readwrite("restarts", &Fit3dOptions::restarts, "CMA-ES runs, each from its own initial collage")
+      .def_readwrite("generations", &Fit3dOptions::generations, "CMA-ES generations per run on the collage proxy")
+      .def_readwrite("attractor_generations", &Fit3dOptions::attractor_generations,
+                     "generations per run on the attractor after the collage proxy")
+      .def_readwrite("final_generations", &Fit3dOptions::final_generations,
+                     "generations of the last search, on the attractor's IoU at refine_raster")
+      .def_readwrite("time_limit", &Fit3dOptions::time_limit, "seconds; 0: none (only then is the run independent of speed)")
+      .def_readwrite("seed", &Fit3dOptions::seed)
+      .def_readwrite("threads", &Fit3dOptions::threads, "0: every core; the result never depends on it")
+      .def_property("progress", [](const Fit3dOptions&) { return py::none(); },
+                    [](Fit3dOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
+                    "progress(fraction) returning False cancels (write-only)");
+  m.def("fit_3d", [](const py::array& mask, std::array<double, 3> origin, double voxel_size, const py::kwargs& kwargs) {
+    const Fit3dOptions o = options_from<Fit3dOptions>("fit_3d", kwargs);
+    const VoxelSet t = voxel_set_from_numpy(mask, origin, voxel_size);
+    FitResult r;
+    {
+      py::gil_scoped_release release;
+      r = fit_3d(t, o);
+    }
+    return fit_result_dict(r);
+  }, py::arg("mask"), py::arg("origin") = std::array<double, 3>{0, 0, 0}, py::arg("voxel_size") = 1.0,
+        "An xyz IFS whose attractor fills the target: mask bool (nx, ny, nz), voxel (i, j, k) covering "
+        "origin + [i, i+1] x [j, j+1] x [k, k+1] * voxel_size (read_voxel_target's dict can be passed as "
+        "keywords). CMA-ES restarts on a 3D collage proxy (Eq. 41) over a `raster`-voxel grid, then the "
+        "attractor's IoU on a `refine_raster` grid; the Fit3dOptions given as keywords. Returns a dict: system, "
+        "iou (on the refinement grid), proxy, evaluations, restarts, time_limited. Identical for a given seed "
+        "and any thread count unless time_limit cut it short.");
+  m.def("attractor_iou_3d", [](const Ifs& ifs, const py::array& mask, std::array<double, 3> origin, double voxel_size,
+                               std::uint64_t seed) {
+    const VoxelSet t = voxel_set_from_numpy(mask, origin, voxel_size);
+    py::gil_scoped_release release;
+    return attractor_iou_3d(ifs, t, seed);
+  }, py::arg("ifs"), py::arg("mask"), py::arg("origin") = std::array<double, 3>{0, 0, 0}, py::arg("voxel_size") = 1.0,
+        py::arg("seed") = 0, "Intersection over union of the attractor (chaos game) of an xyz system and a voxel target.");
+}
+
 }  // namespace
 
 void bind_inverse(py::module_& m) {
+  bind_fit_extensions(m);
   m.def("foreground", [](const py::array& image, double threshold) {
     return pixel_set_to_numpy(foreground(image_from_numpy(image), threshold));
   }, py::arg("image"), py::arg("threshold") = 0.5,
@@ -82,6 +192,21 @@ void bind_inverse(py::module_& m) {
         "target to the attractor. The target lies on `window` (default: the attractor's frame at the "
         "target's size; or the system's render.window). Returns a dict: distance_pixels, distance, contraction, bound, bound_pixels, "
         "target_pixels, collage_pixels, window.");
+  py::class_<CollageTarget>(m, "CollageTarget",
+                            "A target prepared for many collage distances (a design's live value): the distance "
+                            "transform to it is computed once.")
+      .def(py::init([](const py::array& target, double threshold) {
+        return CollageTarget(pixel_set_from_numpy(target, threshold));
+      }), py::arg("target"), py::arg("threshold") = 0.5)
+      .def("distance", [](const CollageTarget& t, const Ifs& ifs, std::optional<std::vector<double>> window) {
+        CollageReport r;
+        {
+          py::gil_scoped_release release;
+          r = t.distance(ifs, window_from(window));
+        }
+        return report_dict(r);
+      }, py::arg("ifs"), py::arg("window") = py::none(), "collage_distance(ifs, target, window), the same dict")
+      .def_property_readonly("mask", [](const CollageTarget& t) { return pixel_set_to_numpy(t.pixels()); });
   m.def("collage_mask", [](const Ifs& ifs, const py::array& target, std::optional<std::vector<double>> window,
                            double threshold) {
     const PixelSet t = pixel_set_from_numpy(target, threshold);
@@ -117,14 +242,7 @@ void bind_inverse(py::module_& m) {
       py::gil_scoped_release release;
       r = fit_ifs(t, o);
     }
-    py::dict d;
-    d["system"] = r.system;
-    d["iou"] = r.iou;
-    d["proxy"] = r.proxy;
-    d["evaluations"] = r.evaluations;
-    d["restarts"] = r.restarts;
-    d["time_limited"] = r.time_limited;
-    return d;
+    return fit_result_dict(r);
   }, py::arg("target"), py::arg("threshold") = 0.5,
         "The FitOptions given as keywords. "
         "An IFS of `maps` maps whose attractor resembles the target (a bool mask or a picture): CMA-ES "

@@ -7,11 +7,38 @@
 
 #include "ifsforge/io/mesh.h"
 #include "ifsforge/io/vdb.h"
+#include "ifsforge/io/voxel_target.h"
 
 namespace ifsforge::python {
 namespace {
 
 void bind_io_vdb(py::module_& m) {
+  options_class<VoxelTargetOptions>(m, "VoxelTargetOptions", "The settings of read_voxel_target() (keywords of the same names).")
+      .def_readwrite("resolution", &VoxelTargetOptions::resolution, "voxels along the shape's longest side")
+      .def_readwrite("density_threshold", &VoxelTargetOptions::density_threshold,
+                     ".vdb fog volumes: the density a voxel of the shape exceeds");
+  m.def("read_voxel_target", [](const std::string& path, const py::kwargs& kwargs) {
+    const VoxelTargetOptions o = options_from<VoxelTargetOptions>("read_voxel_target", kwargs);
+    VoxelSet s;
+    {
+      py::gil_scoped_release release;
+      s = read_voxel_target(path, o);
+    }
+    py::array_t<bool> mask({s.grid.dims[0], s.grid.dims[1], s.grid.dims[2]});
+    bool* p = mask.mutable_data();
+    for (int i = 0; i < s.grid.dims[0]; ++i)
+      for (int j = 0; j < s.grid.dims[1]; ++j)
+        for (int k = 0; k < s.grid.dims[2]; ++k) *p++ = s.cells[s.index(i, j, k)] != 0;
+    py::dict d;
+    d["mask"] = mask;
+    d["origin"] = py::make_tuple(s.grid.origin[0], s.grid.origin[1], s.grid.origin[2]);
+    d["voxel_size"] = s.grid.voxel_size;
+    return d;
+  }, py::arg("path"),
+        "A 3D shape to fit as a dict: mask bool (nx, ny, nz), origin, voxel_size (fit_3d's keywords). .vdb: the "
+        "'density' grid (else the first float grid), a level set's inside or a fog volume's voxels above "
+        "density_threshold; .obj/.ply/.stl/.off: the mesh's inside (OpenVDB's mesh to level set); resampled to "
+        "`resolution` voxels along the longest side, in the file's coordinates. The VoxelTargetOptions as keywords.");
   options_class<VdbWriteOptions>(m, "VdbWriteOptions", "The settings of write_vdb() (keywords of the same names).")
       .def_property("color_scale", [](const VdbWriteOptions& o) { return std::string(name_of(o.color_scale)); },
                     [](VdbWriteOptions& o, const std::string& s) { o.color_scale = parse_name<ColorScale>(s); },

@@ -89,21 +89,48 @@ def draws_the_preview():
     checks.values["gpu"] = __import__("gpu").platform.renderer_get()
 
 
-def pixels_show_the_pieces():
-    window, area, region, _ = view3d()
-    system = bpy.context.scene.ifsforge.system
-    system.active_map = 1  # the big leaf, highlighted
-    redraw(window, area, region)
-    path = OUT / "viewport.png"
+def screenshot(window, area, name):
+    """The viewport as an RGB array (rows bottom to top), also kept as OUT/name."""
+    path = OUT / name
     with bpy.context.temp_override(window=window, area=area):
         bpy.ops.screen.screenshot_area(filepath=str(path))
     image = bpy.data.images.load(str(path), check_existing=False)
     rgb = np.array(image.pixels[:]).reshape(image.size[1], image.size[0], 4)[:, :, :3]
     bpy.data.images.remove(image)
+    return rgb
+
+
+def pixels_show_the_pieces():
+    window, area, region, _ = view3d()
+    system = bpy.context.scene.ifsforge.system
+    system.active_map = 1  # the big leaf, highlighted
+    redraw(window, area, region)
+    rgb = screenshot(window, area, "viewport.png")
     bright = np.array(ifsforge.piece_color(1)[:3])
     near = np.abs(rgb - bright).max(axis=2) < 0.06
     checks.values["highlighted_pixels"] = int(near.sum())
     assert near.sum() > 500, near.sum()
+
+
+def draws_the_target():
+    """A target picture (magenta) lies behind the 2D preview with each map's copy outlined."""
+    window, area, region, _ = view3d()
+    settings = bpy.context.scene.ifsforge.collage
+    image = bpy.data.images.new("gui target", 64, 64)
+    rgba = np.zeros((64, 64, 4), np.float32)
+    rgba[..., 3] = 1
+    rgba[8:56, 8:56] = (1, 0, 1, 1)
+    image.pixels.foreach_set(rgba.ravel())
+    settings.window = (-3.0, 0.0, 3.0, 10.0)
+    settings.threshold = 0.2  # magenta on black: luminance 0.28
+    settings.image = image
+    assert settings.error == "" and settings.distance_pixels >= 0, settings.error
+    redraw(window, area, region)
+    rgb = screenshot(window, area, "viewport_target.png")
+    magenta = (rgb[..., 0] > 0.6) & (rgb[..., 1] < 0.35) & (rgb[..., 2] > 0.6)
+    checks.values["target_pixels"] = int(magenta.sum())
+    settings.image = None  # the later checks look at the preview alone
+    assert magenta.sum() > 500, magenta.sum()
 
 
 def tab_clicks():
@@ -214,7 +241,7 @@ def adjusted_results():
     assert bpy.context.scene.ifsforge.settings.terrain_resolution == 65  # the edited settings stay
 
 
-steps = [setup, draws_the_preview, pixels_show_the_pieces, tab_clicks, panels_draw, modal_generate, escape_cancels,
+steps = [setup, draws_the_preview, pixels_show_the_pieces, draws_the_target, tab_clicks, panels_draw, modal_generate, escape_cancels,
          modal_results, adjust_last_operation, adjusted_results]
 GENERATORS = (tab_clicks, modal_generate, escape_cancels, adjust_last_operation)
 running = None

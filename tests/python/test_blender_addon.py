@@ -104,6 +104,11 @@ def test_design_in_blender(tmp_path):
     assert report["values"]["preview_update_ms_median"] < 1000  # measured by the benchmark, not here
 
 
+def test_collage_target_in_blender(tmp_path):
+    report = run_blender("addon_collage.py", tmp_path)
+    assert report["values"]["collage_update_ms_median"] < 50
+
+
 def test_install_script(tmp_path):
     env = dict(os.environ, BLENDER_USER_SCRIPTS=str(tmp_path / "scripts"), BLENDER_USER_CONFIG=str(tmp_path / "config"))
     env.pop("PYTHONPATH", None)

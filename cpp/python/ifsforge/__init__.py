@@ -63,7 +63,8 @@ from ifsforge._core import (  # noqa: F401  (pifs: fractal image compression, se
     PifsCode, pifs_encode, pifs_from_bytes, read_pifs, write_pifs,
 )
 from ifsforge._core import (  # noqa: F401  (inverse problem: collage theorem, fitting)
-    FitOptions, attractor_iou, collage_distance, collage_mask, fit, foreground, hausdorff_distance, tops, tops_warp,
+    CollageTarget, ColourFitOptions, Fit3dOptions, FitOptions, attractor_iou, attractor_iou_3d, collage_distance, collage_mask,
+    colour_foreground, fit, fit_3d, fit_colour, foreground, has_colour, hausdorff_distance, tops, tops_warp,
 )
 from ifsforge._core import (  # noqa: F401  (the settings structs: every default lives in C++, once)
     DrawOptions, GltfInstanceOptions, InstanceOptions, MeshWriteOptions, PifsDecodeOptions, PifsEncodeOptions,
@@ -83,7 +84,8 @@ __version__ = "0.1.0"
 
 # OpenVDB files and iso-surfaces live in their own extension, imported on first use: loading
 # libopenvdb takes ~60 ms, which every command that writes no .vdb would otherwise pay.
-_VDB_NAMES = ("IsoSurfaceOptions", "VdbWriteOptions", "read_vdb_info", "volume_to_mesh", "write_vdb")
+_VDB_NAMES = ("IsoSurfaceOptions", "VdbWriteOptions", "VoxelTargetOptions", "read_vdb_info", "read_voxel_target",
+              "volume_to_mesh", "write_vdb")
 
 
 def __getattr__(name):

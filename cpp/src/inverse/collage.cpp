@@ -83,23 +83,31 @@ std::vector<PixelMap> pixel_maps(const Ifs& ifs, const Frame& frame) {
   return maps;
 }
 
-CollageReport collage_distance(const Ifs& ifs, const PixelSet& target, const std::optional<Window>& window) {
+CollageTarget::CollageTarget(PixelSet target) : target_(std::move(target)) {
+  if (target_.count() == 0) throw InputError("the target has no pixels");
+  // Images outside the picture still count: pad by half the picture, where copies that stray
+  // further are pinned to the edge (their distance is then at least that half).
+  pad_ = std::max(target_.width, target_.height) / 2;
+  padded_ = pad_pixels(target_, pad_);
+  to_target_ = squared_distance_transform(padded_);
+}
+
+CollageReport CollageTarget::distance(const Ifs& ifs, const std::optional<Window>& window) const {
   ifs.require_affine("the collage distance");
   if (ifs.spatial_dims() != 2)
     throw InputError("the collage distance is defined here for planar systems; system '" + ifs.name() + "' is " +
                      std::to_string(ifs.spatial_dims()) + "D in space");
-  if (target.count() == 0) throw InputError("the target has no pixels");
-  const Frame frame = target_frame(ifs, target, window);
-  const auto maps = pixel_maps(ifs, frame);
-  // Images outside the picture still count: pad by half the picture, where copies that stray
-  // further are pinned to the edge (their distance is then at least that half).
-  const int pad = std::max(target.width, target.height) / 2;
-  const PixelSet collage = collage_pixels(target, maps, pad);
+  const Frame frame = target_frame(ifs, target_, window);
+  const PixelSet collage = collage_pixels(target_, pixel_maps(ifs, frame), pad_);
   CollageReport r;
   r.window = frame.window();
-  r.target_pixels = target.count();
+  r.target_pixels = target_.count();
   r.collage_pixels = collage.count();
-  r.distance_pixels = hausdorff_distance(pad_pixels(target, pad), collage);
+  // Eq. 12: the larger of the two directed distances; the one to the target reuses its transform.
+  double collage_to_target = 0;
+  for (std::size_t i = 0; i < to_target_.size(); ++i)
+    if (collage.cells[i]) collage_to_target = std::max(collage_to_target, to_target_[i]);
+  r.distance_pixels = std::max(directed_hausdorff(padded_, collage), std::sqrt(collage_to_target));
   r.distance = r.distance_pixels * frame.pixel_size();
   const auto s = ifs.spatial_contraction_factors();
   r.contraction = s.empty() ? 0.0 : *std::max_element(s.begin(), s.end());
@@ -107,6 +115,10 @@ CollageReport collage_distance(const Ifs& ifs, const PixelSet& target, const std
   r.bound_pixels = r.contraction < 1 ? r.distance_pixels / (1 - r.contraction) : inf;
   r.bound = r.contraction < 1 ? r.distance / (1 - r.contraction) : inf;
   return r;
+}
+
+CollageReport collage_distance(const Ifs& ifs, const PixelSet& target, const std::optional<Window>& window) {
+  return CollageTarget(target).distance(ifs, window);
 }
 
 }  // namespace ifsforge

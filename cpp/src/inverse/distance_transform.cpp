@@ -67,6 +67,28 @@ std::vector<double> squared_distance_transform(const PixelSet& set) {
   return f;
 }
 
+std::size_t VoxelSet::count() const {
+  return static_cast<std::size_t>(std::count_if(cells.begin(), cells.end(), [](std::uint8_t c) { return c != 0; }));
+}
+
+std::vector<double> squared_distance_transform(const VoxelSet& set) {
+  const int nx = set.grid.dims[0], ny = set.grid.dims[1], nz = set.grid.dims[2];
+  std::vector<double> f(set.cells.size()), d(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) f[i] = set.cells[i] ? 0.0 : kInf;
+  const int n = std::max({nx, ny, nz});
+  std::vector<int> v(n);
+  std::vector<double> z(n + 1);
+  // Along z, then y, then x: the squared distance separates in 3D as in 2D.
+  const std::size_t slab = std::size_t(nx) * ny;
+  for (std::size_t c = 0; c < slab; ++c) transform_1d(f.data() + c, d.data() + c, nz, static_cast<int>(slab), v, z);
+  for (int k = 0; k < nz; ++k)
+    for (int i = 0; i < nx; ++i)
+      transform_1d(d.data() + k * slab + i, f.data() + k * slab + i, ny, nx, v, z);
+  for (std::size_t row = 0; row < slab / nx * nz; ++row)
+    transform_1d(f.data() + row * nx, d.data() + row * nx, nx, 1, v, z);
+  return d;
+}
+
 double directed_hausdorff(const PixelSet& from, const PixelSet& to) {
   check_same_size(from, to);
   const auto dt = squared_distance_transform(to);

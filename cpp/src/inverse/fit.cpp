@@ -1,7 +1,6 @@
 #include "ifsforge/inverse/fit.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -10,111 +9,26 @@
 #include "ifsforge/core/random.h"
 #include "ifsforge/inverse/cma_es.h"
 #include "ifsforge/inverse/collage.h"
+#include "fit_clusters.h"
+#include "fit_shared.h"
 #include "fit_raster.h"
-#include "ifsforge/model/map_params.h"
 #include "ifsforge/render/renderer.h"
 
 namespace ifsforge {
 namespace {
 
-constexpr int kParams = 6;
-constexpr int kTurns = 36;  // turns tried per map for the rotated starts  // per map: Mx, My, theta_x, theta_y (radians), tx, ty (Eq. 5)
+constexpr int kParams = 6;   // per map: Mx, My, theta_x, theta_y (radians), tx, ty (Eq. 5, decode_map)
+constexpr int kTurns = 36;  // turns tried per map for the rotated starts
 
-/// Eq. 5 with signed scales (a negative one is the reflection F), the linear part shrunk onto
-/// s = max_contraction when it would exceed it; returns the excess (a penalty keeps the search
-/// inside the feasible set instead of piling up on its border).
-double decode_map(const double* p, double max_contraction, AffineMap& out) {
-  MapParams mp;
-  mp.scale = {std::abs(p[0]), std::abs(p[1]), 1};
-  mp.reflect = {p[0] < 0, p[1] < 0, false};
-  mp.rotation = {p[2] * 180 / M_PI, p[3] * 180 / M_PI, 0};
-  mp.translation = {p[4], p[5], 0};
-  out = map_from_params(mp);
-  const double s = out.contraction_factor(2);
-  if (s <= max_contraction) return 0;
-  const double k = max_contraction / s;
-  for (int r = 0; r < 2; ++r)
-    for (int c = 0; c < 2; ++c) out.a(r, c) *= k;
-  return s - max_contraction;
-}
+using Boxes = Clusters<2>;
 
-std::vector<AffineMap> decode(const std::vector<double>& x, double max_contraction, double* excess) {
-  std::vector<AffineMap> maps(x.size() / kParams);
-  double e = 0;
-  for (std::size_t i = 0; i < maps.size(); ++i) e += decode_map(&x[i * kParams], max_contraction, maps[i]);
-  if (excess) *excess = e;
-  return maps;
-}
-
-/// The target's box and its k-means clusters' boxes (xmin, ymin, xmax, ymax in the plane).
-struct Boxes {
-  std::array<double, 4> whole;
-  std::vector<std::array<double, 4>> parts;
-  std::array<double, 2> centroid;            ///< of the whole target
-  std::vector<std::array<double, 3>> mass;   ///< per part: centroid x, y and pixel count
-};
-
-/// k-means of the target's pixels into n clusters (k-means++ start, seeded).
-Boxes cluster_boxes(const PixelSet& t, const FitGrid& grid, int n, Rng& rng) {
+/// k-means of the target's pixels into n clusters (fit_clusters.h), in the plane.
+Boxes pixel_clusters(const PixelSet& t, const FitGrid& grid, int n, Rng& rng) {
   std::vector<std::array<double, 2>> pts;
   for (int y = 0; y < t.height; ++y)
     for (int x = 0; x < t.width; ++x)
       if (t.cells[std::size_t(y) * t.width + x]) pts.push_back(grid.to_plane(x + 0.5, y + 0.5));
-  std::vector<std::array<double, 2>> centres;
-  centres.push_back(pts[static_cast<std::size_t>(rng.uniform() * pts.size())]);
-  std::vector<double> d2(pts.size());
-  while (static_cast<int>(centres.size()) < n) {
-    double total = 0;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      double best = std::numeric_limits<double>::infinity();
-      for (const auto& c : centres) best = std::min(best, std::hypot(pts[i][0] - c[0], pts[i][1] - c[1]));
-      d2[i] = best * best;
-      total += d2[i];
-    }
-    double pick = rng.uniform() * total;
-    std::size_t i = 0;
-    while (i + 1 < pts.size() && (pick -= d2[i]) > 0) ++i;
-    centres.push_back(pts[i]);
-  }
-  std::vector<int> label(pts.size());
-  for (int it = 0; it < 20; ++it) {
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      double best = std::numeric_limits<double>::infinity();
-      for (int c = 0; c < n; ++c) {
-        const double d = std::hypot(pts[i][0] - centres[c][0], pts[i][1] - centres[c][1]);
-        if (d < best) best = d, label[i] = c;
-      }
-    }
-    std::vector<std::array<double, 3>> sum(n, {0, 0, 0});
-    for (std::size_t i = 0; i < pts.size(); ++i) sum[label[i]][0] += pts[i][0], sum[label[i]][1] += pts[i][1], sum[label[i]][2] += 1;
-    for (int c = 0; c < n; ++c)
-      if (sum[c][2] > 0) centres[c] = {sum[c][0] / sum[c][2], sum[c][1] / sum[c][2]};
-  }
-  const double inf = std::numeric_limits<double>::infinity();
-  Boxes out{{inf, inf, -inf, -inf}, std::vector<std::array<double, 4>>(n, {inf, inf, -inf, -inf}), {0, 0},
-            std::vector<std::array<double, 3>>(n, {0, 0, 0})};
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    auto& m = out.mass[label[i]];
-    m[0] += pts[i][0], m[1] += pts[i][1], m[2] += 1;
-    out.centroid[0] += pts[i][0] / pts.size(), out.centroid[1] += pts[i][1] / pts.size();
-  }
-  for (auto& m : out.mass)
-    if (m[2] > 0) m[0] /= m[2], m[1] /= m[2];
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    for (auto* b : {&out.whole, &out.parts[label[i]]}) {
-      (*b)[0] = std::min((*b)[0], pts[i][0]);
-      (*b)[1] = std::min((*b)[1], pts[i][1]);
-      (*b)[2] = std::max((*b)[2], pts[i][0]);
-      (*b)[3] = std::max((*b)[3], pts[i][1]);
-    }
-  const double cell = 1.0 / grid.pixels_per_unit;
-  for (int c = 0; c < n; ++c) {
-    auto& b = out.parts[c];
-    if (b[0] > b[2]) b = {centres[c][0], centres[c][1], centres[c][0], centres[c][1]};
-    b[2] += cell, b[3] += cell;
-  }
-  out.whole[2] += cell, out.whole[3] += cell;
-  return out;
+  return cluster_boxes<2>(pts, n, 1.0 / grid.pixels_per_unit, rng);
 }
 
 /// The initial collage: map c sends the whole target's box onto part c's box.
@@ -132,36 +46,6 @@ std::vector<double> initial_collage(const Boxes& boxes) {
   return x;
 }
 
-/// A map by where it sends the corners (0, 0), (1, 0), (0, 1) of the plane: a step of one
-/// pixel in any coordinate moves part of the copy by at most a pixel (well scaled for a local search).
-std::vector<double> to_corners(const std::vector<AffineMap>& maps) {
-  std::vector<double> y;
-  for (const AffineMap& m : maps)
-    for (double v : {m.b(0), m.b(1), m.a(0, 0) + m.b(0), m.a(1, 0) + m.b(1), m.a(0, 1) + m.b(0), m.a(1, 1) + m.b(1)})
-      y.push_back(v);
-  return y;
-}
-
-std::vector<AffineMap> from_corners(const std::vector<double>& y, double max_contraction, double* excess) {
-  std::vector<AffineMap> maps;
-  double e = 0;
-  for (std::size_t i = 0; i + kParams <= y.size(); i += kParams) {
-    AffineMap m(2);
-    m.b(0) = y[i], m.b(1) = y[i + 1];
-    m.a(0, 0) = y[i + 2] - y[i], m.a(1, 0) = y[i + 3] - y[i + 1];
-    m.a(0, 1) = y[i + 4] - y[i], m.a(1, 1) = y[i + 5] - y[i + 1];
-    const double s = m.contraction_factor(2);
-    if (s > max_contraction) {
-      for (int r = 0; r < 2; ++r)
-        for (int c = 0; c < 2; ++c) m.a(r, c) *= max_contraction / s;
-      e += s - max_contraction;
-    }
-    maps.push_back(m);
-  }
-  if (excess) *excess = e;
-  return maps;
-}
-
 }  // namespace
 
 FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
@@ -170,7 +54,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   if (!(o.max_contraction > 0 && o.max_contraction < 1))
     throw InputError("the largest contraction must lie in (0, 1), got " + std::to_string(o.max_contraction));
   if (full.count() == 0) throw InputError("the target has no pixels");
-  const auto start_time = std::chrono::steady_clock::now();
+  FitDeadline deadline(o.time_limit);
   const FitGrid grid = FitGrid::for_target(full, o.raster);
   const PixelSet target = grid.downsample(full);
   const int threads = resolve_threads(o.threads);
@@ -183,28 +67,22 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   };
   auto collage_value = [&](const std::vector<double>& x, int worker) {
     double excess = 0;
-    const auto maps = decode(x, o.max_contraction, &excess);
-    return proxy(to_pixels(maps), scratch[worker]) + 10.0 * excess;
+    const auto maps = decode_maps(x, 2, o.max_contraction, &excess);
+    return proxy(to_pixels(maps), scratch[worker]) + kExcessPenalty * excess;
   };
   // The attractor's overlap with the target on a grid (the search's, or the finer one of the
   // refinement, where one cell of the search's grid would hide misplaced detail).
   auto attractor_on = [&](const FitGrid& g, const PixelSet& t) {
     return [&, g, t](const std::vector<double>& x, int worker) {
       double excess = 0;
-      const auto maps = decode(x, o.max_contraction, &excess);
+      const auto maps = decode_maps(x, 2, o.max_contraction, &excess);
       std::vector<PixelMap> pm;
       for (const AffineMap& m : maps) pm.push_back(g.pixel_map(m));
-      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), t, o.seed, scratch[worker]) + 10.0 * excess;
+      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), t, o.seed, scratch[worker]) + kExcessPenalty * excess;
     };
   };
   const auto attractor_value = attractor_on(grid, target);
-  bool timed_out = false;
-  auto stop = [&] {
-    if (o.time_limit > 0 &&
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count() > o.time_limit)
-      timed_out = true;
-    return timed_out;
-  };
+  auto stop = [&] { return deadline.stop(); };
   FitResult result;
   std::vector<double> best;
   double best_value = std::numeric_limits<double>::infinity();
@@ -213,7 +91,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     Rng rng(o.seed, 1000 + r);
     // Even runs start from the k-means collage as it is; odd runs from turned copies (rotated
     // copies, as in dragons, are far from an axis-aligned start).
-    const Boxes boxes = cluster_boxes(target, grid, o.maps, rng);
+    const Boxes boxes = pixel_clusters(target, grid, o.maps, rng);
     std::vector<double> x0 = initial_collage(boxes);
     if (r % 2) {
       // Each map scaled by its part's share of the area, centroid onto centroid, turned (kTurns
@@ -228,10 +106,10 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
           double p[kParams] = {k % 2 ? -sc : sc, sc, 0, 0, 0, 0};
           p[2] = p[3] = (k / 2 + turn) * 2 * M_PI / kTurns;
           AffineMap m;
-          decode_map(p, o.max_contraction, m);
+          decode_map(p, 2, o.max_contraction, m);
           p[4] = mc[0] - (m.a(0, 0) * boxes.centroid[0] + m.a(0, 1) * boxes.centroid[1]);
           p[5] = mc[1] - (m.a(1, 0) * boxes.centroid[0] + m.a(1, 1) * boxes.centroid[1]);
-          decode_map(p, o.max_contraction, m);
+          decode_map(p, 2, o.max_contraction, m);
           const double score = proxy.copy_outside(grid.pixel_map(m));
           if (score < best_score) best_score = score, std::copy(p, p + kParams, &x0[std::size_t(c) * kParams]);
         }
@@ -243,18 +121,10 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
       const int k = i % kParams;
       sigma[i] = k < 2 ? 0.1 : k < 4 ? (r % 2 ? 0.6 : 0.3) : 0.08 * grid.extent;
     }
-    CmaOptions co;
-    co.population = 2 * (4 + static_cast<int>(3 * std::log(double(n))));
-    co.max_generations = o.generations;
-    co.seed = o.seed * 7919 + r;
-    co.threads = threads;
-    const CmaResult run = minimize_cma(collage_value, x0, sigma, co, stop);
-    // The collage's optimum is near, not at, the attractor's (Eq. 42 only bounds the gap): a
-    // short run on the attractor itself, on the same grid, closes it; restarts compete on it.
-    for (double& v : sigma) v *= 0.25;
-    co.max_generations = o.attractor_generations;
-    const CmaResult polish = minimize_cma(attractor_value, run.best, sigma, co, stop);
-    result.evaluations += run.evaluations + polish.evaluations;
+    const CmaResult polish = collage_then_attractor(collage_value, attractor_value, x0, sigma,
+                                                    fit_cma_options(n, o.generations, o.seed * 7919 + r, threads),
+                                                    o.attractor_generations, stop);
+    result.evaluations += polish.evaluations;
     ++result.restarts;
     if (polish.value < best_value) best_value = polish.value, best = polish.best;
     if (o.progress && !o.progress(0.8 * (r + 1) / o.restarts)) throw Cancelled();
@@ -266,21 +136,17 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
       const int k = i % kParams;
       sigma[i] = k < 2 ? 0.02 : k < 4 ? 0.03 : 0.01 * grid.extent;
     }
-    CmaOptions co;
-    co.population = 2 * (4 + static_cast<int>(3 * std::log(double(n))));
-    co.max_generations = o.refine_generations;
-    co.seed = o.seed * 7919 + 999;
-    co.threads = threads;
+    const CmaOptions co = fit_cma_options(n, o.refine_generations, o.seed * 7919 + 999, threads);
     // On the collage, at the picture's resolution (capped): a collage exact to a pixel puts the
     // attractor within eps / (1 - s) pixels of the target (Eq. 42), which the coarse grids cannot.
     const FitGrid fine = FitGrid::for_target(full, std::max(o.raster, std::min(o.refine_raster, int(grid.side))));
     const CollageProxy fine_proxy(fine.downsample(full), o.overlap_weight);
     auto fine_value = [&](const std::vector<double>& x, int worker) {
       double excess = 0;
-      const auto maps = decode(x, o.max_contraction, &excess);
+      const auto maps = decode_maps(x, 2, o.max_contraction, &excess);
       std::vector<PixelMap> pm;
       for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
-      return fine_proxy(pm, scratch[worker]) + 10.0 * excess;
+      return fine_proxy(pm, scratch[worker]) + kExcessPenalty * excess;
     };
     const CmaResult run = minimize_cma(fine_value, best, sigma, co, stop);
     result.evaluations += run.evaluations;
@@ -290,7 +156,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     if (after <= before) best = run.best;
     best_value = std::min(before, after);
   }
-  std::vector<AffineMap> final_maps = decode(best, o.max_contraction, nullptr);
+  std::vector<AffineMap> final_maps = decode_maps(best, 2, o.max_contraction, nullptr);
   // Last, the attractor's IoU itself at the picture's resolution (capped): the classic
   // attractors' thin lines make it peak within a fraction of a pixel of the exact maps, which
   // the collage (Eq. 42 bounds the distance, not the overlap) and the coarse grids cannot see.
@@ -299,22 +165,26 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     const PixelSet fine_target = fine.downsample(full);
     auto value = [&](const std::vector<double>& y, int worker) {
       double excess = 0;
-      const auto maps = from_corners(y, o.max_contraction, &excess);
+      const auto maps = from_corners(y, 2, o.max_contraction, &excess);
       std::vector<PixelMap> pm;
       for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
-      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), fine_target, o.seed, scratch[worker]) + 10.0 * excess;
+      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), fine_target, o.seed, scratch[worker]) + kExcessPenalty * excess;
     };
-    CmaOptions co;
-    co.population = 2 * (4 + static_cast<int>(3 * std::log(double(n))));
-    co.max_generations = o.final_generations;
-    co.seed = o.seed * 7919 + 1999;
-    co.threads = threads;
+    CmaOptions co = fit_cma_options(n, o.final_generations, o.seed * 7919 + 1999, threads);
     co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
     // Half a pixel per corner coordinate: the peak is that narrow.
-    const CmaResult run = minimize_cma(value, to_corners(final_maps), std::vector<double>(n, 0.5 / fine.pixels_per_unit), co, stop);
+    const CmaResult run = minimize_cma(value, to_corners(final_maps, 2), std::vector<double>(n, 0.5 / fine.pixels_per_unit), co, stop);
     result.evaluations += run.evaluations;
-    final_maps = from_corners(run.best, o.max_contraction, nullptr);
+    final_maps = from_corners(run.best, 2, o.max_contraction, nullptr);
     best_value = run.value;
+    // Corners on the pixel lattice when the IoU allows (snap_corners): the plane's pixel
+    // corners lie at (i, ymax - j) / pixels_per_unit.
+    const auto snapped = snap_corners(to_corners(final_maps, 2), 2, {0.0, fine.ymax, 0.0}, 1.0 / fine.pixels_per_unit);
+    const double snapped_value = value(snapped, 0);
+    if (snapped_value <= best_value + kSnapTolerance) {
+      final_maps = from_corners(snapped, 2, o.max_contraction, nullptr);
+      best_value = snapped_value;
+    }
   }
   if (o.progress && !o.progress(1.0)) throw Cancelled();
   const auto& maps = final_maps;
@@ -327,7 +197,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   result.system = std::move(system);
   result.iou = 1.0 - best_value;
   result.proxy = proxy(to_pixels(maps), scratch[0]);
-  result.time_limited = timed_out;
+  result.time_limited = deadline.passed();
   return result;
 }
 

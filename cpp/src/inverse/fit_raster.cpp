@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "fit_shared.h"
 #include "ifsforge/core/random.h"
 #include "ifsforge/model/map_sampler.h"
 #include "ifsforge/render/renderer.h"
@@ -94,15 +95,7 @@ double chaos_iou(const std::vector<PixelMap>& maps, const std::vector<double>& p
     if (x >= 0 && y >= 0 && x < w && y < h) s.hits[std::size_t(y) * w + std::size_t(x)] = 1;
     else ++out;
   }
-  std::size_t inter = 0, uni = 0, covered = 0;
-  for (std::size_t c = 0; c < s.hits.size(); ++c) {
-    inter += s.hits[c] && target.cells[c];
-    uni += s.hits[c] || target.cells[c];
-    covered += s.hits[c];
-  }
-  // Points off the grid stand for as many cells as their share of the points.
-  const double lost = covered * (double(out) / std::max<std::uint64_t>(points - out, 1));
-  return uni ? inter / (uni + lost) : 0.0;
+  return hits_iou(s.hits, target.cells, points, out);
 }
 
 }  // namespace ifsforge

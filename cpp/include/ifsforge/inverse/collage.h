@@ -51,7 +51,25 @@ struct CollageReport {
   Window window;               ///< where the target lies in the plane
 };
 
-/// @brief Lays `target` on target_frame() and measures its collage under the maps of `ifs` (a 2D system).
+/// @brief A target prepared for many collage distances (a design's live value as its maps are
+/// edited): the padded target and the distance transform to it are computed once, so each
+/// distance() only transforms the collage.
+class CollageTarget {
+ public:
+  /// InputError when the target has no pixels.
+  explicit CollageTarget(PixelSet target);
+  /// @brief Lays the target on target_frame() and measures its collage under the maps of `ifs` (a 2D system).
+  CollageReport distance(const Ifs& ifs, const std::optional<Window>& window = {}) const;
+  const PixelSet& pixels() const { return target_; }
+
+ private:
+  PixelSet target_;
+  int pad_ = 0;  ///< images outside the picture still count, up to half the picture beyond it
+  PixelSet padded_;
+  std::vector<double> to_target_;  ///< squared distance transform of the padded target
+};
+
+/// @brief CollageTarget(target).distance(ifs, window).
 CollageReport collage_distance(const Ifs& ifs, const PixelSet& target, const std::optional<Window>& window = {});
 
 }  // namespace ifsforge

@@ -1,8 +1,11 @@
 #pragma once
 /// @file Exact Euclidean distance transforms on a pixel grid (Felzenszwalb & Huttenlocher,
-/// linear time) and the Hausdorff distance of Eq. 12 between two pixel sets.
+/// linear time) and the Hausdorff distance of Eq. 12 between two pixel sets; the same
+/// transform on a voxel grid for the 3D fit.
 #include <cstdint>
 #include <vector>
+
+#include "ifsforge/volume/voxel_grid.h"
 
 namespace ifsforge {
 
@@ -13,9 +16,24 @@ struct PixelSet {
   std::size_t count() const;
 };
 
+/// @brief A set of voxels laid in space: cell (i, j, k) is cells[(k * ny + j) * nx + i],
+/// non-zero = in the set; grid places it (VoxelGrid: cubic voxels on a box).
+struct VoxelSet {
+  VoxelGrid grid;
+  std::vector<std::uint8_t> cells;
+  std::size_t count() const;
+  std::size_t index(int i, int j, int k) const {
+    return (std::size_t(k) * grid.dims[1] + j) * grid.dims[0] + i;
+  }
+};
+
 /// @brief Per pixel, the squared Euclidean distance (in pixels) to the nearest pixel of `set`;
 /// +infinity everywhere when the set is empty.
 std::vector<double> squared_distance_transform(const PixelSet& set);
+
+/// @brief Per voxel, the squared Euclidean distance (in voxels) to the nearest voxel of `set`;
+/// +infinity everywhere when the set is empty.
+std::vector<double> squared_distance_transform(const VoxelSet& set);
 
 /// @brief max over pixels of `from` of the distance to `to` (0 when `from` is empty, +infinity
 /// when only `to` is empty). Both sets must have the same size.

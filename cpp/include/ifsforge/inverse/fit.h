@@ -29,7 +29,7 @@ struct FitOptions {
 };
 
 struct FitResult {
-  Ifs system;                 ///< 2D, maps in the target's plane, render.window and size set
+  Ifs system;                 ///< fit_ifs: 2D, maps in the target's plane, render.window and size set
   double iou = 0;             ///< of the attractor and the target on the refinement grid
   double proxy = 0;           ///< collage proxy of the result
   std::uint64_t evaluations = 0;

@@ -1,12 +1,16 @@
-"""ifsforge fit: an IFS whose attractor looks like a target picture (the inverse problem, seed chapter 4).
+"""ifsforge fit: an IFS whose attractor looks like a target picture or 3D shape (the inverse problem, seed chapter 4).
 
 A separable CMA-ES with restarts searches the maps' Eq. 5 parameters under a collage proxy on a
 small raster, polishes each run on the attractor, refines the best on the collage at the
 picture's resolution, then climbs the attractor's IoU there; every map stays contractive. The
 written system carries render.window and the picture's size, so `ifsforge render SYSTEM.json`
-frames it like the target.
+frames it like the target. A colour picture (seed Fig. 4.3) gets layout xy+rgb: each map's colour
+rows are fitted by least squares, one collage per channel. A 3D target (.vdb density or level
+set; .obj, .ply, .stl, .off mesh, voxelised) gets an xyz system in the target's coordinates, so
+`ifsforge volume SYSTEM.json` frames it where the target lies.
 """
 import json
+import os
 
 import ifsforge
 from ifsforge import cli_common as common
@@ -14,70 +18,134 @@ from ifsforge.progress import ProgressBar
 
 AUTO_MAPS = (2, 3, 4, 5, 6, 8)  # what --maps auto tries
 AUTO_MAP_COST = 0.01            # IoU a map must buy to be kept under --maps auto
+SHAPE_EXTENSIONS = (".vdb", ".obj", ".ply", ".stl", ".off")  # 3D targets
 
 
 def register(subparsers):
-    o = ifsforge.FitOptions()  # every default is the core's, written once in C++
-    p = subparsers.add_parser("fit", help="fit an IFS to a target picture (collage theorem, CMA-ES)",
+    # Every default is the core's (FitOptions, Fit3dOptions, ColourFitOptions, VoxelTargetOptions), written once in C++.
+    o, o3, colour = ifsforge.FitOptions(), ifsforge.Fit3dOptions(), ifsforge.ColourFitOptions()
+    p = subparsers.add_parser("fit", help="fit an IFS to a target picture or 3D shape (collage theorem, CMA-ES)",
                               description=__doc__.split("\n\n")[1].replace("\n", " "))
-    p.add_argument("target", help="a PNG picture; its shape is the pixels unlike the border (gray: thresholded)")
+    p.add_argument("target", help="a PNG picture (its shape is the pixels unlike the border; gray: thresholded; "
+                   "colour: fitted per channel too), or a 3D shape: " + ", ".join(SHAPE_EXTENSIONS))
     p.add_argument("-o", "--output", required=True, help="the system to write (.json)")
-    p.add_argument("--maps", default=str(o.maps), help="number of maps, or 'auto' (tries %s)" % ", ".join(map(str, AUTO_MAPS)))
+    p.add_argument("--maps", default=None, help=f"number of maps (default {o.maps}; 3D {o3.maps}), or 'auto' "
+                   "(tries %s)" % ", ".join(map(str, AUTO_MAPS)))
     p.add_argument("--time-limit", type=float, default=o.time_limit,
                    help="seconds (0: none); a search cut short depends on the machine's speed")
     p.add_argument("--seed", type=int, default=o.seed)
     p.add_argument("--threads", type=int, default=o.threads, help="0: every core (the result does not depend on it)")
-    p.add_argument("--restarts", type=int, default=o.restarts, help="CMA-ES runs per map count")
-    p.add_argument("--raster", type=int, default=o.raster, help="cells along the long side during the search")
-    p.add_argument("--max-contraction", type=float, default=o.max_contraction, help="largest contraction factor of a map")
-    p.add_argument("--threshold", type=float, default=0.5, help="luminance splitting shape from background")
+    p.add_argument("--restarts", type=int, default=None, help=f"CMA-ES runs per map count (default {o.restarts}; 3D {o3.restarts})")
+    p.add_argument("--raster", type=int, default=None,
+                   help=f"cells along the long side during the search (default {o.raster}; 3D {o3.raster})")
+    p.add_argument("--max-contraction", type=float, default=None,
+                   help=f"largest contraction factor of a map (default {o.max_contraction}; 3D {o3.max_contraction}; "
+                   f"colour maps {colour.max_contraction})")
+    p.add_argument("--threshold", type=float, default=0.5, help="gray pictures: luminance splitting shape from background")
+    p.add_argument("--no-colour", action="store_true", help="colour pictures: fit the shape only (layout xy)")
+    p.add_argument("--colour-tolerance", type=float, default=colour.tolerance,
+                   help="colour pictures: a channel difference from the border's colour above this is shape")
+    p.add_argument("--voxels", type=int, default=None,
+                   help="3D targets: voxels along the shape's longest side (default: VoxelTargetOptions.resolution)")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(run=run)
 
 
-def fit_picture(picture, maps, threshold, time_limit=None, **options):
-    """fit() for one map count, or the best of AUTO_MAPS for maps='auto' (each extra map must
-    raise the IoU by AUTO_MAP_COST); `options` are FitOptions fields. Returns the dict of
-    ifsforge.fit plus 'maps'."""
+def fit_best(fit, target, maps, time_limit=None, **options):
+    """fit(target, maps=n, ...) for one map count, or the best of AUTO_MAPS for maps='auto' (each
+    extra map must raise the IoU by AUTO_MAP_COST); `fit` is ifsforge.fit or ifsforge.fit_3d,
+    `target` its positional and keyword target arguments, `options` its options' fields. Returns
+    the result dict plus 'maps'."""
     counts = AUTO_MAPS if maps == "auto" else (int(maps),)
+    args, keywords = target
     best = None
     for n in counts:
         limit = time_limit / len(counts) if time_limit else time_limit
-        result = ifsforge.fit(picture, threshold=threshold, maps=n, time_limit=limit, **options)
+        result = fit(*args, **keywords, maps=n, time_limit=limit, **options)
         result["maps"] = n
         if best is None or result["iou"] - AUTO_MAP_COST * n > best["iou"] - AUTO_MAP_COST * best["maps"]:
             best = result
     return best
 
 
+def fit_picture(picture, maps, threshold, time_limit=None, **options):
+    """fit() of a picture (a bool mask or a picture thresholded at `threshold`): see fit_best."""
+    return fit_best(ifsforge.fit, ((picture,), {"threshold": threshold}), maps, time_limit, **options)
+
+
+def common_options(args, defaults):
+    """The options `fit` and `fit_3d` share, each left unset on the command line from `defaults`."""
+    given = {"restarts": args.restarts, "raster": args.raster, "max_contraction": args.max_contraction}
+    return {"seed": args.seed, "threads": args.threads,
+            **{key: getattr(defaults, key) if value is None else value for key, value in given.items()}}
+
+
+def run_picture(args, bar):
+    picture = ifsforge.read_png(args.target)
+    colour = not args.no_colour and ifsforge.has_colour(picture)
+    # A colour picture's shape is what differs from the border's colour (a dark blue on black is
+    # shape although its luminance is below any threshold); a gray one's, what crosses the threshold.
+    shape = ifsforge.colour_foreground(picture, args.colour_tolerance) if colour else picture
+    maps = args.maps or str(ifsforge.FitOptions().maps)
+    result = fit_picture(shape, maps, args.threshold, time_limit=args.time_limit, progress=bar,
+                         **common_options(args, ifsforge.FitOptions()))
+    system = result["system"]
+    system.name = f"fit of {args.target}"
+    collage = ifsforge.collage_distance(system, shape, threshold=args.threshold)
+    summary = {"output": args.output, "maps": result["maps"], "iou": result["iou"],
+               "collage_distance_pixels": collage["distance_pixels"], "bound_pixels": collage["bound_pixels"],
+               "contraction": collage["contraction"], "evaluations": result["evaluations"],
+               "restarts": result["restarts"], "time_limited": result["time_limited"]}
+    text = (f"{args.output}: {result['maps']} maps, attractor IoU {result['iou']:.3f}, collage distance "
+            f"{collage['distance_pixels']:.2f} px (attractor within {collage['bound_pixels']:.2f} px), "
+            f"s = {collage['contraction']:.3f}, {result['evaluations']} evaluations")
+    if colour:
+        fitted = ifsforge.fit_colour(system, picture, shape, max_contraction=args.max_contraction)  # None: its default
+        system = fitted["system"]
+        summary["layout"] = "xy+rgb"
+        summary["colour_collage_error"] = dict(zip("rgb", fitted["collage_error"]))
+        text += ", colour collage error (RMS) " + " ".join(f"{c} {e:.3f}" for c, e in zip("rgb", fitted["collage_error"]))
+    return system, summary, text, result["time_limited"]
+
+
+def run_shape(args, bar):
+    reading = {} if args.voxels is None else {"resolution": args.voxels}
+    target = ifsforge.read_voxel_target(args.target, **reading)
+    defaults = ifsforge.Fit3dOptions()
+    maps = args.maps or str(defaults.maps)
+    result = fit_best(ifsforge.fit_3d, ((), target), maps, time_limit=args.time_limit, progress=bar,
+                      **common_options(args, defaults))
+    system = result["system"]
+    system.name = f"fit of {args.target}"
+    size = target["voxel_size"]
+    box = list(target["origin"]) + [o + n * size for o, n in zip(target["origin"], target["mask"].shape)]
+    summary = {"output": args.output, "maps": result["maps"], "iou": result["iou"], "proxy": result["proxy"],
+               "voxels": list(target["mask"].shape), "bounds": box,
+               "contraction": max(system.contraction_factors()), "evaluations": result["evaluations"],
+               "restarts": result["restarts"], "time_limited": result["time_limited"]}
+    text = (f"{args.output}: {result['maps']} maps, attractor IoU {result['iou']:.3f} on the "
+            f"{'x'.join(map(str, target['mask'].shape))} target, s = {summary['contraction']:.3f}, "
+            f"{result['evaluations']} evaluations; `ifsforge volume` frames it on --bounds "
+            + " ".join(f"{v:.6g}" for v in box))
+    return system, summary, text, result["time_limited"]
+
+
 def run(args):
-    if args.maps != "auto":
+    if args.maps is not None and args.maps != "auto":
         try:
             int(args.maps)
         except ValueError:
             raise ifsforge.InputError(f"--maps expects a number or 'auto', got '{args.maps}'") from None
     common.ensure_output_folder(args.output)
-    picture = ifsforge.read_png(args.target)
+    shape = os.path.splitext(args.target)[1].lower() in SHAPE_EXTENSIONS
     bar = ProgressBar("fit", enabled=False if args.json else None)
     try:
-        result = fit_picture(picture, args.maps, args.threshold, time_limit=args.time_limit, seed=args.seed,
-                             threads=args.threads, restarts=args.restarts, raster=args.raster,
-                             max_contraction=args.max_contraction, progress=bar)
+        system, summary, text, limited = (run_shape if shape else run_picture)(args, bar)
     except ifsforge.InputError as error:
         raise ifsforge.InputError(f"{args.target}: {error}") from None
-    system = result["system"]
-    system.name = f"fit of {args.target}"
-    collage = ifsforge.collage_distance(system, picture, threshold=args.threshold)
     ifsforge.write_json(args.output, system)
-    summary = {"output": args.output, "maps": result["maps"], "iou": result["iou"],
-               "collage_distance_pixels": collage["distance_pixels"], "bound_pixels": collage["bound_pixels"],
-               "contraction": collage["contraction"], "evaluations": result["evaluations"],
-               "restarts": result["restarts"], "time_limited": result["time_limited"]}
     if args.json:
         print(json.dumps(summary, indent=2))
     else:
-        print(f"{args.output}: {result['maps']} maps, attractor IoU {result['iou']:.3f}, collage distance "
-              f"{collage['distance_pixels']:.2f} px (attractor within {collage['bound_pixels']:.2f} px), "
-              f"s = {collage['contraction']:.3f}, {result['evaluations']} evaluations"
-              + (" (cut short by --time-limit)" if result["time_limited"] else ""))
+        print(text + (" (cut short by --time-limit)" if limited else ""))
     return 0
