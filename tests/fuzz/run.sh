@@ -51,8 +51,9 @@ ifsforge.write_pifs(sys.argv[1] + "/gradient.pifs", ifsforge.pifs_encode(image, 
 ifsforge.write_pifs(sys.argv[1] + "/gray.pifs", ifsforge.pifs_encode(np.ascontiguousarray(image[:, :, 0]), ratio=4))
 PY
 fi
-if python3 -c "import pyopenvdb" 2>/dev/null; then
-  python3 -c "import pyopenvdb as v; g = v.FloatGrid(); g.name = 'density'; g.fill((0,0,0),(3,3,3),1.0); v.write('$seeds/vdb_info/cube.vdb', grids=[g])"
+if /usr/bin/python3 -c "import pyopenvdb" 2>/dev/null; then
+  /usr/bin/python3 -c "import pyopenvdb as v; g = v.FloatGrid(); g.name = 'density'; g.fill((0,0,0),(3,3,3),1.0); v.write('$seeds/vdb_info/cube.vdb', grids=[g])"
+  /usr/bin/python3 -c "import pyopenvdb as v; g = v.createLevelSetSphere(4.0, voxelSize=0.5); v.write('$seeds/vdb_info/sphere_level_set.vdb', grids=[g])"
 fi
 
 status=0
