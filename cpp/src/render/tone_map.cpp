@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
 
 namespace ifsforge {
 
@@ -48,12 +49,17 @@ Image density_image(const Raster& raster, const ToneOptions& options, bool binar
     }
   const double mean = covered ? sum / covered : 1.0;
   const double top = std::log1p(peak / mean);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double d = raster.density[i];
-    double v = 0.0;
-    if (d > 0.0) v = binary || top <= 0.0 ? 1.0 : std::pow(std::log1p(d / mean) / top, 1.0 / options.gamma);
-    image.pixels[i] = static_cast<float>(options.invert ? 1.0 - v : v);
-  }
+  // A log and a power per covered pixel: 8 ms of a 1024^2 fern on one core, in row bands on
+  // every core (each pixel on its own: the bytes do not depend on the split).
+  constexpr std::size_t kBand = 1 << 16;
+  parallel_jobs((n + kBand - 1) / kBand, 0, [&](std::size_t band, int) {
+    for (std::size_t i = band * kBand, end = std::min(n, i + kBand); i < end; ++i) {
+      const double d = raster.density[i];
+      double v = 0.0;
+      if (d > 0.0) v = binary || top <= 0.0 ? 1.0 : std::pow(std::log1p(d / mean) / top, 1.0 / options.gamma);
+      image.pixels[i] = static_cast<float>(options.invert ? 1.0 - v : v);
+    }
+  });
   return image;
 }
 
