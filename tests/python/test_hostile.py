@@ -146,6 +146,22 @@ def test_fuzzed_mesh_headers_are_refused(tmp_path, name, data, message):
         ifsforge.read_mesh(str(tmp_path / name))
 
 
+# A .vdb libFuzzer found (66 bytes, minimised from a mutated level set): OpenVDB allocates a
+# size it declares before reading it, and std::bad_alloc reached the CLI as a MemoryError
+# traceback. `vdb info`'s reader and the fit's 3D target reader now refuse it by name.
+FUZZED_VDB = (b" BDV\x00\x00\x00\x00\xe0\x00\x01\x00\n\x00\x00\x00\x00\x00\x00\x00\x01"
+              b"0dbddd3c-08a5-4482-aeca-5606c2e2a95f\x00\x00\x00\x00\x00\xff\xfc\x0f\x00")
+
+
+def test_fuzzed_vdb_declaring_absurd_sizes_is_refused(tmp_path):
+    path = tmp_path / "bad.vdb"
+    path.write_bytes(FUZZED_VDB)
+    with pytest.raises(ifsforge.FileError, match="declares more data than memory holds"):
+        ifsforge.read_vdb_info(str(path))
+    refused(tmp_path, "fit", "bad.vdb", "-o", "fit.json", names=("declares more data than memory holds",))
+    assert not (tmp_path / "fit.json").exists()
+
+
 @pytest.mark.parametrize("args,option", [
     (["render", "--iterations", "-1"], "--iterations"),
     (["render", "--depth", "-3"], "--depth"),

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <new>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -133,6 +134,10 @@ VdbFileInfo read_vdb_info(const std::string& path) {
     throw FileError("cannot read '" + path + "' as OpenVDB: " + e.what());
   } catch (const std::ios_base::failure&) {
     throw FileError("cannot read '" + path + "' as OpenVDB: the file is truncated or damaged");
+  } catch (const std::bad_alloc&) {
+    // OpenVDB allocates the sizes a file declares (a compressed leaf buffer of 64 GB, found by
+    // fuzzing) before reading them.
+    throw FileError("cannot read '" + path + "' as OpenVDB: it declares more data than memory holds (a damaged file)");
   }
   return info;
 }

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <new>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/mesh_reader.h"
@@ -70,6 +71,8 @@ VoxelSet from_vdb(const std::string& path, const VoxelTargetOptions& o) {
     throw InputError("cannot read '" + path + "' as OpenVDB: " + e.what());
   } catch (const std::ios_base::failure&) {
     throw InputError("cannot read '" + path + "' as OpenVDB: the file is truncated or damaged");
+  } catch (const std::bad_alloc&) {  // a size the file declares, allocated before it is read
+    throw InputError("cannot read '" + path + "' as OpenVDB: it declares more data than memory holds (a damaged file)");
   }
   if (!grid) throw InputError("'" + path + "' holds no float grid (a density or level set) to fit");
   const openvdb::math::Transform& t = grid->transform();
