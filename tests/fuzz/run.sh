@@ -53,9 +53,9 @@ PY
 fi
 # Real .vdb seeds (IFSFORGE_FUZZ_VDB_SEEDS=1) lead the fuzzer within ~200 runs to a heap overflow
 # inside OpenVDB 10's own reader (io::bloscFromStream reads a chunk the file calls uncompressed
-# before checking its length): a known defect of the system library that ifsforge does not yet
-# isolate, so the default run, which CI makes, leaves them out. Without them fuzz_vdb_info only
-# tests the header checks.
+# before checking its length): a defect of the system library, which the Python readers contain
+# in a child process but this target, calling the C++ reader, cannot. So the default run, which
+# CI makes, leaves them out; without them fuzz_vdb_info only tests the header checks.
 if [ "${IFSFORGE_FUZZ_VDB_SEEDS:-0}" = 1 ] && /usr/bin/python3 -c "import pyopenvdb" 2>/dev/null; then
   /usr/bin/python3 -c "import pyopenvdb as v; g = v.FloatGrid(); g.name = 'density'; g.fill((0,0,0),(3,3,3),1.0); v.write('$seeds/vdb_info/cube.vdb', grids=[g])"
   /usr/bin/python3 -c "import pyopenvdb as v; g = v.createLevelSetSphere(4.0, voxelSize=0.5); v.write('$seeds/vdb_info/sphere_level_set.vdb', grids=[g])"

@@ -5,6 +5,7 @@ import signal
 import stat
 import subprocess
 import time
+from pathlib import Path
 
 import pytest
 
@@ -160,6 +161,24 @@ def test_fuzzed_vdb_declaring_absurd_sizes_is_refused(tmp_path):
         ifsforge.read_vdb_info(str(path))
     refused(tmp_path, "fit", "bad.vdb", "-o", "fit.json", names=("declares more data than memory holds",))
     assert not (tmp_path / "fit.json").exists()
+
+
+# A .vdb libFuzzer found (16,914 bytes) on which OpenVDB 10's own reader overflows a heap buffer
+# (a chunk called uncompressed, copied before its length is checked): the release build aborted
+# in malloc. The readers now run in a child process, which the file costs instead.
+OVERFLOW_VDB = Path(__file__).parent / "data" / "openvdb_overflow.vdb"
+
+
+def test_vdb_that_crashes_openvdb_costs_only_a_child_process(tmp_path):
+    with pytest.raises(ifsforge.InputError, match="the reader failed on it"):
+        ifsforge.read_vdb_info(str(OVERFLOW_VDB))
+    with pytest.raises(ifsforge.InputError, match="the reader failed on it"):
+        ifsforge.read_voxel_target(str(OVERFLOW_VDB))
+    (tmp_path / "bad.vdb").write_bytes(OVERFLOW_VDB.read_bytes())
+    refused(tmp_path, "fit", "bad.vdb", "-o", "fit.json", names=("the reader failed on it",))
+    assert not (tmp_path / "fit.json").exists()
+    with pytest.raises(ifsforge.FileError):  # errors the child raises keep their class
+        ifsforge.read_vdb_info(str(tmp_path / "missing.vdb"))
 
 
 @pytest.mark.parametrize("args,option", [

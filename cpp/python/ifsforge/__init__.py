@@ -89,6 +89,9 @@ _VDB_NAMES = ("IsoSurfaceOptions", "VdbWriteOptions", "VoxelTargetOptions", "rea
 
 
 def __getattr__(name):
+    if name in ("read_vdb_info", "read_voxel_target"):
+        from ifsforge import vdb_reader  # a .vdb is read in a child process: see its docstring
+        return getattr(vdb_reader, name)
     if name in _VDB_NAMES:
         from ifsforge import _vdb
         return getattr(_vdb, name)
