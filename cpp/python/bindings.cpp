@@ -19,12 +19,6 @@ ProgressCallback wrap_progress(const py::object& callback) {
   };
 }
 
-py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssize_t> shape) {
-  py::array_t<float> out(shape);
-  std::copy(data.begin(), data.end(), out.mutable_data());
-  return out;
-}
-
 py::dict mesh_dict(TriangleMesh mesh) {
   py::dict out;
   out["positions"] = rows_array(std::move(mesh.positions));

@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <string>
 #include <type_traits>
 
@@ -73,7 +74,12 @@ py::array_t<T> vector_array(std::vector<T>&& values) {
 py::dict mesh_dict(TriangleMesh mesh);
 
 /// @brief A float32 numpy array (copy) of shape `shape` from contiguous data.
-py::array_t<float> to_numpy(const std::vector<float>& data, std::vector<py::ssize_t> shape);
+template <class Floats>
+py::array_t<float> to_numpy(const Floats& data, std::vector<py::ssize_t> shape) {
+  py::array_t<float> out(shape);
+  std::copy(data.begin(), data.end(), out.mutable_data());
+  return out;
+}
 
 /// @brief An Image from a (h, w) or (h, w, c) array: floats in [0, 1], or uint8 / uint16.
 Image image_from_numpy(const py::array& array);

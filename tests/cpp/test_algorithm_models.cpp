@@ -84,7 +84,7 @@ TEST(Algorithms, SuperfractalMembersAndSeeds) {
   const Raster a = renderer("dia-s").render(sf, o);
   const Raster b = renderer("dia-s").render(sf, o);
   EXPECT_EQ(a.density, b.density);
-  std::set<std::vector<float>> breed;
+  std::set<LargeVector<float>> breed;
   for (std::uint64_t seed = 0; seed < 4; ++seed) {
     o.seed = seed;
     breed.insert(renderer("dia-s").render(sf, o).density);

@@ -1,5 +1,3 @@
-import sys
+from ifsforge.cli import run
 
-from ifsforge.cli import main
-
-sys.exit(main())
+run()

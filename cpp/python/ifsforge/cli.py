@@ -63,3 +63,14 @@ def main(argv=None):
     except KeyboardInterrupt:
         print(f"ifsforge {args.command}: interrupted", file=sys.stderr)
         return 130
+
+
+def run():
+    """The command's entry point: main(), then leave without the interpreter's teardown. Every
+    output is written and closed by then (files are committed by rename); the teardown frees
+    every object of every module one by one, 5-8 ms of each command (more than some commands'
+    work)."""
+    status = main()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <new>
 
 #include "ifsforge/core/parallel.h"
 
@@ -23,6 +24,45 @@ void advise_huge_pages(void* data, std::size_t bytes) {
   (void)data;
   (void)bytes;
 #endif
+}
+
+namespace {
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+constexpr std::size_t kPagedFrom = std::size_t(1) << 20;
+std::size_t mapped_length(std::size_t bytes) { return (bytes + kHugePage - 1) & ~(kHugePage - 1); }
+}  // namespace
+
+void* allocate_pages(std::size_t bytes) {
+#if defined(__linux__)
+  if (bytes >= kPagedFrom) {
+    // Map 2 MB more than needed and keep the aligned middle: the kernel can back it with huge
+    // pages from its first byte to its last.
+    const std::size_t length = mapped_length(bytes);
+    if (length < bytes) throw std::bad_alloc();
+    void* raw = mmap(nullptr, length + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (raw == MAP_FAILED) throw std::bad_alloc();
+    const auto begin = reinterpret_cast<std::uintptr_t>(raw);
+    const std::uintptr_t aligned = (begin + kHugePage - 1) & ~std::uintptr_t(kHugePage - 1);
+    if (aligned > begin) munmap(raw, aligned - begin);
+    if (const std::uintptr_t tail = begin + kHugePage - aligned; tail > 0)
+      munmap(reinterpret_cast<void*>(aligned + length), tail);
+#ifdef MADV_HUGEPAGE
+    madvise(reinterpret_cast<void*>(aligned), length, MADV_HUGEPAGE);  // advice: refused, nothing changes
+#endif
+    return reinterpret_cast<void*>(aligned);
+  }
+#endif
+  return ::operator new(bytes);
+}
+
+void release_pages(void* data, std::size_t bytes) noexcept {
+#if defined(__linux__)
+  if (bytes >= kPagedFrom) {
+    munmap(data, mapped_length(bytes));
+    return;
+  }
+#endif
+  ::operator delete(data);
 }
 
 void populate_pages(void* data, std::size_t bytes, const ProgressCallback& poll) {

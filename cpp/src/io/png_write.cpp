@@ -11,11 +11,13 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <vector>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/png.h"
@@ -50,20 +52,25 @@ void write_chunk(std::FILE* file, const char* type, const unsigned char* data, s
   std::fwrite(tail.data(), 1, tail.size(), file);
 }
 
-/// Row y's samples as bytes (16-bit big-endian, as PNG stores them).
+/// A sample in [0, 1] (NaN as 0) as an integer in [0, top].
+inline int quantise(float sample, double top) {
+  const double v = std::min(std::max(0.0, double(sample)), 1.0);  // max(0, NaN) is 0
+  return static_cast<int>(v * top + 0.5);
+}
+
+/// Row y's samples as bytes (16-bit big-endian, as PNG stores them); branch-free loops, which
+/// the compiler vectorises.
 void quantise_row(const Image& image, int y, int bit_depth, unsigned char* row) {
   const std::size_t samples = std::size_t(image.width) * image.channels;
   const float* src = &image.pixels[std::size_t(y) * samples];
-  const double top = bit_depth == 8 ? 255.0 : 65535.0;
+  if (bit_depth == 8) {
+    for (std::size_t i = 0; i < samples; ++i) row[i] = static_cast<unsigned char>(quantise(src[i], 255.0));
+    return;
+  }
   for (std::size_t i = 0; i < samples; ++i) {
-    const unsigned q = std::isnan(src[i]) ? 0u
-                                          : static_cast<unsigned>(std::clamp(double(src[i]), 0.0, 1.0) * top + 0.5);
-    if (bit_depth == 8) {
-      row[i] = static_cast<unsigned char>(q);
-    } else {
-      row[2 * i] = static_cast<unsigned char>(q >> 8);
-      row[2 * i + 1] = static_cast<unsigned char>(q & 0xFF);
-    }
+    const unsigned q = quantise(src[i], 65535.0);
+    row[2 * i] = static_cast<unsigned char>(q >> 8);
+    row[2 * i + 1] = static_cast<unsigned char>(q & 0xFF);
   }
 }
 
@@ -72,32 +79,50 @@ int paeth(int a, int b, int c) {
   return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
 }
 
+/// Row filtered by PNG filter `f` (0 none, 1 sub, 2 up, 3 average, 4 Paeth) into `t`; returns
+/// the sum of its absolute signed bytes. `above` is the row above (zeros for the first row).
+/// One loop per filter, without branches inside: the compiler vectorises all but Paeth.
+template <int f>
+std::uint64_t filter_with(const unsigned char* row, const unsigned char* above, std::size_t size, int bpp,
+                          unsigned char* t) {
+  const auto predict = [](int a, int b, int c) {
+    if constexpr (f == 1) return a;
+    if constexpr (f == 2) return b;
+    if constexpr (f == 3) return (a + b) / 2;
+    if constexpr (f == 4) return paeth(a, b, c);
+    return 0;
+  };
+  std::uint64_t sum = 0;
+  const std::size_t lead = std::min(size, std::size_t(bpp));
+  for (std::size_t i = 0; i < lead; ++i) {  // no left neighbour
+    t[i] = static_cast<unsigned char>(row[i] - predict(0, above[i], 0));
+    sum += static_cast<std::uint32_t>(std::abs(static_cast<int>(static_cast<signed char>(t[i]))));
+  }
+  for (std::size_t i = lead; i < size; ++i) {
+    t[i] = static_cast<unsigned char>(row[i] - predict(row[i - bpp], above[i], above[i - bpp]));
+    sum += static_cast<std::uint32_t>(std::abs(static_cast<int>(static_cast<signed char>(t[i]))));
+  }
+  return sum;
+}
+
 /// The filtered row (type byte first) with the smallest sum of absolute signed bytes over the
 /// five PNG filters: libpng's default heuristic for non-palette images.
 void filter_row(const unsigned char* row, const unsigned char* above, std::size_t size, int bpp,
                 unsigned char* out, std::array<std::vector<unsigned char>, 5>& trial) {
-  std::uint64_t best_sum = ~std::uint64_t(0);
-  int best = 0;
-  for (int f = 0; f < 5; ++f) {
-    std::vector<unsigned char>& t = trial[f];
-    t.resize(size);
-    std::uint64_t sum = 0;
-    for (std::size_t i = 0; i < size; ++i) {
-      const int a = i >= std::size_t(bpp) ? row[i - bpp] : 0, b = above ? above[i] : 0;
-      const int c = above && i >= std::size_t(bpp) ? above[i - bpp] : 0;
-      const int predicted = f == 0 ? 0 : f == 1 ? a : f == 2 ? b : f == 3 ? (a + b) / 2 : paeth(a, b, c);
-      t[i] = static_cast<unsigned char>(row[i] - predicted);
-      sum += static_cast<std::uint64_t>(std::abs(static_cast<int>(static_cast<signed char>(t[i]))));
-    }
-    if (sum < best_sum) best_sum = sum, best = f;
-  }
+  for (auto& t : trial) t.resize(size);
+  const std::uint64_t sums[5] = {filter_with<0>(row, above, size, bpp, trial[0].data()),
+                                 filter_with<1>(row, above, size, bpp, trial[1].data()),
+                                 filter_with<2>(row, above, size, bpp, trial[2].data()),
+                                 filter_with<3>(row, above, size, bpp, trial[3].data()),
+                                 filter_with<4>(row, above, size, bpp, trial[4].data())};
+  const int best = static_cast<int>(std::min_element(sums, sums + 5) - sums);  // the first of equals
   out[0] = static_cast<unsigned char>(best);
   std::copy(trial[best].begin(), trial[best].end(), out + 1);
 }
 
 /// The raw deflate of filtered[begin, end), primed with the window before it; the last strip
 /// finishes the stream, the others end with a sync flush (a byte boundary).
-std::vector<unsigned char> deflate_strip(const std::vector<unsigned char>& filtered, std::size_t begin,
+std::vector<unsigned char> deflate_strip(const LargeVector<unsigned char>& filtered, std::size_t begin,
                                          std::size_t end) {
   z_stream z{};
   if (deflateInit2(&z, kLevel, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
@@ -110,16 +135,18 @@ std::vector<unsigned char> deflate_strip(const std::vector<unsigned char>& filte
     const std::size_t from = begin > kWindow ? begin - kWindow : 0;
     deflateSetDictionary(&z, filtered.data() + from, static_cast<uInt>(begin - from));
   }
-  std::vector<unsigned char> out(deflateBound(&z, end - begin) + 16);
+  // Room for the worst case, left uninitialised: deflate writes only the first fifth or so of
+  // it, and only those pages are ever touched (zeroing it all faulted in 1 MB per 1024^2 image).
+  const std::size_t room = deflateBound(&z, end - begin) + 16;
+  const std::unique_ptr<unsigned char[]> out(new unsigned char[room]);
   z.next_in = const_cast<unsigned char*>(filtered.data() + begin);
   z.avail_in = static_cast<uInt>(end - begin);
-  z.next_out = out.data();
-  z.avail_out = static_cast<uInt>(out.size());
+  z.next_out = out.get();
+  z.avail_out = static_cast<uInt>(room);
   const bool last = end == filtered.size();
   const int status = deflate(&z, last ? Z_FINISH : Z_SYNC_FLUSH);
   if (status != (last ? Z_STREAM_END : Z_OK) || z.avail_in != 0) throw std::runtime_error("deflate failed");
-  out.resize(out.size() - z.avail_out);
-  return out;
+  return std::vector<unsigned char>(out.get(), out.get() + (room - z.avail_out));
 }
 
 }  // namespace
@@ -139,16 +166,16 @@ void write_png(const std::string& path, const Image& image, int bit_depth) {
   const std::size_t row_bytes = std::size_t(image.width) * bpp, line = row_bytes + 1;
   const int rows_per_job = static_cast<int>(std::max<std::size_t>(1, kStripBytes / line));
   const std::size_t jobs = (std::size_t(image.height) + rows_per_job - 1) / rows_per_job;
-  std::vector<unsigned char> filtered(line * image.height);
+  LargeVector<unsigned char> filtered(line * image.height);
   parallel_jobs(jobs, 0, [&](std::size_t job, int) {
-    std::vector<unsigned char> above(row_bytes), row(row_bytes);
+    std::vector<unsigned char> above(row_bytes, 0), row(row_bytes);
     std::array<std::vector<unsigned char>, 5> trial;
     const int first = static_cast<int>(job) * rows_per_job;
     const int last = std::min(image.height, first + rows_per_job);
     if (first > 0) quantise_row(image, first - 1, bit_depth, above.data());
     for (int y = first; y < last; ++y) {
       quantise_row(image, y, bit_depth, row.data());
-      filter_row(row.data(), y > 0 ? above.data() : nullptr, row_bytes, bpp, &filtered[line * y], trial);
+      filter_row(row.data(), above.data(), row_bytes, bpp, &filtered[line * y], trial);  // above: zeros at y = 0
       std::swap(row, above);
     }
   });

@@ -6,6 +6,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/pages.h"
+#include "ifsforge/core/parallel.h"
 #include "ifsforge/core/varint.h"
 
 namespace ifsforge {
@@ -90,23 +91,26 @@ void Accumulator::merge_encoded(const std::string& bytes) {
   }
 }
 
-void Accumulator::finish(Raster& raster) const {
+void Accumulator::finish(Raster& raster, int threads) const {
   const std::size_t pixels = std::size_t(width_) * height_;
   raster.width = width_;
   raster.height = height_;
   assign_large(raster.density, pixels, 0.0f);
   assign_large(raster.channels, pixels * channels_, 0.0f);
   if (!nearest_.empty()) raster.depth.assign(nearest_.begin(), nearest_.begin() + pixels);
-  for (std::size_t i = 0; i < pixels; ++i) {
-    if (hits_[i] == 0) continue;
-    const double d = mass_.empty() ? static_cast<double>(hits_[i]) : mass_[i] / kMassUnit;
-    raster.density[i] = std::max(static_cast<float>(d), std::numeric_limits<float>::denorm_min());
-    for (int c = 0; c < channels_; ++c) {
-      const double mean = static_cast<double>(sums_[i * channels_ + c]) / hits_[i];
-      raster.channels[i * channels_ + c] =
-          static_cast<float>(scale_[c] > 0 ? lo_[c] + mean / scale_[c] : lo_[c]);
+  constexpr std::size_t kBand = 1 << 16;
+  parallel_jobs((pixels + kBand - 1) / kBand, threads, [&](std::size_t band, int) {
+    for (std::size_t i = band * kBand, end = std::min(pixels, i + kBand); i < end; ++i) {
+      if (hits_[i] == 0) continue;
+      const double d = mass_.empty() ? static_cast<double>(hits_[i]) : mass_[i] / kMassUnit;
+      raster.density[i] = std::max(static_cast<float>(d), std::numeric_limits<float>::denorm_min());
+      for (int c = 0; c < channels_; ++c) {
+        const double mean = static_cast<double>(sums_[i * channels_ + c]) / hits_[i];
+        raster.channels[i * channels_ + c] =
+            static_cast<float>(scale_[c] > 0 ? lo_[c] + mean / scale_[c] : lo_[c]);
+      }
     }
-  }
+  });
 }
 
 void channel_ranges(const Ifs& ifs, std::vector<double>& lo, std::vector<double>& hi) {

@@ -341,24 +341,28 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   // accumulator: in 2D when the jobs are done (their wraps went there already), in 3D also
   // whenever a 32-bit counter could overflow.
   const bool depth = ifs.dim() == 3;
-  std::vector<std::vector<std::uint8_t>> lows(simd && !depth ? threads : 0);
-  std::vector<std::vector<HitDepth>> cells(simd && depth ? threads : 0);
+  std::vector<LargeVector<std::uint8_t>> lows(simd && !depth ? threads : 0);
+  std::vector<LargeVector<HitDepth>> cells(simd && depth ? threads : 0);
   std::vector<std::uint64_t> pending(threads, 0);
+  // Adds pixels [from, to) of a worker's narrow counters to the wide totals.
+  auto add_lane = [&](int worker, std::size_t from, std::size_t to) {
+    std::uint64_t* hits = acc[0].hits();
+    if (depth) {
+      const auto& c = cells[worker];
+      for (std::size_t i = from; i < to; ++i) {
+        hits[i] += c[i].hits;
+        acc[0].add_depth(i, c[i].depth);
+      }
+    } else {
+      const auto& low = lows[worker];
+      for (std::size_t i = from; i < to; ++i) hits[i] += low[i];
+    }
+  };
   std::mutex flushing;
-  auto flush = [&](int worker) {
+  auto flush = [&](int worker) {  // in 3D, before a 32-bit counter could overflow
     {
       std::lock_guard<std::mutex> lock(flushing);
-      std::uint64_t* hits = acc[0].hits();
-      if (depth) {
-        const auto& c = cells[worker];
-        for (std::size_t i = 0; i < c.size(); ++i) {
-          hits[i] += c[i].hits;
-          acc[0].add_depth(i, c[i].depth);
-        }
-      } else {
-        const auto& low = lows[worker];
-        for (std::size_t i = 0; i < low.size(); ++i) hits[i] += low[i];
-      }
+      add_lane(worker, 0, cells[worker].size());
     }
     if (depth)
       std::fill(cells[worker].begin(), cells[worker].end(), HitDepth{0, -std::numeric_limits<float>::infinity()});
@@ -400,8 +404,16 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
       options.progress);
 
 #ifdef IFSFORGE_CHAOS_AVX2
-  for (int t = 0; t < threads; ++t)
-    if (simd && !(depth ? cells[t].empty() : lows[t].empty())) flush(t);
+  // The workers' counters into the totals in pixel bands on every core (sums and maxima: the
+  // same bytes for any split).
+  if (simd) {
+    constexpr std::size_t kBand = 1 << 16;
+    parallel_jobs((pixels + 1 + kBand - 1) / kBand, threads, [&](std::size_t band, int) {
+      const std::size_t from = band * kBand, to = std::min(pixels + 1, from + kBand);
+      for (int t = 0; t < threads; ++t)
+        if (!(depth ? cells[t].empty() : lows[t].empty())) add_lane(t, from, to);
+    });
+  }
 #endif
   for (std::size_t t = 1; t < acc.size(); ++t) acc[0].merge(acc[t]);
   return std::move(acc[0]);
@@ -412,15 +424,14 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
 Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
   const int threads = options.distribute ? 1 : resolve_threads(options.threads);
   const ChaosSetup setup = chaos_setup(ifs, options, threads);
-  Accumulator acc = empty_accumulator(ifs, setup);
-  if (options.distribute) {
+  // One accumulator either way (an 8 MB one at 1024^2: building a spare cost its page faults).
+  Accumulator acc = options.distribute ? empty_accumulator(ifs, setup)
+                                       : chaos_accumulate(ifs, options, setup, 0, setup.plan.jobs, threads);
+  if (options.distribute)
     for (const std::string& bytes : options.distribute(0, setup.plan.jobs)) acc.merge_encoded(bytes);
-  } else {
-    acc = chaos_accumulate(ifs, options, setup, 0, setup.plan.jobs, threads);
-  }
   Raster raster;
   describe_channels(ifs, raster);
-  acc.finish(raster);
+  acc.finish(raster, threads);
   raster.pixel_size = setup.frame.pixel_size();
   raster.points = setup.plan.jobs * setup.plan.points_per_job;
   return raster;

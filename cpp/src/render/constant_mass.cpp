@@ -27,7 +27,7 @@ Raster ConstantMass::render(const Ifs& ifs, const RenderOptions& options) const 
   Raster raster = empty_raster(ifs, space);
   for (std::size_t k = 0; k < t.pixel.size(); ++k)
     raster.density[t.pixel[k]] = std::max(static_cast<float>(t.mass[k]), std::numeric_limits<float>::denorm_min());
-  raster.channels = t.channels;
+  raster.channels.assign(t.channels.begin(), t.channels.end());
   raster.points = t.operations;
   return reduce_supersampled(std::move(raster), supersample, true);
 }

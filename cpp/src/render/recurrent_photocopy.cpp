@@ -33,7 +33,7 @@ Raster RecurrentPhotocopy::render(const Ifs& ifs, const RenderOptions& options) 
     if (component < 0 || component == t.component[k])
       raster.density[t.pixel[k]] = std::max(raster.density[t.pixel[k]] + static_cast<float>(t.mass[k]),
                                             std::numeric_limits<float>::denorm_min());
-  raster.channels = t.channels;
+  raster.channels.assign(t.channels.begin(), t.channels.end());
   raster.points = t.operations;
   return reduce_supersampled(std::move(raster), supersample, true);
 }

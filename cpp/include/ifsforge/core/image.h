@@ -2,11 +2,13 @@
 /// @file A plain image: interleaved float channels in [0, 1], row 0 at the top.
 #include <vector>
 
+#include "ifsforge/core/pages.h"
+
 namespace ifsforge {
 
 struct Image {
   int width = 0, height = 0, channels = 0;  ///< 1 gray, 2 gray+alpha, 3 RGB, 4 RGBA
-  std::vector<float> pixels;
+  LargeVector<float> pixels;
 
   Image() = default;
   /// @brief A black image (large ones on huge pages: fewer first-touch faults).

@@ -60,13 +60,14 @@ class Accumulator {
   std::string encode() const;
   /// @brief merge() of the accumulator `bytes` came from (same shape); InputError otherwise.
   void merge_encoded(const std::string& bytes);
-  /// @brief Density = mass (measure on) or hits; channel means from the sums.
-  void finish(Raster& raster) const;
+  /// @brief Density = mass (measure on) or hits; channel means from the sums; in pixel bands
+  /// on `threads` threads (0: every core; each pixel on its own, so the same bytes).
+  void finish(Raster& raster, int threads = 0) const;
 
  private:
   int width_, height_, channels_;
-  std::vector<std::uint64_t> hits_, mass_, sums_;
-  std::vector<float> nearest_;  // max is order-independent: merging stays deterministic
+  LargeVector<std::uint64_t> hits_, mass_, sums_;
+  LargeVector<float> nearest_;  // max is order-independent: merging stays deterministic
   std::vector<double> lo_, scale_;
 };
 

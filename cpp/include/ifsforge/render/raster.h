@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/pages.h"
 #include "ifsforge/model/channel_layout.h"
 
 namespace ifsforge {
@@ -13,7 +14,7 @@ struct Raster {
   /// Hits (random iteration) or mass of the invariant measure (recursive renderers); a
   /// covered pixel is never 0 (a mass that would underflow is stored as the smallest float);
   /// row-major, row 0 at the top. Zero means the attractor misses the pixel.
-  std::vector<float> density;
+  LargeVector<float> density;
   /// Names of the extra channels, e.g. {"r", "g", "b"}; empty for a purely spatial system.
   std::vector<std::string> channel_names;
   /// How the extra channels are to be shown.
@@ -22,10 +23,10 @@ struct Raster {
   /// otherwise tone mapping normalises them by their range (Eq. 101).
   bool channels_in_unit_range = false;
   /// Per pixel, per channel mean: pixel-major (width * height * channels).
-  std::vector<float> channels;
+  LargeVector<float> channels;
   /// 3D systems: per pixel, the largest depth towards the viewer of the points that fell in it
   /// (a z-buffer; -inf where nothing fell), for shaded views. Empty for 2D systems.
-  std::vector<float> depth;
+  LargeVector<float> depth;
   /// Width of a pixel in the units of the space (to turn depth differences into slopes).
   double pixel_size = 1.0;
   /// Points plotted (random iteration) or leaves visited (recursive renderers).
