@@ -54,10 +54,11 @@ VolumeJobsResult decode_volume_jobs(const std::string& bytes) {
   VoxelList& v = r.voxels;
   v.channels = static_cast<int>(channels);
   // Through the large-buffer helpers: a driver decodes every worker's voxels, hundreds of MB
-  // whose first touch on small pages cost more than the decoding.
+  // whose first touch on small pages cost more than the decoding. Hits and mass the job did
+  // not send stay empty (1 and 0 per voxel): 8 bytes per voxel that no one reads.
   resize_large(v.keys, n);
-  assign_large(v.hits, n, std::uint64_t(1));
-  assign_large(v.mass, n, std::uint64_t(0));
+  if (sums & 1) resize_large(v.hits, n);
+  if (sums & 2) resize_large(v.mass, n);
   resize_large(v.sums, n * channels);
   std::uint64_t key = 0;
   for (std::uint64_t i = 0; i < n; ++i) {

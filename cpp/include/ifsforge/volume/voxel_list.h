@@ -42,6 +42,7 @@ class ChannelQuantizer {
 /// sorted by key; merging sums entries with equal keys.
 struct VoxelList {
   int channels = 0;
+  /// hits and mass may be empty (a decoded job result that did not need them): 1 and 0 per entry.
   std::vector<std::uint64_t> keys, hits, mass;
   std::vector<std::uint64_t> sums;  ///< keys.size() * channels
   /// Optional (empty, or kExtremes per voxel): points inside the voxel, each packed as 21-bit
