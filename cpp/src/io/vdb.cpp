@@ -108,14 +108,7 @@ void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOpti
 VdbFileInfo read_vdb_info(const std::string& path) {
   initialize();
   VdbFileInfo info;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError("cannot read '" + path + "': " + std::strerror(errno));
-  try {
-    // OpenVDB does not check its reads: past the end of a truncated file it goes on with
-    // uninitialised sizes and counts (or returns no grids). A stream that throws on the first
-    // short read stops it there; it also means reading the grids whole, not delay-loaded.
-    in.exceptions(std::ios::failbit | std::ios::badbit);
-    openvdb::io::Stream file(in, /*delayLoad=*/false);
+  detail::read_vdb_archive<FileError>(path, [&](openvdb::io::Stream& file) {
     // Keep both alive while iterating (getMetadata returns a copy).
     const openvdb::MetaMap::Ptr meta = file.getMetadata();
     for (auto it = meta->beginMeta(); it != meta->endMeta(); ++it) info.metadata[it->first] = it->second->str();
@@ -130,15 +123,7 @@ VdbFileInfo read_vdb_info(const std::string& path) {
       g.index_bounds = {box.min().x(), box.min().y(), box.min().z(), box.max().x(), box.max().y(), box.max().z()};
       info.grids.push_back(g);
     }
-  } catch (const openvdb::Exception& e) {
-    throw FileError("cannot read '" + path + "' as OpenVDB: " + e.what());
-  } catch (const std::ios_base::failure&) {
-    throw FileError("cannot read '" + path + "' as OpenVDB: the file is truncated or damaged");
-  } catch (const std::bad_alloc&) {
-    // OpenVDB allocates the sizes a file declares (a compressed leaf buffer of 64 GB, found by
-    // fuzzing) before reading them.
-    throw FileError("cannot read '" + path + "' as OpenVDB: it declares more data than memory holds (a damaged file)");
-  }
+  });
   return info;
 }
 

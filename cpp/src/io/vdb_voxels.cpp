@@ -15,6 +15,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/mesh_reader.h"
+#include "vdb_archive.h"
 #include "vdb_grid.h"
 
 namespace ifsforge {
@@ -55,25 +56,14 @@ VoxelSet resample(const Box3& box, int resolution, Inside&& inside, const std::v
 }
 
 VoxelSet from_vdb(const std::string& path, const VoxelTargetOptions& o) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError("cannot read '" + path + "': " + std::strerror(errno));
   openvdb::FloatGrid::Ptr grid;
-  try {
-    // As read_vdb_info: a stream that throws stops OpenVDB at the first short read.
-    in.exceptions(std::ios::failbit | std::ios::badbit);
-    openvdb::io::Stream file(in, /*delayLoad=*/false);
+  detail::read_vdb_archive<InputError>(path, [&](openvdb::io::Stream& file) {
     const openvdb::GridPtrVecPtr grids = file.getGrids();
     for (const auto& g : *grids) {
       auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g);
       if (f && (!grid || (f->getName() == "density" && grid->getName() != "density"))) grid = f;
     }
-  } catch (const openvdb::Exception& e) {
-    throw InputError("cannot read '" + path + "' as OpenVDB: " + e.what());
-  } catch (const std::ios_base::failure&) {
-    throw InputError("cannot read '" + path + "' as OpenVDB: the file is truncated or damaged");
-  } catch (const std::bad_alloc&) {  // a size the file declares, allocated before it is read
-    throw InputError("cannot read '" + path + "' as OpenVDB: it declares more data than memory holds (a damaged file)");
-  }
+  });
   if (!grid) throw InputError("'" + path + "' holds no float grid (a density or level set) to fit");
   const openvdb::math::Transform& t = grid->transform();
   const openvdb::Vec3d h = t.voxelSize();
