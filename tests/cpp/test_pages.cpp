@@ -4,7 +4,9 @@
 #include <sys/resource.h>
 
 #include <cstdint>
+#include <fstream>
 #include <numeric>
+#include <string>
 
 #include "ifsforge/core/pages.h"
 
@@ -12,6 +14,15 @@ using namespace ifsforge;
 
 namespace {
 constexpr std::uintptr_t kHuge = std::uintptr_t(2) << 20;
+
+/// Whether the kernel gives transparent huge pages to advised ranges (its setting, not what a
+/// test observes: a buffer that lost its huge pages must fail, not pass unchecked).
+bool huge_pages_offered() {
+  std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string setting;
+  std::getline(in, setting);
+  return setting.find("[always]") != std::string::npos || setting.find("[madvise]") != std::string::npos;
+}
 
 long minor_faults() {
   rusage usage{};
@@ -37,12 +48,14 @@ TEST(Pages, LargeBuffersStartOnA2MbBoundaryAndKeepTheirContents) {
 }
 
 TEST(Pages, AFreshLargeBufferFaultsInFarFewerThanOnePagePer4Kb) {
-  // 64 MB written once: 16,384 faults on 4 KB pages; on 2 MB pages 32 (the kernel may refuse
-  // huge pages, e.g. transparent huge pages "never": then this says nothing and is skipped).
+  // 64 MB written once: 16,384 faults on 4 KB pages; on 2 MB pages 32. Where the kernel offers
+  // no huge pages (setting "never", or no such setting) only the contents are checked.
   const long before = minor_faults();
   LargeVector<std::uint8_t> v(std::size_t(64) << 20, 1);
   const long faults = minor_faults() - before;
-  if (faults > 8192) GTEST_SKIP() << "no transparent huge pages here (" << faults << " faults)";
-  EXPECT_LT(faults, 1024);
-  EXPECT_EQ(v[v.size() - 1], 1);
+  if (huge_pages_offered()) {
+    EXPECT_LT(faults, 1024) << "the buffer was faulted in 4 KB pages";
+  }
+  EXPECT_EQ(v.front(), 1);
+  EXPECT_EQ(v.back(), 1);
 }

@@ -364,10 +364,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
       std::lock_guard<std::mutex> lock(flushing);
       add_lane(worker, 0, cells[worker].size());
     }
-    if (depth)
-      std::fill(cells[worker].begin(), cells[worker].end(), HitDepth{0, -std::numeric_limits<float>::infinity()});
-    else
-      std::fill(lows[worker].begin(), lows[worker].end(), std::uint8_t(0));
+    std::fill(cells[worker].begin(), cells[worker].end(), HitDepth{0, -std::numeric_limits<float>::infinity()});
     pending[worker] = 0;
   };
   PixelMaps<2> maps2{};
