@@ -3,13 +3,14 @@
 1024^3 and a 2048^3 volume, a 4096^2 chaos image, a 1024^2 PRR image and a 240-frame 512^2
 morph. (A 4096^2 PRR image sends its ~4 * 10^8 leaves, several GB: see the README.)
 
-    cpp/bench/bench_distributed.py [--quick] [--cases volume1024,volume2048,image4096,morph240]
+    cpp/bench/bench_distributed.py [--quick] [--repeat N] [--cases volume1024,volume2048,image4096,morph240]
 
 Printed per case and worker count: wall time, the workers' CPU time (user + sys of each worker
 process, from getrusage) and its busiest worker, the driver's CPU time, the tasks, the per-task
 overhead (wall time of empty tasks through the same scheduler) and the bytes moved per task.
 The machine may be shared: the CPU-time figures (the busiest worker's CPU plus the driver's, which
 merges) give the speed-up the work allows whatever the load; the wall figures are what this run saw.
+Each case runs --repeat times (default 3) per worker count; the run of median wall time is shown.
 --quick: 512^3 / 1024^3 volumes, a 2048^2 image and 48 frames. Needs the built ifsforge (build/python).
 """
 import argparse
@@ -134,6 +135,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--cases", default="volume1024,volume2048,image4096,prr1024,morph240")
+    parser.add_argument("--repeat", type=int, default=3, help="runs per case and worker count (the median is shown)")
     args = parser.parse_args()
     small = args.quick
     folder = tempfile.mkdtemp(prefix="ifsforge-bench-")
@@ -159,10 +161,13 @@ def main():
             print(f"{workers} worker(s): {overhead * 1000:.1f} ms per empty task", flush=True)
             for name in chosen:
                 label, run = cases[name]
-                wall, cpu, driver, tasks, moved = measure(client, lambda: run(client))
+                # The run of median wall time among --repeat (a shared machine's noise is ±10%).
+                runs = sorted((measure(client, lambda: run(client)) for _ in range(args.repeat)), key=lambda r: r[0])
+                wall, cpu, driver, tasks, moved = runs[len(runs) // 2]
                 results[name, workers] = (wall, cpu, driver)
                 busiest = max(cpu.values())
-                print(f"  {label}: {run.result}; wall {wall:.2f} s, workers' CPU {sum(cpu.values()):.2f} s "
+                spread = f" (median of {len(runs)}: {runs[0][0]:.2f}-{runs[-1][0]:.2f} s)" if len(runs) > 1 else ""
+                print(f"  {label}: {run.result}; wall {wall:.2f} s{spread}, workers' CPU {sum(cpu.values()):.2f} s "
                       f"(busiest {busiest:.2f} s), driver CPU {driver:.2f} s, {tasks} tasks, "
                       f"{moved / max(tasks, 1) / 1e6:.2f} MB per task; worker peak RSS {peak_rss_mb(client):.0f} MB, "
                       f"driver {own_peak_mb():.0f} MB", flush=True)

@@ -1,7 +1,6 @@
 // Scale-out: the job API a cluster (ifsforge.distributed, on Dask) drives. Options travel as
 // plain dicts (picklable, the same names as render / render_volume); job results as bytes.
 #include "bindings.h"
-#include "ifsforge/core/parallel.h"
 #include "ifsforge/render/parameters.h"
 #include "ifsforge/render/renderer.h"
 #include "ifsforge/volume/volume_jobs.h"
@@ -27,6 +26,27 @@ std::function<std::vector<std::string>(std::uint64_t, std::uint64_t)> bytes_runn
   };
 }
 
+/// A volume job runner around distribute(first, last) -> list of bytes: the bytes are read in
+/// place (a 1024^3 merge's results are ~180 MB: no copy), held until the next call or the end
+/// of the render (whose binding holds the GIL again before the runner goes).
+VolumeJobRunner bytes_view_runner(const py::object& distribute) {
+  auto held = std::make_shared<py::list>();
+  return [distribute, held](std::uint64_t first, std::uint64_t last) {
+    py::gil_scoped_acquire gil;
+    *held = py::list(distribute(first, last));
+    std::vector<std::string_view> out;
+    for (const auto& item : *held) {
+      char* data = nullptr;
+      Py_ssize_t size = 0;
+      if (!PyBytes_Check(item.ptr()) || PyBytes_AsStringAndSize(item.ptr(), &data, &size) != 0)
+        throw InputError("a distributed volume job returned " + std::string(py::str(py::type::of(item))) +
+                         ", not the bytes of run_volume_jobs");
+      out.emplace_back(data, static_cast<std::size_t>(size));
+    }
+    return out;
+  };
+}
+
 }  // namespace
 
 void bind_distributed(py::module_& m) {
@@ -38,7 +58,7 @@ void bind_distributed(py::module_& m) {
           std::string bytes;
           {
             py::gil_scoped_release release;
-            bytes = encode_volume_jobs(r.run_jobs(ifs, o, first, last), o.density);
+            bytes = r.run_jobs(ifs, o, first, last);
           }
           return py::bytes(bytes);
         },
@@ -50,14 +70,7 @@ void bind_distributed(py::module_& m) {
            const py::object& progress) {
           VolumeOptions o = options_from<VolumeOptions>("render_volume", options);
           o.progress = wrap_progress(progress);
-          const auto runner = bytes_runner(distribute);
-          o.distribute = [runner, threads = o.threads](std::uint64_t first, std::uint64_t last) {
-            const std::vector<std::string> bytes = runner(first, last);
-            std::vector<VolumeJobsResult> results(bytes.size());
-            parallel_jobs(bytes.size(), resolve_threads(threads),
-                          [&](std::size_t k, int) { results[k] = decode_volume_jobs(bytes[k]); });
-            return results;
-          };
+          o.distribute = bytes_view_runner(distribute);
           const VolumeRenderer& r = volume_renderer(algorithm);
           py::gil_scoped_release release;
           return r.render(ifs, o);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/varint.h"
 #include "ifsforge/render/renderer.h"
 #include "ifsforge/volume/volume_jobs.h"
 #include "test_systems.h"
@@ -43,11 +44,13 @@ TEST(Jobs, VolumeRangesThroughBytesEqualTheLocalVolume) {
     const Volume local = r.render(system, o);
     VolumeOptions remote = o;
     std::uint64_t calls = 0;
+    std::vector<std::string> held;  // the runner keeps its bytes until its next call
     remote.distribute = [&](std::uint64_t first, std::uint64_t last) {
       ++calls;
-      return in_ranges(first, last, 3, [&](std::uint64_t a, std::uint64_t b) {
-        return decode_volume_jobs(encode_volume_jobs(r.run_jobs(system, o, a, b), o.density));
+      held = in_ranges(first, last, 3, [&](std::uint64_t a, std::uint64_t b) {
+        return r.run_jobs(system, o, a, b);
       });
+      return std::vector<std::string_view>(held.begin(), held.end());
     };
     const Volume merged = r.render(system, remote);
     EXPECT_GT(calls, 0u) << algorithm;
@@ -79,7 +82,7 @@ TEST(Jobs, ImageRangesEqualTheLocalImage) {
 TEST(Jobs, RenderersWithoutJobsAndForeignBytesAreRefused) {
   VolumeOptions o;
   o.resolution = 8;
-  o.distribute = [](std::uint64_t, std::uint64_t) { return std::vector<VolumeJobsResult>(); };
+  o.distribute = [](std::uint64_t, std::uint64_t) { return std::vector<std::string_view>(); };
   EXPECT_THROW(volume_renderer("dia").render(test_systems::tetrahedron(), o), InputError);
   EXPECT_FALSE(renderer("dia").distributable());
   EXPECT_THROW(decode_volume_jobs("not a job"), InputError);
@@ -91,6 +94,104 @@ TEST(Jobs, RenderersWithoutJobsAndForeignBytesAreRefused) {
   EXPECT_EQ(decode_volume_jobs(bytes).voxels.keys, r.voxels.keys);
   bytes.pop_back();
   EXPECT_THROW(decode_volume_jobs(bytes), InputError);
+}
+
+/// A job result of `keys` (one hit each, no channels), encoded.
+std::string job_bytes(std::vector<std::uint64_t> keys) {
+  VolumeJobsResult r;
+  r.voxels.hits.assign(keys.size(), 1);
+  r.voxels.mass.assign(keys.size(), 0);
+  r.voxels.keys = std::move(keys);
+  return encode_volume_jobs(r, VolumeDensity::Hits);
+}
+
+TEST(Jobs, ResultsAreCutIntoXSlabsThatDecodeOnTheirOwn) {
+  // x = 0, 7 | 8 | (none) | 30: slabs of 8 x indices, the third empty.
+  const std::vector<std::uint64_t> keys = {VoxelGrid::key(0, 1, 2), VoxelGrid::key(7, 0, 0), VoxelGrid::key(8, 5, 5),
+                                           VoxelGrid::key(30, 0, 1)};
+  const std::string bytes = job_bytes(keys);
+  const VolumeJobsBytes part(bytes);
+  ASSERT_EQ(part.slabs(), 4u);
+  EXPECT_EQ(part.entries(), 4u);
+  const std::vector<std::vector<std::uint64_t>> expected = {{keys[0], keys[1]}, {keys[2]}, {}, {keys[3]}};
+  for (std::size_t s = 0; s < 4; ++s) {
+    VoxelList slab;
+    part.decode(s, slab, s % 2 == 1);
+    EXPECT_EQ(slab.keys, expected[s]) << s;
+    EXPECT_EQ(slab.hits.size(), s % 2 ? 0u : expected[s].size()) << "keys only: no sums";
+  }
+  EXPECT_EQ(decode_volume_jobs(bytes).voxels.keys, keys);
+}
+
+TEST(Jobs, MergingResultsSlabBySlabSumsEqualKeys) {
+  // Two workers' results overlapping on two voxels: hits 2 there, 1 elsewhere, keys ascending.
+  const Ifs system = test_systems::tetrahedron();
+  const std::string a = job_bytes({VoxelGrid::key(1, 1, 1), VoxelGrid::key(9, 0, 0), VoxelGrid::key(20, 3, 3)});
+  const std::string b = job_bytes({VoxelGrid::key(1, 1, 1), VoxelGrid::key(1, 1, 2), VoxelGrid::key(20, 3, 3)});
+  for (int threads : {1, 2, 3}) {
+    const Volume v = finish_volume_jobs({VolumeJobsBytes(a), VolumeJobsBytes(b)}, VoxelGrid{}, system,
+                                        ChannelQuantizer(), VolumeDensity::Hits, 1.0, threads);
+    EXPECT_EQ(v.keys, (std::vector<std::uint64_t>{VoxelGrid::key(1, 1, 1), VoxelGrid::key(1, 1, 2),
+                                                  VoxelGrid::key(9, 0, 0), VoxelGrid::key(20, 3, 3)}));
+    EXPECT_EQ(v.density, (std::vector<float>{2, 1, 1, 2})) << threads;
+  }
+}
+
+TEST(Jobs, UnmergedListsEncodeAsTheirMerge) {
+  // Three jobs' lists over 40 rows (5 slabs), overlapping, with two channels and extremes.
+  std::vector<VoxelList> lists;
+  for (std::uint64_t job = 0; job < 3; ++job) {
+    VoxelList list(2);
+    for (std::uint64_t i = job; i < 40; i += 2 + job) {
+      const std::uint64_t sums[2] = {i, 7 * job};
+      list.push(VoxelGrid::key(i, job, i % 3), 1 + job, 3 * i, sums);
+      for (int e = 0; e < VoxelList::kExtremes; ++e) list.points.push_back(i * 10 + job + e);
+    }
+    lists.push_back(list);
+  }
+  std::vector<VoxelList> copy = lists;
+  VolumeJobsResult merged;
+  merged.voxels = merge_voxel_lists(copy, 1);
+  merged.points = 123;
+  merged.depth = 4;
+  const std::string expected = encode_volume_jobs(merged, VolumeDensity::Measure);
+  for (int threads : {1, 2, 3}) {
+    std::vector<VoxelList> mine = lists;
+    EXPECT_EQ(encode_volume_jobs(mine, 123, 4, VolumeDensity::Measure, threads), expected) << threads;
+  }
+  const VolumeJobsResult back = decode_volume_jobs(expected);
+  EXPECT_EQ(back.voxels.keys, merged.voxels.keys);
+  EXPECT_EQ(back.voxels.sums, merged.voxels.sums);
+  EXPECT_EQ(back.voxels.points, merged.voxels.points);
+  EXPECT_EQ(back.points, 123u);
+}
+
+TEST(Jobs, MalformedSlabsAreRefused) {
+  std::string bytes = job_bytes({VoxelGrid::key(0, 0, 1), VoxelGrid::key(9, 0, 0)});
+  const VolumeJobsBytes good(bytes);
+  ASSERT_EQ(good.slabs(), 2u);
+  EXPECT_THROW(VolumeJobsBytes(bytes + "x"), InputError) << "trailing bytes break the table's sum";
+  // One slab ending (1 entry, 2 bytes: key 1, 1 hit); its key swapped for one of slab 1.
+  const std::string one = job_bytes({VoxelGrid::key(0, 0, 1)});
+  ASSERT_EQ(one.substr(one.size() - 3), std::string("\x02\x01\x01"));
+  std::string body;
+  put_varint(body, VoxelGrid::key(9, 0, 0));
+  put_varint(body, 1);
+  std::string outside = one.substr(0, one.size() - 3);
+  put_varint(outside, body.size());
+  outside += body;
+  const VolumeJobsBytes crafted(outside);  // the table is consistent
+  VoxelList list;
+  EXPECT_THROW(crafted.decode(0, list), InputError) << "a voxel outside its slab";
+  VoxelList other(2);
+  other.keys = {1};
+  EXPECT_THROW(good.decode(0, other), InputError) << "another number of channels";
+  const Ifs colour = test_systems::tetrahedron(true);
+  EXPECT_THROW(finish_volume_jobs({good}, VoxelGrid{}, colour, ChannelQuantizer(), VolumeDensity::Hits, 1.0, 1),
+               InputError)
+      << "a result of another system";
+  // Every truncation is refused (never a read past the end).
+  for (std::size_t n = 0; n < bytes.size(); ++n) EXPECT_THROW(decode_volume_jobs(bytes.substr(0, n)), InputError) << n;
 }
 
 }  // namespace

@@ -20,6 +20,8 @@ from ifsforge import _core
 
 #: Seconds to reach a scheduler before giving up (the CLI then fails within 10 s in all).
 CONNECT_TIMEOUT = 5.0
+#: Seconds a local cluster's worker processes may take to start and register.
+LOCAL_START_TIMEOUT = 60.0
 #: Tasks per worker thread a render is cut into (load balance against per-task overhead).
 TASKS_PER_THREAD = 4
 
@@ -97,6 +99,12 @@ def connect(scheduler=None, cluster=None, timeout=CONNECT_TIMEOUT):
         except (OSError, TimeoutError, ValueError) as error:
             raise ClusterError(f"cannot reach the Dask scheduler at {address} within {timeout:g} s: {error}") from None
         stack.enter_context(client)
+        if workers:  # a local cluster's workers may still be registering (a loaded machine)
+            try:
+                client.wait_for_workers(workers, timeout=LOCAL_START_TIMEOUT)
+            except (OSError, TimeoutError) as error:
+                raise ClusterError(f"the local Dask cluster's {workers} workers did not start within "
+                                   f"{LOCAL_START_TIMEOUT:g} s: {error}") from None
         check_workers(client)
         yield client
 

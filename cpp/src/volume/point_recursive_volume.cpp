@@ -9,6 +9,7 @@
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/render/recursion.h"
+#include "ifsforge/volume/volume_jobs.h"
 #include "ifsforge/volume/voxel_accumulator.h"
 
 namespace ifsforge {
@@ -451,38 +452,46 @@ Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options
   const bool here = !options.distribute;
   PrrJobs run = point_recursive_jobs(ifs, options, 0, here ? ~std::uint64_t(0) : 0,
                                      progress_range(options.progress, 0.0, 0.9));
-  if (!here) {
-    double entries = 0.0;
-    for (VolumeJobsResult& r : options.distribute(0, run.jobs)) {
-      entries += static_cast<double>(r.voxels.size());
-      run.lists.push_back(std::move(r.voxels));
-      run.leaves.push_back(r.points);
-      run.deepest.push_back(r.depth);
-    }
-    // The merge's output list and the volume, for the voxels the workers found.
-    const int channels = ifs.dim() - 3;
-    check_memory(entries * (VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels),
-                 "merging a " + std::to_string(options.resolution) + "^3 point-recursive volume");
-  }
-  if (options.progress && !options.progress(0.95)) throw Cancelled();
   const VolumeSetup& setup = run.setup;
-  Volume volume = finish_volume(run.lists, setup.grid, ifs, setup.quantizer, options.density, kVolumeMassUnit,
+  Volume volume;
+  if (here) {
+    if (options.progress && !options.progress(0.95)) throw Cancelled();
+    volume = finish_volume(run.lists, setup.grid, ifs, setup.quantizer, options.density, kVolumeMassUnit,
+                           setup.threads);
+    for (int d : run.deepest) volume.depth = std::max(volume.depth, d);
+    for (std::uint64_t l : run.leaves) volume.points += l;
+  } else {
+    // The workers' results are merged in place, slab by slab: only the volume is built here.
+    std::vector<VolumeJobsBytes> parts;
+    double entries = 0.0;
+    for (std::string_view bytes : options.distribute(0, run.jobs)) {
+      parts.emplace_back(bytes);
+      entries += static_cast<double>(parts.back().entries());
+    }
+    const int channels = ifs.dim() - 3;
+    check_memory(entries * (12.0 + 4.0 * channels),
+                 "merging a " + std::to_string(options.resolution) + "^3 point-recursive volume");
+    if (options.progress && !options.progress(0.95)) throw Cancelled();
+    volume = finish_volume_jobs(parts, setup.grid, ifs, setup.quantizer, options.density, kVolumeMassUnit,
                                 setup.threads);
+    for (const VolumeJobsBytes& part : parts) {
+      volume.depth = std::max(volume.depth, part.depth());
+      volume.points += part.points();
+    }
+  }
   volume.algorithm = name();
-  for (int d : run.deepest) volume.depth = std::max(volume.depth, d);
-  for (std::uint64_t l : run.leaves) volume.points += l;
   if (options.progress && !options.progress(1.0)) throw Cancelled();
   return volume;
 }
 
-VolumeJobsResult PointRecursiveVolume::run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                                                std::uint64_t last) const {
+std::string PointRecursiveVolume::run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                                           std::uint64_t last) const {
   PrrJobs run = point_recursive_jobs(ifs, options, first, last, options.progress);
-  VolumeJobsResult out;
-  for (int d : run.deepest) out.depth = std::max(out.depth, d);
-  for (std::uint64_t l : run.leaves) out.points += l;
-  out.voxels = merge_voxel_lists(run.lists, run.setup.threads);
-  return out;
+  int depth = 0;
+  std::uint64_t points = 0;
+  for (int d : run.deepest) depth = std::max(depth, d);
+  for (std::uint64_t l : run.leaves) points += l;
+  return encode_volume_jobs(run.lists, points, depth, options.density, run.setup.threads);
 }
 
 }  // namespace ifsforge

@@ -9,6 +9,7 @@
 #include "ifsforge/core/random.h"
 #include "ifsforge/model/fixed_maps.h"
 #include "ifsforge/model/map_sampler.h"
+#include "ifsforge/volume/volume_jobs.h"
 #include "voxel_table.h"
 
 namespace ifsforge {
@@ -134,9 +135,11 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
   // (random_iteration_jobs) and merge here.
   auto round = [&](std::uint64_t first, std::uint64_t last, std::uint64_t limit, const ProgressCallback& progress) {
     if (options.distribute) {
-      std::vector<VoxelList> lists;
-      lists.push_back(std::move(total));
-      for (VolumeJobsResult& r : options.distribute(first, last)) lists.push_back(std::move(r.voxels));
+      const std::vector<std::string_view> results = options.distribute(first, last);
+      std::vector<VoxelList> lists(results.size() + 1);
+      lists[0] = std::move(total);
+      parallel_jobs(results.size(), setup.threads,
+                    [&](std::size_t k, int) { lists[k + 1] = decode_volume_jobs(results[k]).voxels; });
       total = merge_voxel_lists(lists, setup.threads);
     } else {
       parallel_jobs(last - first, setup.threads, [&](std::size_t k, int worker) {
@@ -190,8 +193,8 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
   return volume;
 }
 
-VolumeJobsResult RandomIterationVolume::run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                                                 std::uint64_t last) const {
+std::string RandomIterationVolume::run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                                            std::uint64_t last) const {
   const VolumeSetup setup = prepare_volume(ifs, options);
   const int channels = ifs.dim() - 3;
   const MapSampler sampler(ifs.probabilities());
@@ -210,7 +213,7 @@ VolumeJobsResult RandomIterationVolume::run_jobs(const Ifs& ifs, const VolumeOpt
     }, options.progress);
   out.voxels = take_all(tables, setup.threads);
   for (std::uint64_t job = first; job < last; ++job) out.points += std::min(kPointsPerJob, limit - job * kPointsPerJob);
-  return out;
+  return encode_volume_jobs(out, options.density);
 }
 
 }  // namespace ifsforge

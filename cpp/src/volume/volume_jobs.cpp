@@ -1,5 +1,7 @@
 #include "ifsforge/volume/volume_jobs.h"
 
+#include <algorithm>
+
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/pages.h"
 #include "ifsforge/core/varint.h"
@@ -7,76 +9,197 @@
 namespace ifsforge {
 namespace {
 constexpr std::uint64_t kMagic = 0x4A56'4649;  // "IFVJ"
-constexpr std::uint64_t kVersion = 2;
+constexpr std::uint64_t kVersion = 3;
 constexpr int kMaxChannels = 5;  // an 8-dimensional system's non-spatial channels
+constexpr const char* kWhat = "volume job result";
+
+std::uint64_t slab_of(std::uint64_t key) {
+  return (key >> (2 * VoxelGrid::kKeyBits)) >> VolumeJobsBytes::kSlabShift;
+}
+}  // namespace
+
+namespace {
+
+/// What an encoding holds per voxel besides its key.
+struct Fields {
+  int channels = 0;
+  bool hits = false, mass = false, extremes = false;
+  Fields(int channel_count, bool with_extremes, VolumeDensity density)
+      : channels(channel_count),
+        hits(density == VolumeDensity::Hits || channel_count > 0),
+        mass(density == VolumeDensity::Measure),
+        extremes(with_extremes) {}
+};
+
+/// Slab chunk of entries [begin, end) of `v`: keys from 0, then the sums, so that a reader can
+/// take any one slab.
+std::string slab_bytes(const VoxelList& v, std::size_t begin, std::size_t end, const Fields& f) {
+  std::string out;
+  out.reserve((end - begin) * (2 + 3 * f.channels));
+  std::uint64_t previous = 0;
+  for (std::size_t e = begin; e < end; ++e) {
+    put_varint(out, v.keys[e] - previous);
+    previous = v.keys[e];
+  }
+  for (std::size_t e = begin; f.hits && e < end; ++e) put_varint(out, v.hits[e]);
+  for (std::size_t e = begin; f.mass && e < end; ++e) put_varint(out, v.mass[e]);
+  for (std::size_t e = begin * f.channels; e < end * f.channels; ++e) put_varint(out, v.sums[e]);
+  for (std::size_t e = begin * VoxelList::kExtremes; f.extremes && e < end * VoxelList::kExtremes; ++e)
+    put_varint(out, v.points[e]);
+  return out;
+}
+
+/// The header, the slab table and the slabs' chunks (`entries[s]` voxels each).
+std::string assemble(const Fields& f, std::uint64_t points, int depth, const std::vector<std::uint64_t>& entries,
+                     const std::vector<std::string>& chunks) {
+  std::uint64_t total = 0, bytes = 0;
+  for (std::size_t s = 0; s < chunks.size(); ++s) {
+    total += entries[s];
+    bytes += chunks[s].size();
+  }
+  std::string out;
+  out.reserve(bytes + 20 * (chunks.size() + 10));
+  for (std::uint64_t field : {kMagic, kVersion, std::uint64_t(f.channels), std::uint64_t(f.extremes),
+                              std::uint64_t((f.hits ? 1 : 0) | (f.mass ? 2 : 0)), total, points, std::uint64_t(depth),
+                              std::uint64_t(chunks.size())})
+    put_varint(out, field);
+  for (std::size_t s = 0; s < chunks.size(); ++s) {
+    put_varint(out, entries[s]);
+    put_varint(out, chunks[s].size());
+  }
+  for (const std::string& chunk : chunks) out += chunk;
+  return out;
+}
+
 }  // namespace
 
 std::string encode_volume_jobs(const VolumeJobsResult& r, VolumeDensity density) {
   const VoxelList& v = r.voxels;
-  const bool hits = density == VolumeDensity::Hits || v.channels > 0, mass = density == VolumeDensity::Measure;
-  std::string out;
-  out.reserve(v.size() * (4 + v.channels * 3));
-  put_varint(out, kMagic);
-  put_varint(out, kVersion);
-  put_varint(out, static_cast<std::uint64_t>(v.channels));
-  put_varint(out, v.points.empty() ? 0 : 1);
-  put_varint(out, (hits ? 1 : 0) | (mass ? 2 : 0));
-  put_varint(out, v.size());
-  put_varint(out, r.points);
-  put_varint(out, static_cast<std::uint64_t>(r.depth));
-  std::uint64_t previous = 0;
-  for (std::uint64_t key : v.keys) {
-    put_varint(out, key - previous);
-    previous = key;
+  const Fields f(v.channels, !v.points.empty(), density);
+  const std::size_t slabs = v.size() ? static_cast<std::size_t>(slab_of(v.keys.back())) + 1 : 0;
+  std::vector<std::uint64_t> entries(slabs, 0);
+  std::vector<std::string> chunks(slabs);
+  for (std::size_t s = 0, i = 0; s < slabs; ++s) {
+    const std::size_t begin = i;
+    while (i < v.size() && slab_of(v.keys[i]) == s) ++i;
+    entries[s] = i - begin;
+    chunks[s] = slab_bytes(v, begin, i, f);
   }
-  if (hits)
-    for (std::uint64_t h : v.hits) put_varint(out, h);
-  if (mass)
-    for (std::uint64_t m : v.mass) put_varint(out, m);
-  for (std::uint64_t s : v.sums) put_varint(out, s);
-  for (std::uint64_t p : v.points) put_varint(out, p);
-  return out;
+  return assemble(f, r.points, r.depth, entries, chunks);
 }
 
-VolumeJobsResult decode_volume_jobs(const std::string& bytes) {
-  VarintReader in(bytes, "volume job result");
-  if (in.next() != kMagic || in.next() != kVersion)
-    throw InputError("volume job result: not ifsforge job bytes of this version");
-  const std::uint64_t channels = in.next();
-  const std::uint64_t extremes = in.next();
-  const std::uint64_t sums = in.next();
-  const std::uint64_t n = in.next();
-  if (channels > kMaxChannels || extremes > 1 || sums > 3 || n > bytes.size())
+std::string encode_volume_jobs(std::vector<VoxelList>& lists, std::uint64_t points, int depth, VolumeDensity density,
+                               int threads) {
+  std::size_t slabs = 0;
+  bool extremes = !lists.empty();
+  for (const VoxelList& list : lists)
+    if (list.size()) {
+      slabs = std::max<std::size_t>(slabs, slab_of(list.keys.back()) + 1);
+      extremes = extremes && !list.points.empty();
+    }
+  const Fields f(lists.empty() ? 0 : lists.front().channels, extremes && slabs > 0, density);
+  std::vector<std::uint64_t> entries(slabs, 0);
+  std::vector<std::string> chunks(slabs);
+  merge_slabs(lists, std::uint64_t(1) << VolumeJobsBytes::kSlabShift, threads,
+              [&](std::size_t s, const VoxelList& merged) {
+                entries[s] = merged.size();
+                chunks[s] = slab_bytes(merged, 0, merged.size(), f);
+              });
+  lists.clear();
+  return assemble(f, points, depth, entries, chunks);
+}
+
+VolumeJobsBytes::VolumeJobsBytes(std::string_view bytes) : bytes_(bytes) {
+  VarintReader in(bytes, kWhat);
+  if (in.next() != kMagic || in.next() != kVersion) throw InputError("volume job result: not ifsforge job bytes of this version");
+  const std::uint64_t channels = in.next(), extremes = in.next(), sums = in.next();
+  entries_ = in.next();
+  points_ = in.next();
+  const std::uint64_t depth = in.next(), slabs = in.next();
+  // Each entry and each slab takes at least one byte: no count may exceed the bytes.
+  if (channels > kMaxChannels || extremes > 1 || sums > 3 || entries_ > bytes.size() || depth > (1u << 30) ||
+      slabs > bytes.size())
     throw InputError("volume job result: malformed header");
-  VolumeJobsResult r;
-  r.points = in.next();
-  r.depth = static_cast<int>(in.next());
-  VoxelList& v = r.voxels;
-  v.channels = static_cast<int>(channels);
-  // Through the large-buffer helpers: a driver decodes every worker's voxels, hundreds of MB
-  // whose first touch on small pages cost more than the decoding. Hits and mass the job did
-  // not send stay empty (1 and 0 per voxel): 8 bytes per voxel that no one reads.
-  resize_large(v.keys, n);
-  if (sums & 1) resize_large(v.hits, n);
-  if (sums & 2) resize_large(v.mass, n);
-  resize_large(v.sums, n * channels);
+  channels_ = static_cast<int>(channels);
+  depth_ = static_cast<int>(depth);
+  extremes_ = extremes == 1;
+  hits_ = sums & 1;
+  mass_ = sums & 2;
+  slabs_.resize(slabs);
+  std::uint64_t entries = 0, size = 0;
+  for (Slab& slab : slabs_) {
+    slab.entries = in.next();
+    slab.size = in.next();
+    if (slab.entries > slab.size || slab.size > bytes.size()) throw InputError("volume job result: malformed slab table");
+    slab.begin = size;
+    entries += slab.entries;
+    size += slab.size;
+  }
+  if (entries != entries_ || size != bytes.size() - in.offset())
+    throw InputError("volume job result: the slab table does not match the bytes");
+  for (Slab& slab : slabs_) slab.begin += in.offset();
+}
+
+void VolumeJobsBytes::decode(std::size_t s, VoxelList& out, bool keys_only) const {
+  if (out.size() == 0) out.channels = channels_;
+  if (out.channels != channels_) throw InputError("volume job result: another number of channels");
+  const Slab& slab = slabs_.at(s);
+  VarintReader in(bytes_.substr(slab.begin, slab.size), kWhat);
+  const std::size_t at = out.size(), n = slab.entries, nc = channels_;
+  out.keys.resize(at + n);
   std::uint64_t key = 0;
-  for (std::uint64_t i = 0; i < n; ++i) {
-    const std::uint64_t delta = in.next();
-    if (i > 0 && delta == 0) throw InputError("volume job result: keys not ascending");
-    v.keys[i] = key += delta;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint64_t next = key + in.next();
+    if (i > 0 && next <= key) throw InputError("volume job result: keys not ascending");
+    out.keys[at + i] = key = next;
   }
-  if (sums & 1)
-    for (auto& h : v.hits) h = in.next();
-  if (sums & 2)
-    for (auto& m : v.mass) m = in.next();
-  for (auto& s : v.sums) s = in.next();
-  if (extremes) {
-    resize_large(v.points, n * VoxelList::kExtremes);
-    for (auto& p : v.points) p = in.next();
-  }
+  if (n && (slab_of(out.keys[at]) != s || slab_of(key) != s))
+    throw InputError("volume job result: a voxel outside its slab");
+  if (keys_only) return;
+  auto read = [&](std::vector<std::uint64_t>& values, std::size_t per_entry) {
+    values.resize((at + n) * per_entry);
+    for (std::size_t i = at * per_entry; i < values.size(); ++i) values[i] = in.next();
+  };
+  if (hits_) read(out.hits, 1);
+  if (mass_) read(out.mass, 1);
+  read(out.sums, nc);
+  if (extremes_) read(out.points, VoxelList::kExtremes);
   if (!in.done()) throw InputError("volume job result: trailing bytes");
+}
+
+VolumeJobsResult decode_volume_jobs(std::string_view bytes) {
+  const VolumeJobsBytes part(bytes);
+  VolumeJobsResult r;
+  r.points = part.points();
+  r.depth = part.depth();
+  VoxelList& v = r.voxels;
+  v.channels = part.channels();
+  // Through the large-buffer helpers: a driver decodes every worker's voxels, hundreds of MB
+  // whose first touch on small pages cost more than the decoding.
+  reserve_large(v.keys, part.entries());
+  if (part.hits_) reserve_large(v.hits, part.entries());
+  if (part.mass_) reserve_large(v.mass, part.entries());
+  reserve_large(v.sums, part.entries() * v.channels);
+  if (part.extremes_) reserve_large(v.points, part.entries() * VoxelList::kExtremes);
+  for (std::size_t s = 0; s < part.slabs(); ++s) part.decode(s, v);
   return r;
+}
+
+Volume finish_volume_jobs(const std::vector<VolumeJobsBytes>& parts, const VoxelGrid& grid, const Ifs& ifs,
+                          const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads) {
+  std::size_t slabs = 0;
+  for (const VolumeJobsBytes& part : parts) {
+    if (part.channels() != ifs.dim() - 3) throw InputError("volume job result: not a result of this system");
+    slabs = std::max(slabs, part.slabs());
+  }
+  const SlabLoader load = [&](std::size_t s, std::vector<VoxelList>& lists, bool keys_only) {
+    lists.resize(parts.size());
+    for (std::size_t p = 0; p < parts.size(); ++p) {
+      lists[p].clear();
+      if (s < parts[p].slabs()) parts[p].decode(s, lists[p], keys_only);
+    }
+  };
+  return finish_volume(slabs, load, grid, ifs, quantizer, mode, total_mass, threads);
 }
 
 }  // namespace ifsforge

@@ -47,7 +47,7 @@ std::vector<const VolumeRenderer*> volume_renderers() {
   return out;
 }
 
-VolumeJobsResult VolumeRenderer::run_jobs(const Ifs&, const VolumeOptions&, std::uint64_t, std::uint64_t) const {
+std::string VolumeRenderer::run_jobs(const Ifs&, const VolumeOptions&, std::uint64_t, std::uint64_t) const {
   throw InputError("the " + name() + " volume renderer does not split into independent jobs: distribute prr or ria");
 }
 

@@ -16,7 +16,7 @@ namespace ifsforge {
 void advise_huge_pages(void* data, std::size_t bytes);
 
 /// @brief Faults the pages of [data, data + bytes) in on every core (Linux 5.14+), for ranges
-/// of 64 MB or more; a no-op elsewhere. `poll` hears it (Cancelled when it says stop): a
+/// of 8 MB or more; a no-op elsewhere. `poll` hears it (Cancelled when it says stop): a
 /// gigabyte takes about a second.
 void populate_pages(void* data, std::size_t bytes, const ProgressCallback& poll = {});
 

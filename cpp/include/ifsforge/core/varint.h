@@ -3,6 +3,7 @@
 /// machines (small counts and key deltas take one byte).
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "ifsforge/core/error.h"
 
@@ -19,22 +20,25 @@ inline void put_varint(std::string& out, std::uint64_t value) {
 /// Reads varints from a byte string; a truncated or over-long one is an InputError naming `what`.
 class VarintReader {
  public:
-  VarintReader(const std::string& bytes, std::string what) : bytes_(bytes), what_(std::move(what)) {}
+  /// `bytes` must outlive the reader (a view: a driver reads its workers' results in place).
+  VarintReader(std::string_view bytes, const char* what) : bytes_(bytes), what_(what) {}
   std::uint64_t next() {
     std::uint64_t value = 0;
     for (int shift = 0; shift < 64; shift += 7) {
-      if (at_ >= bytes_.size()) throw InputError(what_ + ": truncated");
+      if (at_ >= bytes_.size()) throw InputError(std::string(what_) + ": truncated");
       const auto byte = static_cast<unsigned char>(bytes_[at_++]);
       value |= std::uint64_t(byte & 0x7F) << shift;
       if (!(byte & 0x80)) return value;
     }
-    throw InputError(what_ + ": malformed integer");
+    throw InputError(std::string(what_) + ": malformed integer");
   }
   bool done() const { return at_ == bytes_.size(); }
+  /// Bytes read so far.
+  std::size_t offset() const { return at_; }
 
  private:
-  const std::string& bytes_;
-  std::string what_;
+  std::string_view bytes_;
+  const char* what_;
   std::size_t at_ = 0;
 };
 

@@ -25,8 +25,8 @@ class PointRecursiveVolume : public VolumeRenderer {
     return "point recursive rendering (5.8.1): deterministic, parallel over address prefixes";
   }
   Volume render(const Ifs& ifs, const VolumeOptions& options) const override;
-  VolumeJobsResult run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                            std::uint64_t last) const override;
+  std::string run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                       std::uint64_t last) const override;
 };
 
 }  // namespace ifsforge

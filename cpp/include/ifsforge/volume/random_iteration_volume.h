@@ -16,8 +16,8 @@ class RandomIterationVolume : public VolumeRenderer {
     return "random iteration algorithm (5.1.1): hits per voxel of the chaos game";
   }
   Volume render(const Ifs& ifs, const VolumeOptions& options) const override;
-  VolumeJobsResult run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                            std::uint64_t last) const override;
+  std::string run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                       std::uint64_t last) const override;
 };
 
 }  // namespace ifsforge

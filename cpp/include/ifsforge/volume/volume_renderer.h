@@ -5,6 +5,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ifsforge/core/names.h"
@@ -33,9 +34,11 @@ struct VolumeJobsResult {
   int depth = 0;
 };
 
-/// Runs the jobs [first, last) elsewhere (on a cluster) and returns their results, grouped in
-/// any way: the merge is exact, so the volume is the same bytes as when they run here.
-using VolumeJobRunner = std::function<std::vector<VolumeJobsResult>(std::uint64_t first, std::uint64_t last)>;
+/// Runs the jobs [first, last) elsewhere (on a cluster) and returns their results as the bytes
+/// of encode_volume_jobs (volume/volume_jobs.h), grouped in any way: the merge is exact, so the
+/// volume is the same bytes as when they run here. The runner keeps the bytes alive until its
+/// next call or its end: the merge reads them in place.
+using VolumeJobRunner = std::function<std::vector<std::string_view>(std::uint64_t first, std::uint64_t last)>;
 
 struct VolumeOptions {
   int resolution = 256;       ///< voxels along the longest side of the grid's box
@@ -67,10 +70,10 @@ class VolumeRenderer {
   /// @brief Renders `ifs` (xyz layouts with any extra channels; it must have an attractor).
   virtual Volume render(const Ifs& ifs, const VolumeOptions& options) const = 0;
   /// @brief Runs jobs [first, last) of the render `options` describe (on `options.threads`
-  /// threads), merged into one result: what a cluster's worker does. InputError for a
-  /// renderer whose work does not split into independent jobs.
-  virtual VolumeJobsResult run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                                    std::uint64_t last) const;
+  /// threads), merged into one result as the bytes of encode_volume_jobs: what a cluster's
+  /// worker does. InputError for a renderer whose work does not split into independent jobs.
+  virtual std::string run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                               std::uint64_t last) const;
 };
 
 /// @brief The volumetric renderer called `name` ("prr", "ria", "dia", "eta" or an alias);

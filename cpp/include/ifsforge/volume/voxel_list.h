@@ -4,6 +4,7 @@
 /// results of jobs or workers in any order gives the same bytes: this is what keeps every
 /// volume independent of the thread count.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "ifsforge/model/ifs.h"
@@ -54,6 +55,13 @@ struct VoxelList {
 
   explicit VoxelList(int channel_count = 0) : channels(channel_count) {}
   std::size_t size() const { return keys.size(); }
+  void clear() {
+    keys.clear();
+    hits.clear();
+    mass.clear();
+    sums.clear();
+    points.clear();
+  }
   void reserve(std::size_t entries) {
     keys.reserve(entries);
     hits.reserve(entries);
@@ -84,10 +92,23 @@ void sort_and_reduce(VoxelList& list);
 /// Work is split into a fixed number of x-slabs merged in parallel.
 VoxelList merge_voxel_lists(std::vector<VoxelList>& lists, int threads);
 
+/// @brief Merges sorted lists without building the whole: visit(s, merged) for each x-slab of
+/// `width` rows that holds voxels (slab s: x in [s, s + 1) * width), on one of `threads`
+/// threads, with that slab's sums (a list reused by the thread: read it during the call).
+void merge_slabs(const std::vector<VoxelList>& lists, std::uint64_t width, int threads,
+                 const std::function<void(std::size_t slab, const VoxelList& merged)>& visit);
+
 /// @brief Turns the sums of sorted lists (consumed) into a volume: entries with equal keys
 /// summed, density by `mode` (Measure divides mass by `total_mass`), channel means through
 /// `quantizer`, channel metadata from the layout. Merges and converts in one pass.
 Volume finish_volume(std::vector<VoxelList>& lists, const VoxelGrid& grid, const Ifs& ifs,
+                     const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads);
+/// Fills `lists` with the sorted lists of x-slab s of a merge (the keys alone when `keys_only`),
+/// slab s's keys all below slab s + 1's.
+using SlabLoader = std::function<void(std::size_t s, std::vector<VoxelList>& lists, bool keys_only)>;
+/// @brief The same for lists loaded one x-slab at a time (a driver decoding its workers'
+/// results): each thread holds one slab's lists, never all of them.
+Volume finish_volume(std::size_t slabs, const SlabLoader& load, const VoxelGrid& grid, const Ifs& ifs,
                      const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads);
 /// @brief The same for one sorted list.
 Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs, const ChannelQuantizer& quantizer,
