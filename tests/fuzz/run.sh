@@ -12,7 +12,7 @@ cmake --build "$build" -j "$(nproc)" >/dev/null
 
 # Seeds: the samples, and the inputs of tests/python/test_hostile*.py.
 seeds="$build/seeds"
-rm -rf "$seeds" && mkdir -p "$seeds"/{ifs_json,fractint,recipes,mesh,png,vdb_info,pifs} "$build/crashes"
+rm -rf "$seeds" && mkdir -p "$seeds"/{ifs_json,fractint,recipes,mesh,png,vdb_info,pifs,job_bytes} "$build/crashes"
 cp "$here"/samples/systems/*.json "$seeds/ifs_json/"
 cp "$here"/samples/systems/*.ifs "$seeds/fractint/"
 cp "$here"/samples/terrain/*.json "$seeds/recipes/"
@@ -50,6 +50,22 @@ image = np.stack([(x * 4) % 256, (y * 5) % 256, ((x + y) * 3) % 256], axis=-1).a
 ifsforge.write_pifs(sys.argv[1] + "/gradient.pifs", ifsforge.pifs_encode(image, ratio=8))
 ifsforge.write_pifs(sys.argv[1] + "/gray.pifs", ifsforge.pifs_encode(np.ascontiguousarray(image[:, :, 0]), ratio=4))
 PY
+  # Job results as workers send them (the first byte picks fuzz_job_bytes's reader and shape).
+  PYTHONPATH="$here/build/python" /usr/bin/python3 - "$seeds/job_bytes" "$here/samples/systems" <<'PY'
+import sys
+import ifsforge
+from ifsforge import _core
+out, systems = sys.argv[1], sys.argv[2]
+def put(name, pick, data):
+    with open(f"{out}/{name}", "wb") as f:
+        f.write(bytes([pick]) + data)
+for name, file, channels in (("pyramid", "sierpinski_pyramid.json", 0), ("pyramid_rgb", "volume_sierpinski_pyramid_rgb.json", 3)):
+    system = ifsforge.load(f"{systems}/{file}")
+    for mode, density in enumerate(("binary", "hits", "measure")):
+        put(f"{name}_{density}", 2 * mode, _core.run_volume_jobs(system, "prr", {"resolution": 24, "density": density}, 0, 1 << 40))
+fern = ifsforge.load(f"{systems}/barnsley_fern.json")
+put("fern_chaos", 1, _core.run_render_jobs(fern, "chaos", {"width": 16, "height": 16, "iterations": 4096}, 0, 1 << 40))
+PY
 fi
 # Real .vdb seeds (IFSFORGE_FUZZ_VDB_SEEDS=1) lead the fuzzer within ~200 runs to a heap overflow
 # inside OpenVDB 10's own reader (io::bloscFromStream reads a chunk the file calls uncompressed
@@ -62,7 +78,7 @@ if [ "${IFSFORGE_FUZZ_VDB_SEEDS:-0}" = 1 ] && /usr/bin/python3 -c "import pyopen
 fi
 
 status=0
-for target in ifs_json fractint recipes mesh png vdb_info pifs; do
+for target in ifs_json fractint recipes mesh png vdb_info pifs job_bytes; do
   corpus="$build/corpus/$target"
   mkdir -p "$corpus"
   echo "fuzz_$target: ${seconds} s"
