@@ -121,6 +121,13 @@ TEST(Jobs, ResultsAreCutIntoXSlabsThatDecodeOnTheirOwn) {
     EXPECT_EQ(slab.hits.size(), s % 2 ? 0u : expected[s].size()) << "keys only: no sums";
   }
   EXPECT_EQ(decode_volume_jobs(bytes).voxels.keys, keys);
+  // A job's piece of the attractor: its table starts at its first slab.
+  const VolumeJobsBytes piece(job_bytes({VoxelGrid::key(17, 0, 0), VoxelGrid::key(23, 4, 4)}));
+  EXPECT_EQ(piece.first_slab(), 2u);
+  EXPECT_EQ(piece.slabs(), 3u);
+  VoxelList two;
+  piece.decode(2, two);
+  EXPECT_EQ(two.size(), 2u);
 }
 
 TEST(Jobs, MergingResultsSlabBySlabSumsEqualKeys) {

@@ -281,19 +281,23 @@ bool spatial_rows_independent(const Ifs& ifs) {
 }
 
 /// The jobs of one render: its setup and address-prefix plan, and per job run, the sorted
-/// voxels, the points plotted and the depth reached.
+/// voxels (or, when encoded, the job bytes holding them), the points plotted and the depth
+/// reached.
 struct PrrJobs {
   VolumeSetup setup;
   std::uint64_t jobs = 0;
   std::vector<VoxelList> lists;
+  std::vector<std::string> encoded;
   std::vector<std::uint64_t> leaves;
   std::vector<int> deepest;
 };
 
 /// Plans the render and runs its jobs [first, last) (clamped to the job count; none when
-/// first >= last: the plan alone, for a render whose jobs run elsewhere).
+/// first >= last: the plan alone, for a render whose jobs run elsewhere). `encode`: each job's
+/// voxels kept as job bytes (encode_volume_jobs, a few bytes per voxel instead of 24 or more),
+/// to be merged slab by slab as a cluster's results are.
 PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first, std::uint64_t last,
-                             const ProgressCallback& progress) {
+                             const ProgressCallback& progress, bool encode) {
   PrrJobs out;
   out.setup = prepare_volume(ifs, options);
   const VolumeSetup& setup = out.setup;
@@ -346,7 +350,11 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
   }
 
   const int channels = dim - 3;
-  const double per_voxel = 2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels;
+  // Each voxel about twice over the jobs' lists or bytes (a varint key delta, hits, mass and
+  // 3-byte channel sums at most), then once in the volume.
+  const double kept = encode ? 4.0 + (options.density == VolumeDensity::Measure ? 9.0 : 0.0) + 3.0 * channels
+                             : VoxelList::entry_bytes(channels);
+  const double per_voxel = 2.0 * kept + 12.0 + 4.0 * channels;
   const double scratch_bytes = setup.threads * VoxelAccumulator::bytes(channels);
   double expected = expected_voxels(ifs, options, setup, per_voxel, scratch_bytes);
   if (fixed) expected = std::min(expected, std::pow(static_cast<double>(n), options.depth));  // the leaves
@@ -366,7 +374,8 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
   std::vector<VoxelList>& lists = out.lists;
   std::vector<std::uint64_t>& leaves = out.leaves;
   std::vector<int>& deepest = out.deepest;
-  lists.assign(count, VoxelList(channels));
+  lists.assign(encode ? 0 : count, VoxelList(channels));
+  out.encoded.assign(encode ? count : 0, std::string());
   leaves.assign(count, 0);
   deepest.assign(count, 0);
   const double inverse = 1.0 / grid.voxel_size;
@@ -438,9 +447,17 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
           plotted += cloud.points.size();
           depth = std::max(depth, node.length + cloud_levels);
         });
-        lists[index] = acc.finish();
         leaves[index] = plotted + (expander ? expander->plotted() : 0);
         deepest[index] = std::max(depth, expander ? expander->depth() : 0);
+        if (encode) {
+          VolumeJobsResult result;
+          result.voxels = acc.finish();
+          result.points = leaves[index];
+          result.depth = deepest[index];
+          out.encoded[index] = encode_volume_jobs(result, options.density);
+        } else {
+          lists[index] = acc.finish();
+        }
       },
       progress);
   return out;
@@ -449,44 +466,36 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
 }  // namespace
 
 Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options) const {
+  // Here or on a cluster, the jobs' voxels end as job bytes merged slab by slab, so that only
+  // the volume is ever built whole.
   const bool here = !options.distribute;
   PrrJobs run = point_recursive_jobs(ifs, options, 0, here ? ~std::uint64_t(0) : 0,
-                                     progress_range(options.progress, 0.0, 0.9));
-  const VolumeSetup& setup = run.setup;
-  Volume volume;
-  if (here) {
-    if (options.progress && !options.progress(0.95)) throw Cancelled();
-    volume = finish_volume(run.lists, setup.grid, ifs, setup.quantizer, options.density, kVolumeMassUnit,
-                           setup.threads);
-    for (int d : run.deepest) volume.depth = std::max(volume.depth, d);
-    for (std::uint64_t l : run.leaves) volume.points += l;
-  } else {
-    // The workers' results are merged in place, slab by slab: only the volume is built here.
-    std::vector<VolumeJobsBytes> parts;
+                                     progress_range(options.progress, 0.0, 0.9), true);
+  const std::vector<std::string_view> results =
+      here ? std::vector<std::string_view>(run.encoded.begin(), run.encoded.end()) : options.distribute(0, run.jobs);
+  std::vector<VolumeJobsBytes> parts(results.begin(), results.end());
+  if (!here) {
     double entries = 0.0;
-    for (std::string_view bytes : options.distribute(0, run.jobs)) {
-      parts.emplace_back(bytes);
-      entries += static_cast<double>(parts.back().entries());
-    }
-    const int channels = ifs.dim() - 3;
-    check_memory(entries * (12.0 + 4.0 * channels),
+    for (const VolumeJobsBytes& part : parts) entries += static_cast<double>(part.entries());
+    check_memory(entries * (12.0 + 4.0 * (ifs.dim() - 3)),
                  "merging a " + std::to_string(options.resolution) + "^3 point-recursive volume");
-    if (options.progress && !options.progress(0.95)) throw Cancelled();
-    volume = finish_volume_jobs(parts, setup.grid, ifs, setup.quantizer, options.density, kVolumeMassUnit,
-                                setup.threads);
-    for (const VolumeJobsBytes& part : parts) {
-      volume.depth = std::max(volume.depth, part.depth());
-      volume.points += part.points();
-    }
   }
+  if (options.progress && !options.progress(0.95)) throw Cancelled();
+  const VolumeSetup& setup = run.setup;
+  Volume volume = finish_volume_jobs(parts, setup.grid, ifs, setup.quantizer, options.density, kVolumeMassUnit,
+                                     setup.threads);
   volume.algorithm = name();
+  for (const VolumeJobsBytes& part : parts) {
+    volume.depth = std::max(volume.depth, part.depth());
+    volume.points += part.points();
+  }
   if (options.progress && !options.progress(1.0)) throw Cancelled();
   return volume;
 }
 
 std::string PointRecursiveVolume::run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
                                            std::uint64_t last) const {
-  PrrJobs run = point_recursive_jobs(ifs, options, first, last, options.progress);
+  PrrJobs run = point_recursive_jobs(ifs, options, first, last, options.progress, false);
   int depth = 0;
   std::uint64_t points = 0;
   for (int d : run.deepest) depth = std::max(depth, d);

@@ -1,6 +1,7 @@
 #include "ifsforge/volume/volume_jobs.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/pages.h"
@@ -49,9 +50,10 @@ std::string slab_bytes(const VoxelList& v, std::size_t begin, std::size_t end, c
   return out;
 }
 
-/// The header, the slab table and the slabs' chunks (`entries[s]` voxels each).
-std::string assemble(const Fields& f, std::uint64_t points, int depth, const std::vector<std::uint64_t>& entries,
-                     const std::vector<std::string>& chunks) {
+/// The header, the slab table and the chunks of slabs first, first + 1, ... (`entries[k]`
+/// voxels each).
+std::string assemble(const Fields& f, std::uint64_t points, int depth, std::uint64_t first,
+                     const std::vector<std::uint64_t>& entries, const std::vector<std::string>& chunks) {
   std::uint64_t total = 0, bytes = 0;
   for (std::size_t s = 0; s < chunks.size(); ++s) {
     total += entries[s];
@@ -61,7 +63,7 @@ std::string assemble(const Fields& f, std::uint64_t points, int depth, const std
   out.reserve(bytes + 20 * (chunks.size() + 10));
   for (std::uint64_t field : {kMagic, kVersion, std::uint64_t(f.channels), std::uint64_t(f.extremes),
                               std::uint64_t((f.hits ? 1 : 0) | (f.mass ? 2 : 0)), total, points, std::uint64_t(depth),
-                              std::uint64_t(chunks.size())})
+                              first, std::uint64_t(chunks.size())})
     put_varint(out, field);
   for (std::size_t s = 0; s < chunks.size(); ++s) {
     put_varint(out, entries[s]);
@@ -76,37 +78,42 @@ std::string assemble(const Fields& f, std::uint64_t points, int depth, const std
 std::string encode_volume_jobs(const VolumeJobsResult& r, VolumeDensity density) {
   const VoxelList& v = r.voxels;
   const Fields f(v.channels, !v.points.empty(), density);
-  const std::size_t slabs = v.size() ? static_cast<std::size_t>(slab_of(v.keys.back())) + 1 : 0;
+  // The slabs from the first holding a voxel to the last (a job's piece spans a few).
+  const std::uint64_t first = v.size() ? slab_of(v.keys.front()) : 0;
+  const std::size_t slabs = v.size() ? static_cast<std::size_t>(slab_of(v.keys.back()) - first) + 1 : 0;
   std::vector<std::uint64_t> entries(slabs, 0);
   std::vector<std::string> chunks(slabs);
-  for (std::size_t s = 0, i = 0; s < slabs; ++s) {
+  for (std::size_t k = 0, i = 0; k < slabs; ++k) {
     const std::size_t begin = i;
-    while (i < v.size() && slab_of(v.keys[i]) == s) ++i;
-    entries[s] = i - begin;
-    chunks[s] = slab_bytes(v, begin, i, f);
+    while (i < v.size() && slab_of(v.keys[i]) == first + k) ++i;
+    entries[k] = i - begin;
+    chunks[k] = slab_bytes(v, begin, i, f);
   }
-  return assemble(f, r.points, r.depth, entries, chunks);
+  return assemble(f, r.points, r.depth, first, entries, chunks);
 }
 
 std::string encode_volume_jobs(std::vector<VoxelList>& lists, std::uint64_t points, int depth, VolumeDensity density,
                                int threads) {
-  std::size_t slabs = 0;
+  std::uint64_t first = ~std::uint64_t(0), last = 0;
   bool extremes = !lists.empty();
   for (const VoxelList& list : lists)
     if (list.size()) {
-      slabs = std::max<std::size_t>(slabs, slab_of(list.keys.back()) + 1);
+      first = std::min(first, slab_of(list.keys.front()));
+      last = std::max(last, slab_of(list.keys.back()));
       extremes = extremes && !list.points.empty();
     }
+  const std::size_t slabs = first <= last ? static_cast<std::size_t>(last - first) + 1 : 0;
+  if (!slabs) first = 0;
   const Fields f(lists.empty() ? 0 : lists.front().channels, extremes && slabs > 0, density);
   std::vector<std::uint64_t> entries(slabs, 0);
   std::vector<std::string> chunks(slabs);
   merge_slabs(lists, std::uint64_t(1) << VolumeJobsBytes::kSlabShift, threads,
               [&](std::size_t s, const VoxelList& merged) {
-                entries[s] = merged.size();
-                chunks[s] = slab_bytes(merged, 0, merged.size(), f);
+                entries[s - first] = merged.size();
+                chunks[s - first] = slab_bytes(merged, 0, merged.size(), f);
               });
   lists.clear();
-  return assemble(f, points, depth, entries, chunks);
+  return assemble(f, points, depth, first, entries, chunks);
 }
 
 VolumeJobsBytes::VolumeJobsBytes(std::string_view bytes) : bytes_(bytes) {
@@ -115,11 +122,12 @@ VolumeJobsBytes::VolumeJobsBytes(std::string_view bytes) : bytes_(bytes) {
   const std::uint64_t channels = in.next(), extremes = in.next(), sums = in.next();
   entries_ = in.next();
   points_ = in.next();
-  const std::uint64_t depth = in.next(), slabs = in.next();
+  const std::uint64_t depth = in.next(), first = in.next(), slabs = in.next();
   // Each entry and each slab takes at least one byte: no count may exceed the bytes.
   if (channels > kMaxChannels || extremes > 1 || sums > 3 || entries_ > bytes.size() || depth > (1u << 30) ||
-      slabs > bytes.size())
+      slabs > bytes.size() || first > (std::uint64_t(1) << (VoxelGrid::kKeyBits - kSlabShift)))
     throw InputError("volume job result: malformed header");
+  first_ = static_cast<std::size_t>(first);
   channels_ = static_cast<int>(channels);
   depth_ = static_cast<int>(depth);
   extremes_ = extremes == 1;
@@ -143,7 +151,8 @@ VolumeJobsBytes::VolumeJobsBytes(std::string_view bytes) : bytes_(bytes) {
 void VolumeJobsBytes::decode(std::size_t s, VoxelList& out, bool keys_only) const {
   if (out.size() == 0) out.channels = channels_;
   if (out.channels != channels_) throw InputError("volume job result: another number of channels");
-  const Slab& slab = slabs_.at(s);
+  if (s < first_ || s >= slabs()) throw std::out_of_range("volume job result: no such slab");
+  const Slab& slab = slabs_[s - first_];
   VarintReader in(bytes_.substr(slab.begin, slab.size), kWhat);
   const std::size_t at = out.size(), n = slab.entries, nc = channels_;
   out.keys.resize(at + n);
@@ -181,25 +190,28 @@ VolumeJobsResult decode_volume_jobs(std::string_view bytes) {
   if (part.mass_) reserve_large(v.mass, part.entries());
   reserve_large(v.sums, part.entries() * v.channels);
   if (part.extremes_) reserve_large(v.points, part.entries() * VoxelList::kExtremes);
-  for (std::size_t s = 0; s < part.slabs(); ++s) part.decode(s, v);
+  for (std::size_t s = part.first_slab(); s < part.slabs(); ++s) part.decode(s, v);
   return r;
 }
 
 Volume finish_volume_jobs(const std::vector<VolumeJobsBytes>& parts, const VoxelGrid& grid, const Ifs& ifs,
                           const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads) {
-  std::size_t slabs = 0;
-  for (const VolumeJobsBytes& part : parts) {
-    if (part.channels() != ifs.dim() - 3) throw InputError("volume job result: not a result of this system");
-    slabs = std::max(slabs, part.slabs());
+  // Which parts hold each slab: a render's jobs each span a few of them.
+  std::vector<std::vector<std::uint32_t>> holders;
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    if (parts[p].channels() != ifs.dim() - 3) throw InputError("volume job result: not a result of this system");
+    if (parts[p].slabs() > holders.size()) holders.resize(parts[p].slabs());
+    for (std::size_t s = parts[p].first_slab(); s < parts[p].slabs(); ++s)
+      holders[s].push_back(static_cast<std::uint32_t>(p));
   }
   const SlabLoader load = [&](std::size_t s, std::vector<VoxelList>& lists, bool keys_only) {
-    lists.resize(parts.size());
-    for (std::size_t p = 0; p < parts.size(); ++p) {
-      lists[p].clear();
-      if (s < parts[p].slabs()) parts[p].decode(s, lists[p], keys_only);
-    }
+    // The thread's lists are reused (their buffers kept); those past this slab's are emptied.
+    const std::vector<std::uint32_t>& here = holders[s];
+    if (lists.size() < here.size()) lists.resize(here.size());
+    for (VoxelList& list : lists) list.clear();
+    for (std::size_t k = 0; k < here.size(); ++k) parts[here[k]].decode(s, lists[k], keys_only);
   };
-  return finish_volume(slabs, load, grid, ifs, quantizer, mode, total_mass, threads);
+  return finish_volume(holders.size(), load, grid, ifs, quantizer, mode, total_mass, threads);
 }
 
 }  // namespace ifsforge

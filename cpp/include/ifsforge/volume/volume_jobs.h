@@ -10,8 +10,9 @@
 
 namespace ifsforge {
 
-/// @brief Compact bytes: a header, a table of x-slabs (slab s holds the voxels whose x index is
-/// in [s, s + 1) << VolumeJobsBytes::kSlabShift), then per slab the voxel keys as ascending
+/// @brief Compact bytes: a header, a table of x-slabs from the first holding a voxel to the last
+/// (slab s holds the voxels whose x index is in [s, s + 1) << VolumeJobsBytes::kSlabShift), then
+/// per slab the voxel keys as ascending
 /// deltas (runs along z take one byte each) and the integer sums, all as varints. Sums the
 /// volume will not read stay behind: hits unless the density is Hits or there are channels
 /// (their means divide by hits), mass unless it is Measure (decoded as 1 hit and no mass: the
@@ -36,10 +37,11 @@ class VolumeJobsBytes {
   int depth() const { return depth_; }
   int channels() const { return channels_; }
   std::uint64_t entries() const { return entries_; }
-  /// @brief Slabs in the table (the ones after them are empty).
-  std::size_t slabs() const { return slabs_.size(); }
+  /// @brief The slabs in the table are [first_slab(), slabs()); the others are empty.
+  std::size_t first_slab() const { return first_; }
+  std::size_t slabs() const { return first_ + slabs_.size(); }
   /// @brief Appends slab s's entries to `out` (keys alone when `keys_only`); InputError when
-  /// they are malformed, not ascending or outside the slab.
+  /// they are malformed, not ascending or outside the slab. s must be in the table.
   void decode(std::size_t s, VoxelList& out, bool keys_only = false) const;
 
  private:
@@ -50,6 +52,7 @@ class VolumeJobsBytes {
   };
   std::string_view bytes_;
   std::vector<Slab> slabs_;
+  std::size_t first_ = 0;
   std::uint64_t points_ = 0, entries_ = 0;
   int depth_ = 0, channels_ = 0;
   bool extremes_ = false, hits_ = false, mass_ = false;
