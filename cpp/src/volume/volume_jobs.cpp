@@ -35,19 +35,19 @@ struct Fields {
 /// Slab chunk of entries [begin, end) of `v`: keys from 0, then the sums, so that a reader can
 /// take any one slab.
 std::string slab_bytes(const VoxelList& v, std::size_t begin, std::size_t end, const Fields& f) {
-  std::string out;
-  out.reserve((end - begin) * (2 + 3 * f.channels));
+  const std::size_t n = end - begin;
+  VarintBuffer out(n * (1 + f.hits + f.mass + f.channels + (f.extremes ? VoxelList::kExtremes : 0)));
   std::uint64_t previous = 0;
   for (std::size_t e = begin; e < end; ++e) {
-    put_varint(out, v.keys[e] - previous);
+    out.put(v.keys[e] - previous);
     previous = v.keys[e];
   }
-  for (std::size_t e = begin; f.hits && e < end; ++e) put_varint(out, v.hits[e]);
-  for (std::size_t e = begin; f.mass && e < end; ++e) put_varint(out, v.mass[e]);
-  for (std::size_t e = begin * f.channels; e < end * f.channels; ++e) put_varint(out, v.sums[e]);
+  for (std::size_t e = begin; f.hits && e < end; ++e) out.put(v.hits[e]);
+  for (std::size_t e = begin; f.mass && e < end; ++e) out.put(v.mass[e]);
+  for (std::size_t e = begin * f.channels; e < end * f.channels; ++e) out.put(v.sums[e]);
   for (std::size_t e = begin * VoxelList::kExtremes; f.extremes && e < end * VoxelList::kExtremes; ++e)
-    put_varint(out, v.points[e]);
-  return out;
+    out.put(v.points[e]);
+  return out.str();
 }
 
 /// The header, the slab table and the chunks of slabs first, first + 1, ... (`entries[k]`
