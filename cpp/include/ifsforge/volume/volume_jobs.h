@@ -12,11 +12,10 @@ namespace ifsforge {
 
 /// @brief Compact bytes: a header, a table of x-slabs from the first holding a voxel to the last
 /// (slab s holds the voxels whose x index is in [s, s + 1) << VolumeJobsBytes::kSlabShift), then
-/// per slab the voxel keys as ascending
-/// deltas (runs along z take one byte each) and the integer sums, all as varints. Sums the
-/// volume will not read stay behind: hits unless the density is Hits or there are channels
-/// (their means divide by hits), mass unless it is Measure (decoded as 1 hit and no mass: the
-/// same volume).
+/// per slab the voxel keys as ascending deltas (runs along z take one byte each) and the integer
+/// sums, all as varints. Sums the volume will not read stay behind: hits unless the density is
+/// Hits or there are channels (their means divide by hits), mass unless it is Measure (decoded
+/// as 1 hit and no mass: the same volume).
 std::string encode_volume_jobs(const VolumeJobsResult& result, VolumeDensity density = VolumeDensity::Measure);
 /// @brief The same bytes for the sorted, unmerged lists of jobs (consumed), their `points` and
 /// deepest level `depth`: merged and encoded slab by slab on `threads` threads, the merged list
