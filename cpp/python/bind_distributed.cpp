@@ -16,20 +16,11 @@ const Renderer& distributable_renderer(const std::string& algorithm) {
   return r;
 }
 
-/// A C++ job runner around a Python callable distribute(first, last) -> list of bytes.
-std::function<std::vector<std::string>(std::uint64_t, std::uint64_t)> bytes_runner(const py::object& distribute) {
-  return [distribute](std::uint64_t first, std::uint64_t last) {
-    py::gil_scoped_acquire gil;
-    std::vector<std::string> out;
-    for (const auto& item : distribute(first, last)) out.push_back(item.cast<std::string>());
-    return out;
-  };
-}
-
-/// A volume job runner around distribute(first, last) -> list of bytes: the bytes are read in
-/// place (a 1024^3 merge's results are ~180 MB: no copy), held until the next call or the end
-/// of the render (whose binding holds the GIL again before the runner goes).
-VolumeJobRunner bytes_view_runner(const py::object& distribute) {
+/// A job runner (images and volumes) around distribute(first, last) -> list of bytes: the bytes
+/// are read in place (a 1024^3 volume's results are ~180 MB, a 1024^2 PRR image's ~330 MB: no
+/// copy), held until the next call or the end of the render (whose binding holds the GIL again
+/// before the runner goes).
+std::function<std::vector<std::string_view>(std::uint64_t, std::uint64_t)> bytes_runner(const py::object& distribute) {
   auto held = std::make_shared<py::list>();
   return [distribute, held](std::uint64_t first, std::uint64_t last) {
     py::gil_scoped_acquire gil;
@@ -39,8 +30,8 @@ VolumeJobRunner bytes_view_runner(const py::object& distribute) {
       char* data = nullptr;
       Py_ssize_t size = 0;
       if (!PyBytes_Check(item.ptr()) || PyBytes_AsStringAndSize(item.ptr(), &data, &size) != 0)
-        throw InputError("a distributed volume job returned " + std::string(py::str(py::type::of(item))) +
-                         ", not the bytes of run_volume_jobs");
+        throw InputError("a distributed job returned " + std::string(py::str(py::type::of(item))) +
+                         ", not the bytes of run_volume_jobs or run_render_jobs");
       out.emplace_back(data, static_cast<std::size_t>(size));
     }
     return out;
@@ -70,7 +61,7 @@ void bind_distributed(py::module_& m) {
            const py::object& progress) {
           VolumeOptions o = options_from<VolumeOptions>("render_volume", options);
           o.progress = wrap_progress(progress);
-          o.distribute = bytes_view_runner(distribute);
+          o.distribute = bytes_runner(distribute);
           const VolumeRenderer& r = volume_renderer(algorithm);
           py::gil_scoped_release release;
           return r.render(ifs, o);

@@ -70,8 +70,10 @@ TEST(Jobs, ImageRangesEqualTheLocalImage) {
     const Renderer& r = renderer(algorithm);
     const Raster local = r.render(system, o);
     RenderOptions remote = o;
+    std::vector<std::string> held;
     remote.distribute = [&](std::uint64_t first, std::uint64_t last) {
-      return in_ranges(first, last, 5, [&](std::uint64_t a, std::uint64_t b) { return r.run_jobs(system, o, a, b); });
+      held = in_ranges(first, last, 5, [&](std::uint64_t a, std::uint64_t b) { return r.run_jobs(system, o, a, b); });
+      return std::vector<std::string_view>(held.begin(), held.end());
     };
     const Raster merged = r.render(system, remote);
     EXPECT_EQ(local.density, merged.density) << algorithm;

@@ -67,7 +67,7 @@ std::string Accumulator::encode() const {
   return out;
 }
 
-void Accumulator::merge_encoded(const std::string& bytes) {
+void Accumulator::merge_encoded(std::string_view bytes) {
   VarintReader in(bytes, "image job result");
   if (in.next() != kMagic || in.next() != std::uint64_t(width_) || in.next() != std::uint64_t(height_) ||
       in.next() != std::uint64_t(channels_) || in.next() != (mass_.empty() ? 0u : 1u) ||

@@ -296,7 +296,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     // jobs may be split among workers: its count is known once every range is read.
     LeafList list;
     try {
-      for (const std::string& bytes : options.distribute(0, setup.plan.jobs))
+      for (std::string_view bytes : options.distribute(0, setup.plan.jobs))
         decode_leaves(bytes, !raster.depth.empty(), channels, pixels, list, counts);
     } catch (const OverBudget&) {
       return fall_back();

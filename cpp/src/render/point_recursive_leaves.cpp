@@ -38,7 +38,7 @@ std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, 
   return out;
 }
 
-void decode_leaves(const std::string& bytes, bool depth, int channels, std::size_t pixels, LeafList& list,
+void decode_leaves(std::string_view bytes, bool depth, int channels, std::size_t pixels, LeafList& list,
                    NodeCounts& counts) {
   VarintReader in(bytes, "image job result");
   if (in.next() != 0) throw OverBudget{};

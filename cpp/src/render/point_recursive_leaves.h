@@ -103,7 +103,7 @@ std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, 
 
 /// The leaves encode_leaves wrote, appended to one list (in job order), their node counts
 /// added to `counts`; OverBudget when a group was, or now is, over budget.
-void decode_leaves(const std::string& bytes, bool depth, int channels, std::size_t pixels, LeafList& list,
+void decode_leaves(std::string_view bytes, bool depth, int channels, std::size_t pixels, LeafList& list,
                    NodeCounts& counts);
 
 }  // namespace ifsforge::prr

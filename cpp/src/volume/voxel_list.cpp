@@ -131,39 +131,27 @@ class SlabMerge {
   /// @brief The entries of slab s in `order`, sorted by key (compacted: see key_of).
   void sort(std::size_t s, std::vector<Ref>& order, std::vector<Ref>& scratch) const {
     order.clear();
-    const std::uint64_t base = start(s);
-    for (std::size_t l = 0; l < sources_.size(); ++l)
-      for (std::size_t i = cuts_[l][s]; i < cuts_[l][s + 1]; ++i)
-        order.push_back({compact(sources_[l]->keys[i] - base), (std::uint64_t(l) << 32) | i});
+    each_entry(s, [&](std::size_t l, std::size_t i, std::uint64_t c) { order.push_back({c, (std::uint64_t(l) << 32) | i}); });
     if (sources_.size() > 1) radix_sort(order, scratch);
   }
   /// @brief The number of distinct keys in slab s: a sort, or (when a slab's compacted keys
   /// span at most kBitmapBits) one bit per key, set and counted, then cleared (`bits` stays
   /// zero between calls): at 1024^3 a 2 MB bitmap in the core's cache instead of a radix sort.
-  std::size_t distinct(std::size_t s, std::vector<std::uint64_t>& bits, std::vector<Ref>& order,
-                       std::vector<Ref>& scratch) const {
-    const std::uint64_t span = width_ << (bits_j_ + bits_k_);
+  std::size_t distinct(std::size_t s, SlabScratch& w) const {
     if (sources_.size() > 1 && bitmap_fits()) {
-      if (bits.size() < span / 64 + 1) bits.assign(span / 64 + 1, 0);
-      const std::uint64_t base = start(s);
+      std::vector<std::uint64_t>& bits = bitmap(w);
       std::size_t voxels = 0;
-      for (int clear = 0; clear < 2; ++clear)
-        for (std::size_t l = 0; l < sources_.size(); ++l)
-          for (std::size_t i = cuts_[l][s]; i < cuts_[l][s + 1]; ++i) {
-            const std::uint64_t c = compact(sources_[l]->keys[i] - base);
-            std::uint64_t& word = bits[c >> 6];
-            if (clear) {
-              word = 0;
-            } else {
-              voxels += (word >> (c & 63) & 1) ^ 1;
-              word |= std::uint64_t(1) << (c & 63);
-            }
-          }
+      each_entry(s, [&](std::size_t, std::size_t, std::uint64_t c) {
+        std::uint64_t& word = bits[c >> 6];
+        voxels += (word >> (c & 63) & 1) ^ 1;
+        word |= std::uint64_t(1) << (c & 63);
+      });
+      each_entry(s, [&](std::size_t, std::size_t, std::uint64_t c) { bits[c >> 6] = 0; });
       return voxels;
     }
-    sort(s, order, scratch);
+    sort(s, w.order, w.scratch);
     std::size_t voxels = 0;
-    for (std::size_t k = 0; k < order.size(); ++k) voxels += k == 0 || order[k].key != order[k - 1].key;
+    for (std::size_t k = 0; k < w.order.size(); ++k) voxels += k == 0 || w.order[k].key != w.order[k - 1].key;
     return voxels;
   }
   /// @brief The voxel key of a compacted key of slab s.
@@ -207,7 +195,7 @@ class SlabMerge {
   template <typename Allocate, typename Write>
   void run(int threads, Allocate&& allocate, Write&& write) const {
     two_pass(
-        slabs_, threads, [&](std::size_t s, SlabScratch& w) { return distinct(s, w.bits, w.order, w.scratch); },
+        slabs_, threads, [&](std::size_t s, SlabScratch& w) { return distinct(s, w); },
         allocate, [&](std::size_t s, SlabScratch& w, std::size_t index) { write_slab(s, w, index, write); });
   }
   /// @brief Slab s's voxels through write(index++, ...) from `index` on.
@@ -229,20 +217,14 @@ class SlabMerge {
   /// left clear. At 2048^3 a quarter of a merge's time was its radix sorts.
   template <typename Visit>
   void reduce_by_rank(std::size_t s, SlabScratch& w, Visit&& visit) const {
-    const std::uint64_t base = start(s);
-    const std::size_t words = static_cast<std::size_t>((width_ << (bits_j_ + bits_k_)) / 64 + 1);
-    if (w.bits.size() < words) w.bits.assign(words, 0);
+    const std::size_t words = bitmap_words();
+    std::vector<std::uint64_t>& bits = bitmap(w);
     if (w.ranks.size() < words) w.ranks.resize(words);
-    auto each = [&](auto&& entry) {
-      for (std::size_t l = 0; l < sources_.size(); ++l)
-        for (std::size_t i = cuts_[l][s]; i < cuts_[l][s + 1]; ++i)
-          entry(*sources_[l], i, compact(sources_[l]->keys[i] - base));
-    };
-    each([&](const VoxelList&, std::size_t, std::uint64_t c) { w.bits[c >> 6] |= std::uint64_t(1) << (c & 63); });
+    each_entry(s, [&](std::size_t, std::size_t, std::uint64_t c) { bits[c >> 6] |= std::uint64_t(1) << (c & 63); });
     std::uint32_t voxels = 0;
     for (std::size_t k = 0; k < words; ++k) {
       w.ranks[k] = voxels;
-      voxels += static_cast<std::uint32_t>(__builtin_popcountll(w.bits[k]));
+      voxels += static_cast<std::uint32_t>(__builtin_popcountll(bits[k]));
     }
     // Per voxel: hits, mass, the channel sums, then the extremes (minima start high).
     const int nc = channels_, extremes = points_ ? VoxelList::kExtremes : 0;
@@ -250,8 +232,9 @@ class SlabMerge {
     w.sums.assign(voxels * stride, 0);
     for (std::size_t v = 0; v < voxels; ++v)
       for (int e = 0; e < extremes; e += 2) w.sums[v * stride + 2 + nc + e] = ~std::uint64_t(0);
-    each([&](const VoxelList& list, std::size_t i, std::uint64_t c) {
-      const std::uint64_t below = w.bits[c >> 6] & ((std::uint64_t(1) << (c & 63)) - 1);
+    each_entry(s, [&](std::size_t l, std::size_t i, std::uint64_t c) {
+      const VoxelList& list = *sources_[l];
+      const std::uint64_t below = bits[c >> 6] & ((std::uint64_t(1) << (c & 63)) - 1);
       std::uint64_t* a = &w.sums[(w.ranks[c >> 6] + __builtin_popcountll(below)) * stride];
       a[0] += list.hits.empty() ? 1 : list.hits[i];
       a[1] += list.mass.empty() ? 0 : list.mass[i];
@@ -263,17 +246,31 @@ class SlabMerge {
     });
     std::size_t v = 0;
     for (std::size_t k = 0; k < words; ++k) {
-      for (std::uint64_t word = w.bits[k]; word; word &= word - 1) {
+      for (std::uint64_t word = bits[k]; word; word &= word - 1) {
         const std::uint64_t* a = &w.sums[v++ * stride];
         visit(key_of(s, (std::uint64_t(k) << 6) + __builtin_ctzll(word)), a[0], a[1], a + 2,
               extremes ? a + 2 + nc : nullptr);
       }
-      w.bits[k] = 0;
+      bits[k] = 0;
     }
   }
 
  private:
   bool bitmap_fits() const { return (width_ << (bits_j_ + bits_k_)) <= kBitmapBits; }
+  /// Words of a slab's bitmap: one bit per compacted key.
+  std::size_t bitmap_words() const { return static_cast<std::size_t>((width_ << (bits_j_ + bits_k_)) / 64 + 1); }
+  /// The thread's bitmap, at least bitmap_words() long (zero between uses).
+  std::vector<std::uint64_t>& bitmap(SlabScratch& w) const {
+    if (w.bits.size() < bitmap_words()) w.bits.assign(bitmap_words(), 0);
+    return w.bits;
+  }
+  /// Calls f(list, index, compacted key) for every entry of slab s, list by list.
+  template <typename F>
+  void each_entry(std::size_t s, F&& f) const {
+    const std::uint64_t base = start(s);
+    for (std::size_t l = 0; l < sources_.size(); ++l)
+      for (std::size_t i = cuts_[l][s]; i < cuts_[l][s + 1]; ++i) f(l, i, compact(sources_[l]->keys[i] - base));
+  }
   std::uint64_t start(std::size_t s) const {
     return VoxelGrid::key(first_row_ + std::min<std::uint64_t>(s * width_, rows_), 0, 0);
   }
@@ -421,7 +418,7 @@ Volume finish_volume(std::size_t slabs, const SlabLoader& load, const VoxelGrid&
       [&](std::size_t s, SlabScratch& w) -> std::size_t {
         load(s, w.lists, true);
         const SlabMerge merge(w.lists, 1);
-        return merge.slabs() ? merge.distinct(0, w.bits, w.order, w.scratch) : 0;
+        return merge.slabs() ? merge.distinct(0, w) : 0;
       },
       [&](std::size_t total) { write.allocate(total); },
       [&](std::size_t s, SlabScratch& w, std::size_t index) {

@@ -10,12 +10,19 @@
 
 namespace ifsforge {
 
-inline void put_varint(std::string& out, std::uint64_t value) {
+/// @brief Writes `value` at `at` (at most 10 bytes); returns the end of what it wrote.
+inline char* write_varint(char* at, std::uint64_t value) {
   while (value >= 0x80) {
-    out.push_back(static_cast<char>((value & 0x7F) | 0x80));
+    *at++ = static_cast<char>((value & 0x7F) | 0x80);
     value >>= 7;
   }
-  out.push_back(static_cast<char>(value));
+  *at++ = static_cast<char>(value);
+  return at;
+}
+
+inline void put_varint(std::string& out, std::uint64_t value) {
+  char bytes[10];
+  out.append(bytes, write_varint(bytes, value));
 }
 
 /// Varints written through a raw pointer into room reserved for `values` of them (10 bytes
@@ -23,13 +30,7 @@ inline void put_varint(std::string& out, std::uint64_t value) {
 class VarintBuffer {
  public:
   explicit VarintBuffer(std::size_t values) : data_(new char[values * 10 + 1]), at_(data_.get()) {}
-  void put(std::uint64_t value) {
-    while (value >= 0x80) {
-      *at_++ = static_cast<char>((value & 0x7F) | 0x80);
-      value >>= 7;
-    }
-    *at_++ = static_cast<char>(value);
-  }
+  void put(std::uint64_t value) { at_ = write_varint(at_, value); }
   std::string str() const { return std::string(data_.get(), at_); }
 
  private:

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ifsforge/core/pages.h"
@@ -59,7 +60,7 @@ class Accumulator {
   /// their sums) as varints, depths as float bits.
   std::string encode() const;
   /// @brief merge() of the accumulator `bytes` came from (same shape); InputError otherwise.
-  void merge_encoded(const std::string& bytes);
+  void merge_encoded(std::string_view bytes);
   /// @brief Density = mass (measure on) or hits; channel means from the sums; in pixel bands
   /// on `threads` threads (0: every core; each pixel on its own, so the same bytes).
   void finish(Raster& raster, int threads = 0) const;

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ifsforge/core/progress.h"
@@ -19,8 +20,9 @@ namespace ifsforge {
 
 /// Runs jobs [first, last) of a render elsewhere (on a cluster) and returns their results as
 /// Renderer::run_jobs bytes of consecutive ranges, in job order (each renderer merges them
-/// exactly: integer sums, or leaves applied in address order).
-using RenderJobRunner = std::function<std::vector<std::string>(std::uint64_t first, std::uint64_t last)>;
+/// exactly: integer sums, or leaves applied in address order). As for volumes, the runner
+/// keeps the bytes alive until its next call or its end: the merge reads them in place.
+using RenderJobRunner = std::function<std::vector<std::string_view>(std::uint64_t first, std::uint64_t last)>;
 
 struct RenderOptions {
   int width = 1024, height = 1024;
