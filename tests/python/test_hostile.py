@@ -289,6 +289,28 @@ def test_ctrl_c_stops_the_iso_surface_within_a_second(tmp_path, mesh, delay):
     assert not any(tmp_path.iterdir())
 
 
+# Ctrl-C during an import made from C (pybind11 imports numpy when the mesh's first array is
+# returned) reaches Python as an ImportError: CI met it once, at the mesher's end.
+INTERRUPTED_IN_NUMPY_IMPORT = ("import os, signal, sys\n"
+                               "class Interrupted:\n"
+                               "    def find_spec(self, name, path, target=None):\n"
+                               "        if name != 'numpy': return None\n"
+                               "        try: os.kill(os.getpid(), signal.SIGINT); time_to_hear = sum(range(10**6))\n"
+                               "        except KeyboardInterrupt: raise ImportError('import of numpy interrupted')\n"
+                               "sys.meta_path.insert(0, Interrupted())\n"
+                               "from ifsforge.cli import main\n"
+                               "sys.exit(main())\n")
+
+
+def test_ctrl_c_inside_an_import_made_from_c_is_an_interrupt(tmp_path):
+    result = subprocess.run(["/usr/bin/python3", "-c", INTERRUPTED_IN_NUMPY_IMPORT, "volume",
+                             str(SAMPLES / "menger_sponge.json"), "--res", "27", "--mesh", "m.obj"],
+                            cwd=tmp_path, capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=str(BUILD_PYTHON)))
+    assert result.returncode == 130 and "interrupted" in result.stderr, result.stderr
+    assert "Traceback" not in result.stderr and "ImportError" not in result.stderr, result.stderr
+    assert not any(tmp_path.iterdir())
+
+
 def test_budget_refuses_a_huge_raster_before_allocating(tmp_path):
     refused(tmp_path, "render", SAMPLES / "sierpinski_triangle.json", "-a", "prr", "--size", "4000",
             "-o", "big.png", names=("4000x4000 raster", "budget"))

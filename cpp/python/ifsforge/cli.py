@@ -3,6 +3,7 @@ exposes register(subparsers); they are discovered, so adding one touches no shar
 import argparse
 import importlib
 import os
+import signal
 import sys
 
 import ifsforge
@@ -82,20 +83,35 @@ def as_option(message, args):
     return message
 
 
+def on_interrupt(signum, frame):
+    """Python's own Ctrl-C handler, which also remembers the interrupt: a KeyboardInterrupt
+    raised inside an import that C code makes (numpy's, when the first array is returned) comes
+    out as an ImportError, yet the user asked to stop, not saw a failure."""
+    on_interrupt.received = True
+    raise KeyboardInterrupt
+
+
 def main(argv=None):
     parser = build_parser(only=requested_command(argv))
     args = parser.parse_args(argv)
+    on_interrupt.received = False
+    try:
+        signal.signal(signal.SIGINT, on_interrupt)
+    except ValueError:
+        pass  # not the main thread: the caller's handler stays
     try:
         return args.run(args) or 0
-    except ifsforge.Error as error:
-        print(f"ifsforge {args.command}: error: {as_option(str(error), args)}", file=sys.stderr)
-        return 2
-    except OSError as error:
-        print(f"ifsforge {args.command}: error: {error}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print(f"ifsforge {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except (KeyboardInterrupt, Exception) as error:
+        if on_interrupt.received:
+            print(f"ifsforge {args.command}: interrupted", file=sys.stderr)
+            return 130
+        if isinstance(error, ifsforge.Error):
+            print(f"ifsforge {args.command}: error: {as_option(str(error), args)}", file=sys.stderr)
+            return 2
+        if isinstance(error, OSError):
+            print(f"ifsforge {args.command}: error: {error}", file=sys.stderr)
+            return 2
+        raise
 
 
 def run():
