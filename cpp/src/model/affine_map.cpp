@@ -40,8 +40,14 @@ std::vector<double> AffineMap::matrix() const {
 std::vector<double> AffineMap::offset() const { return {b_.begin(), b_.begin() + dim_}; }
 
 AffineMap AffineMap::compose(const AffineMap& inner) const {
-  if (inner.dim_ != dim_) throw InputError("cannot compose maps of different dimensions");
   AffineMap out(dim_);
+  compose_into(inner, out);
+  return out;
+}
+
+void AffineMap::compose_into(const AffineMap& inner, AffineMap& out) const {
+  if (inner.dim_ != dim_) throw InputError("cannot compose maps of different dimensions");
+  if (out.dim_ != dim_) out = AffineMap(dim_);
   for (int r = 0; r < dim_; ++r) {
     double offset = b(r);
     for (int c = 0; c < dim_; ++c) {
@@ -52,7 +58,6 @@ AffineMap AffineMap::compose(const AffineMap& inner) const {
     }
     out.b(r) = offset;
   }
-  return out;
 }
 
 std::optional<AffineMap> AffineMap::inverse() const {

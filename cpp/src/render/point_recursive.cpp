@@ -153,8 +153,10 @@ struct PrrImage {
     const bool prune = binary && fit_pixels;
     if (prune) start_coverage(job, list.covered);
     bool pruned = false;
+    // The box of the node stop() saw last: the walk asks stop() about every node above the
+    // deepest level just before it makes it a leaf (or not).
+    double lo[2], hi[2];
     auto stop = [&](const RecursionNode& node) {
-      double lo[2], hi[2];
       pixel_box(node.map, lo, hi);
       if (hi[0] < 0.0 || lo[0] >= w || hi[1] < 0.0 || lo[1] >= h) return true;  // misses the image
       if (!fit_pixels) return false;
@@ -171,8 +173,8 @@ struct PrrImage {
       return std::max(hi[0] - lo[0], hi[1] - lo[1]) < cut;
     };
     list.clear();
-    auto plot = [&](const Point& p, double mass) {
-      const auto px = frame.to_pixel(p);
+    // `px` is p's pixel position (to_pixel(p)); p itself is read for depth and channels only.
+    auto plot = [&](const std::array<double, 2>& px, const Point& p, double mass) {
       if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) return;
       if (prune) list.covered.set(std::int64_t(px[0]), std::int64_t(px[1]));
       list.pixel.push_back(static_cast<std::uint32_t>(std::size_t(px[1]) * frame.width() + std::size_t(px[0])));
@@ -180,8 +182,15 @@ struct PrrImage {
       if (spatial == 3) list.depth.push_back(static_cast<float>(frame.depth(p)));
       for (int c = 0; c < channels; ++c) list.channels.push_back(static_cast<float>(p[spatial + c]));
     };
-    std::vector<Point> images(spread.size());
+    // A piece's spread images in pixel space, and (2D, no channels: nothing else is read from
+    // them) their masses merged per pixel: a piece under a pixel reaches at most four, where
+    // its images are nine or more.
+    const bool merge = spatial == 2 && channels == 0;
+    std::vector<std::array<double, 2>> pixels_of(spread.size());
     std::vector<char> strictly(spread.size());
+    std::vector<std::size_t> cell_of(spread.size()), merged;
+    std::vector<double> merged_mass;
+    Point image{};
     // Nodes are counted into their group in batches; a node above the groups' level (in a
     // job's address only) is not counted.
     std::uint64_t group = 0, pending = 0;
@@ -204,28 +213,48 @@ struct PrrImage {
         pruned = false;
         return;
       }
-      double lo[2], hi[2];
       // At a fixed depth a leaf is one point (the seed's PRR; its mass is exact), except that
       // coverage spreads a leaf over two pixels wide (the fallback's) over points of its
       // piece, as the pixel stop does: the centre of a big piece's box may lie in a hole.
-      if (fit_pixels || binary) pixel_box(node.map, lo, hi);
+      if ((fit_pixels || binary) && node.length >= plan.max_depth) pixel_box(node.map, lo, hi);
       const bool spreads = fit_pixels || (binary && std::max(hi[0] - lo[0], hi[1] - lo[1]) > 2.0);
       if (!spreads || in_one_cell(lo, hi, 2)) {
-        plot(node.map(center), node.mass);
+        image = node.map(center);
+        plot(frame.to_pixel(image), image, node.mass);
         return;
       }
       // Only the images strictly inside a pixel (a point on a pixel edge belongs to
       // neither side), as LeafPlotter::plot_spread does; their shares carry all the mass.
+      const PixelTransform to_pixel = frame.pixel_transform(node.map);
       double inside = 0.0;
       for (std::size_t k = 0; k < spread.size(); ++k) {
-        images[k] = node.map(spread[k]);
-        const auto px = frame.to_pixel(images[k]);
-        strictly[k] = !on_cell_edge(px[0]) && !on_cell_edge(px[1]);
+        pixels_of[k] = to_pixel(spread[k]);
+        strictly[k] = !on_cell_edge(pixels_of[k][0]) && !on_cell_edge(pixels_of[k][1]);
         if (strictly[k]) inside += spread_share[k];
       }
-      for (std::size_t k = 0; k < spread.size(); ++k)
-        if (inside == 0.0 || strictly[k])
-          plot(images[k], node.mass * spread_share[k] / (inside == 0.0 ? 1.0 : inside));
+      const double scale = node.mass / (inside == 0.0 ? 1.0 : inside);
+      merged.clear();
+      merged_mass.clear();
+      for (std::size_t k = 0; k < spread.size(); ++k) {
+        if (!(inside == 0.0 || strictly[k])) continue;
+        if (!merge) {
+          image = node.map(spread[k]);
+          plot(pixels_of[k], image, scale * spread_share[k]);
+          continue;
+        }
+        // The first image in each pixel stands for the pixel (its position is all plot reads).
+        const auto& px = pixels_of[k];
+        if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) continue;
+        cell_of[k] = std::size_t(px[1]) * frame.width() + std::size_t(px[0]);
+        std::size_t m = 0;
+        while (m < merged.size() && cell_of[merged[m]] != cell_of[k]) ++m;
+        if (m == merged.size()) {
+          merged.push_back(k);
+          merged_mass.push_back(0.0);
+        }
+        merged_mass[m] += scale * spread_share[k];
+      }
+      for (std::size_t m = 0; m < merged.size(); ++m) plot(pixels_of[merged[m]], image, merged_mass[m]);
     });
     flush();
   }

@@ -44,6 +44,9 @@ class AffineMap {
 
   /// @brief (*this) o inner: x -> A (A' x + b') + b.
   AffineMap compose(const AffineMap& inner) const;
+  /// @brief out = (*this) o inner in place, out distinct from both (out's coefficients
+  /// beyond dim stay zero): a recursion composes one map per node without building one.
+  void compose_into(const AffineMap& inner, AffineMap& out) const;
   /// @brief The inverse map, or nothing when A is singular.
   std::optional<AffineMap> inverse() const;
   /// @brief det of the leading k x k block (k = dim by default): |det| is the Jacobian (Eq. 46).

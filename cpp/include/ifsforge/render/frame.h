@@ -20,6 +20,22 @@ struct View {
   double yaw = 0, pitch = 0;
 };
 
+/// @brief An affine map from an IFS's space straight to continuous pixel coordinates: a
+/// frame's to_pixel after a piece's map, composed once for the many points of one piece.
+struct PixelTransform {
+  int dim = 0;
+  std::array<std::array<double, kMaxDim>, 2> a{};
+  std::array<double, 2> b{};
+  std::array<double, 2> operator()(const Point& p) const {
+    double x = b[0], y = b[1];
+    for (int c = 0; c < dim; ++c) {
+      x += a[0][c] * p[c];
+      y += a[1][c] * p[c];
+    }
+    return {x, y};
+  }
+};
+
 class Frame {
  public:
   /// @brief Image plane coordinates (u, v) of the spatial part of p.
@@ -42,6 +58,22 @@ class Frame {
   std::array<double, 2> to_pixel(const Point& p) const {
     const auto uv = project(p);
     return {(uv[0] - window_.xmin) * sx_, (window_.ymax - uv[1]) * sy_};
+  }
+  /// @brief to_pixel(m(p)) as one affine map.
+  PixelTransform pixel_transform(const AffineMap& m) const {
+    PixelTransform out;
+    out.dim = m.dim();
+    const double scale[2] = {sx_, -sy_};
+    for (int axis = 0; axis < 2; ++axis) {
+      double offset = 0.0;
+      for (int r = 0; r < spatial_; ++r) {
+        const double f = scale[axis] * projection_[axis][r];
+        offset += f * m.b(r);
+        for (int c = 0; c < out.dim; ++c) out.a[axis][c] += f * m.a(r, c);
+      }
+      out.b[axis] = offset + (axis == 0 ? -window_.xmin * sx_ : window_.ymax * sy_);
+    }
+    return out;
   }
   int width() const { return width_; }
   int height() const { return height_; }

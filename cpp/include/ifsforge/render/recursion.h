@@ -93,10 +93,9 @@ inline void image_box(const AffineMap& m, const RecursionPlan& plan, int rows, d
 /// @brief Pixel-space box [lo, hi) per image axis of a node's piece M(B), projected by `frame`.
 inline void piece_pixel_box(const Frame& frame, const RecursionPlan& plan, const AffineMap& m, double* lo, double* hi) {
   const int spatial = frame.spatial_dims();
-  double center[3], half[3];
-  image_box(m, plan, spatial, center, half);
   Point c{};
-  std::copy(center, center + spatial, c.begin());
+  double half[3];
+  image_box(m, plan, spatial, c.data(), half);
   const auto px = frame.to_pixel(c);
   for (int axis = 0; axis < 2; ++axis) {
     double extent = 0.0;
@@ -128,7 +127,7 @@ struct Walker {
   /// Sets maps[length + 1] = maps[length] o w_i (reserved: references to it stay valid).
   void descend(int length, std::uint32_t i) {
     if (maps.size() < static_cast<std::size_t>(length) + 2) maps.emplace_back();
-    maps[length + 1] = maps[length].compose(ifs.map(i));
+    maps[length].compose_into(ifs.map(i), maps[length + 1]);
   }
 
   void recurse(int length, double mass) {
