@@ -27,8 +27,9 @@ using prr::LeafList;
 using prr::NodeCounts;
 using prr::OverBudget;
 
-/// What every job of one render shares, and one job's walk.
-struct PrrImage {
+/// What every job of one render shares, and one job's walk. Every walk reads it at every node:
+/// its own cache lines keep it apart from what the threads write beside it on the stack.
+struct alignas(64) PrrImage {
   const Ifs& ifs;
   Frame frame;
   int eq59 = 0;
@@ -47,6 +48,7 @@ struct PrrImage {
   // edge that the sub-piece only touches.
   std::vector<Point> spread;
   std::vector<double> spread_share;
+  std::vector<double> spread_by_coordinate;  // coordinate c of spread[k] at [c * spread.size() + k]
   std::uint64_t budget = 0;  // nodes per group (0: no budget, at a fixed depth)
   std::uint64_t groups = 1;  // N^prefix address prefixes of the uniform plan
 
@@ -95,6 +97,8 @@ struct PrrImage {
       spread.swap(next);
       spread_share.swap(next_share);
     }
+    for (int c = 0; c < ifs.dim(); ++c)
+      for (const Point& p : spread) spread_by_coordinate.push_back(p[c]);
     // Pieces that stay wider than a pixel in one direction while thinning in the other (a rough
     // fractal interpolation graph) would split for ever: each group of jobs has a node budget
     // (NodeCounts), so that the outcome does not depend on the thread count. 128 nodes per
@@ -149,15 +153,22 @@ struct PrrImage {
   /// first, its buffers kept), its nodes counted into `counts`; OverBudget.
   void job(std::uint64_t job, LeafList& list, NodeCounts& counts) const {
     const double w = frame.width(), h = frame.height();
-    auto pixel_box = [&](const AffineMap& m, double* lo, double* hi) { piece_pixel_box(frame, plan, m, lo, hi); };
+    // The pieces' maps straight to pixels, level by level (to_pixel[k] for the node of length
+    // k stop() saw last: the walk asks stop() about every node above the deepest level, parents
+    // before children), and the box of the last.
+    std::vector<PixelTransform> to_pixel(static_cast<std::size_t>(plan.max_depth) + 1);
+    frame.pixel_transform(AffineMap(ifs.dim()), to_pixel[0]);
+    double lo[2], hi[2];
+    auto pixel_box = [&](const RecursionNode& node) {
+      PixelTransform& t = to_pixel[node.length];
+      to_pixel[node.length - 1].compose(ifs.map(node.address[node.length - 1]), t);
+      t.box(plan.center.data(), plan.half.data(), lo, hi);
+    };
     const bool prune = binary && fit_pixels;
     if (prune) start_coverage(job, list.covered);
     bool pruned = false;
-    // The box of the node stop() saw last: the walk asks stop() about every node above the
-    // deepest level just before it makes it a leaf (or not).
-    double lo[2], hi[2];
     auto stop = [&](const RecursionNode& node) {
-      pixel_box(node.map, lo, hi);
+      pixel_box(node);
       if (hi[0] < 0.0 || lo[0] >= w || hi[1] < 0.0 || lo[1] >= h) return true;  // misses the image
       if (!fit_pixels) return false;
       if (prune) {
@@ -186,10 +197,9 @@ struct PrrImage {
     // them) their masses merged per pixel: a piece under a pixel reaches at most four, where
     // its images are nine or more.
     const bool merge = spatial == 2 && channels == 0;
-    std::vector<std::array<double, 2>> pixels_of(spread.size());
-    std::vector<char> strictly(spread.size());
-    std::vector<std::size_t> cell_of(spread.size()), merged;
-    std::vector<double> merged_mass;
+    const std::size_t count = spread.size();
+    std::vector<double> xs(count), ys(count), weight(count), merged_mass;
+    std::vector<std::size_t> cell_of(count), merged;
     Point image{};
     // Nodes are counted into their group in batches; a node above the groups' level (in a
     // job's address only) is not counted.
@@ -216,7 +226,7 @@ struct PrrImage {
       // At a fixed depth a leaf is one point (the seed's PRR; its mass is exact), except that
       // coverage spreads a leaf over two pixels wide (the fallback's) over points of its
       // piece, as the pixel stop does: the centre of a big piece's box may lie in a hole.
-      if ((fit_pixels || binary) && node.length >= plan.max_depth) pixel_box(node.map, lo, hi);
+      if ((fit_pixels || binary) && node.length >= plan.max_depth) pixel_box(node);
       const bool spreads = fit_pixels || (binary && std::max(hi[0] - lo[0], hi[1] - lo[1]) > 2.0);
       if (!spreads || in_one_cell(lo, hi, 2)) {
         image = node.map(center);
@@ -225,36 +235,48 @@ struct PrrImage {
       }
       // Only the images strictly inside a pixel (a point on a pixel edge belongs to
       // neither side), as LeafPlotter::plot_spread does; their shares carry all the mass.
-      const PixelTransform to_pixel = frame.pixel_transform(node.map);
-      double inside = 0.0;
-      for (std::size_t k = 0; k < spread.size(); ++k) {
-        pixels_of[k] = to_pixel(spread[k]);
-        strictly[k] = !on_cell_edge(pixels_of[k][0]) && !on_cell_edge(pixels_of[k][1]);
-        if (strictly[k]) inside += spread_share[k];
+      // The images' pixel positions coordinate by coordinate over all points (vectorised).
+      const PixelTransform& piece = to_pixel[node.length];
+      std::fill(xs.begin(), xs.end(), piece.b[0]);
+      std::fill(ys.begin(), ys.end(), piece.b[1]);
+      for (int c = 0; c < piece.dim; ++c) {
+        const double ax = piece.a[0][c], ay = piece.a[1][c], *s = spread_by_coordinate.data() + c * count;
+        for (std::size_t k = 0; k < count; ++k) {
+          xs[k] += ax * s[k];
+          ys[k] += ay * s[k];
+        }
       }
-      const double scale = node.mass / (inside == 0.0 ? 1.0 : inside);
+      for (std::size_t k = 0; k < count; ++k)
+        weight[k] = on_cell_edge(xs[k]) || on_cell_edge(ys[k]) ? 0.0 : spread_share[k];
+      double inside = 0.0;
+      for (std::size_t k = 0; k < count; ++k) inside += weight[k];
+      if (inside == 0.0) {
+        std::copy(spread_share.begin(), spread_share.end(), weight.begin());
+        inside = 1.0;
+      }
+      const double scale = node.mass / inside;
       merged.clear();
       merged_mass.clear();
-      for (std::size_t k = 0; k < spread.size(); ++k) {
-        if (!(inside == 0.0 || strictly[k])) continue;
+      for (std::size_t k = 0; k < count; ++k) {
+        if (weight[k] == 0.0) continue;
         if (!merge) {
           image = node.map(spread[k]);
-          plot(pixels_of[k], image, scale * spread_share[k]);
+          plot({xs[k], ys[k]}, image, scale * weight[k]);
           continue;
         }
         // The first image in each pixel stands for the pixel (its position is all plot reads).
-        const auto& px = pixels_of[k];
-        if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) continue;
-        cell_of[k] = std::size_t(px[1]) * frame.width() + std::size_t(px[0]);
+        if (!(xs[k] >= 0.0 && xs[k] < w && ys[k] >= 0.0 && ys[k] < h)) continue;
+        cell_of[k] = std::size_t(ys[k]) * frame.width() + std::size_t(xs[k]);
         std::size_t m = 0;
         while (m < merged.size() && cell_of[merged[m]] != cell_of[k]) ++m;
         if (m == merged.size()) {
           merged.push_back(k);
           merged_mass.push_back(0.0);
         }
-        merged_mass[m] += scale * spread_share[k];
+        merged_mass[m] += scale * weight[k];
       }
-      for (std::size_t m = 0; m < merged.size(); ++m) plot(pixels_of[merged[m]], image, merged_mass[m]);
+      for (std::size_t m = 0; m < merged.size(); ++m)
+        plot({xs[merged[m]], ys[merged[m]]}, image, merged_mass[m]);
     });
     flush();
   }

@@ -2,6 +2,7 @@
 /// @file Where an image sits in the space of an IFS: a projection of the spatial
 /// coordinates onto a plane, a window on that plane, and the pixel grid.
 #include <array>
+#include <cmath>
 #include <optional>
 
 #include "ifsforge/model/ifs.h"
@@ -34,6 +35,32 @@ struct PixelTransform {
     }
     return {x, y};
   }
+  /// @brief out = this o w: a piece's map from its parent's, one level down a recursion.
+  void compose(const AffineMap& w, PixelTransform& out) const {
+    out.dim = dim;
+    for (int axis = 0; axis < 2; ++axis) {
+      double offset = b[axis];
+      for (int k = 0; k < dim; ++k) offset += a[axis][k] * w.b(k);
+      out.b[axis] = offset;
+      for (int c = 0; c < dim; ++c) {
+        double v = 0.0;
+        for (int k = 0; k < dim; ++k) v += a[axis][k] * w.a(k, c);
+        out.a[axis][c] = v;
+      }
+    }
+  }
+  /// @brief The pixel box [lo, hi) of the image of the box centre +- half (dim coordinates).
+  void box(const double* center, const double* half, double* lo, double* hi) const {
+    for (int axis = 0; axis < 2; ++axis) {
+      double c = b[axis], extent = 0.0;
+      for (int k = 0; k < dim; ++k) {
+        c += a[axis][k] * center[k];
+        extent += std::abs(a[axis][k]) * half[k];
+      }
+      lo[axis] = c - extent;
+      hi[axis] = c + extent;
+    }
+  }
 };
 
 class Frame {
@@ -59,21 +86,23 @@ class Frame {
     const auto uv = project(p);
     return {(uv[0] - window_.xmin) * sx_, (window_.ymax - uv[1]) * sy_};
   }
-  /// @brief to_pixel(m(p)) as one affine map.
-  PixelTransform pixel_transform(const AffineMap& m) const {
-    PixelTransform out;
+  /// @brief to_pixel(m(p)) as one affine map, into `out` (coefficients up to m's dimension:
+  /// a recursion sets one per node).
+  void pixel_transform(const AffineMap& m, PixelTransform& out) const {
     out.dim = m.dim();
     const double scale[2] = {sx_, -sy_};
     for (int axis = 0; axis < 2; ++axis) {
-      double offset = 0.0;
-      for (int r = 0; r < spatial_; ++r) {
-        const double f = scale[axis] * projection_[axis][r];
-        offset += f * m.b(r);
-        for (int c = 0; c < out.dim; ++c) out.a[axis][c] += f * m.a(r, c);
+      double f[3];
+      for (int r = 0; r < spatial_; ++r) f[r] = scale[axis] * projection_[axis][r];
+      double offset = axis == 0 ? -window_.xmin * sx_ : window_.ymax * sy_;
+      for (int r = 0; r < spatial_; ++r) offset += f[r] * m.b(r);
+      out.b[axis] = offset;
+      for (int c = 0; c < out.dim; ++c) {
+        double v = 0.0;
+        for (int r = 0; r < spatial_; ++r) v += f[r] * m.a(r, c);
+        out.a[axis][c] = v;
       }
-      out.b[axis] = offset + (axis == 0 ? -window_.xmin * sx_ : window_.ymax * sy_);
     }
-    return out;
   }
   int width() const { return width_; }
   int height() const { return height_; }
