@@ -81,6 +81,28 @@ TEST(Jobs, ImageRangesEqualTheLocalImage) {
   }
 }
 
+TEST(Jobs, ImageLeavesOutsideTheImageOrCutShortAreRefused) {
+  RenderOptions o;
+  o.width = o.height = 16;
+  std::string bytes;
+  o.distribute = [&](std::uint64_t, std::uint64_t) { return std::vector<std::string_view>{bytes}; };
+  const Ifs system("square", ChannelLayout("xy"),
+                   {AffineMap(2, {0.5, 0, 0, 0.5}, {0, 0}), AffineMap(2, {0.5, 0, 0, 0.5}, {0.5, 0.5})}, {0.5, 0.5});
+  // No budget flag, no counted groups, then leaves: a pixel step and a mass (float bits).
+  const std::string head("\x00\x00", 2), one_half("\x80\x80\x80\xf8\x03", 5);
+  for (const std::string& leaves : {std::string("\x04") + one_half + std::string("\x05") + one_half,  // 2, then -1
+                                    std::string("\x80\x04") + one_half,                                 // pixel 256
+                                    std::string("\x04\x80\x80")}) {                                    // mass cut short
+    bytes = head + leaves;
+    EXPECT_THROW(renderer("prr").render(system, o), InputError);
+  }
+  bytes = head + std::string("\x04") + one_half + std::string("\x01") + one_half;  // pixels 2, then 1
+  const Raster raster = renderer("prr").render(system, o);
+  EXPECT_EQ(raster.points, 2u);
+  EXPECT_EQ(raster.density[1], 0.5f);
+  EXPECT_EQ(raster.density[2], 0.5f);
+}
+
 TEST(Jobs, RenderersWithoutJobsAndForeignBytesAreRefused) {
   VolumeOptions o;
   o.resolution = 8;

@@ -189,7 +189,7 @@ struct alignas(64) PrrImage {
       if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) return;
       if (prune) list.covered.set(std::int64_t(px[0]), std::int64_t(px[1]));
       list.pixel.push_back(static_cast<std::uint32_t>(std::size_t(px[1]) * frame.width() + std::size_t(px[0])));
-      list.mass.push_back(mass);
+      list.mass.push_back(static_cast<float>(mass));
       if (spatial == 3) list.depth.push_back(static_cast<float>(frame.depth(p)));
       for (int c = 0; c < channels; ++c) list.channels.push_back(static_cast<float>(p[spatial + c]));
     };
@@ -320,7 +320,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   auto apply = [&](const LeafList& list) {
     for (std::size_t k = 0; k < list.pixel.size(); ++k) {
       const std::uint32_t px = list.pixel[k];
-      raster.density[px] = std::max(raster.density[px] + static_cast<float>(list.mass[k]), kCovered);
+      raster.density[px] = std::max(raster.density[px] + list.mass[k], kCovered);
       if (!list.depth.empty()) raster.depth[px] = std::max(raster.depth[px], list.depth[k]);
       if (!channels) continue;
       ++hits[px];

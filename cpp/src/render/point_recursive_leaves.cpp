@@ -20,17 +20,20 @@ std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, 
     put_varint(out, group);
     put_varint(out, nodes);
   }
+  auto put_float = [&](float f) {
+    std::uint32_t b;
+    std::memcpy(&b, &f, 4);
+    put_varint(out, b);
+  };
+  // A pixel as the zigzag of its step from the last one (a job's leaves lie near each other:
+  // one or two bytes instead of three or four).
+  std::int64_t last = 0;
   for (const LeafList& list : lists) {
     for (std::size_t k = 0; k < list.pixel.size(); ++k) {
-      put_varint(out, list.pixel[k]);
-      std::uint64_t bits;
-      std::memcpy(&bits, &list.mass[k], 8);
-      put_varint(out, bits);
-      auto put_float = [&](float f) {
-        std::uint32_t b;
-        std::memcpy(&b, &f, 4);
-        put_varint(out, b);
-      };
+      const std::int64_t step = std::int64_t(list.pixel[k]) - last;
+      last = list.pixel[k];
+      put_varint(out, (std::uint64_t(step) << 1) ^ std::uint64_t(step >> 63));
+      put_float(list.mass[k]);
       if (!list.depth.empty()) put_float(list.depth[k]);
       for (int c = 0; c < channels; ++c) put_float(list.channels[k * channels + c]);
     }
@@ -48,20 +51,22 @@ void decode_leaves(std::string_view bytes, bool depth, int channels, std::size_t
     if (group >= counts.groups()) throw InputError("image job result: group out of range (another render or build)");
     counts.add(group, in.next());
   }
+  auto next_float = [&] {
+    const std::uint64_t b = in.next();
+    if (b > 0xFFFFFFFFu) throw InputError("image job result: malformed float");
+    const auto bits = static_cast<std::uint32_t>(b);
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return f;
+  };
+  std::uint64_t last = 0;  // unsigned: hostile steps wrap (defined) and fail the range check
   while (!in.done()) {
-    const std::uint64_t px = in.next();
+    const std::uint64_t zigzag = in.next();
+    const std::uint64_t px = last + ((zigzag >> 1) ^ (~(zigzag & 1) + 1));
     if (px >= pixels) throw InputError("image job result: pixel out of range (another render or build)");
+    last = px;
     list.pixel.push_back(static_cast<std::uint32_t>(px));
-    const std::uint64_t bits = in.next();
-    double mass;
-    std::memcpy(&mass, &bits, 8);
-    list.mass.push_back(mass);
-    auto next_float = [&] {
-      const auto b = static_cast<std::uint32_t>(in.next());
-      float f;
-      std::memcpy(&f, &b, 4);
-      return f;
-    };
+    list.mass.push_back(next_float());
     if (depth) list.depth.push_back(next_float());
     for (int c = 0; c < channels; ++c) list.channels.push_back(next_float());
   }

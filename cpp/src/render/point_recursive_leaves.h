@@ -61,7 +61,7 @@ class JobCoverage {
 /// The leaves of one job that land on the image.
 struct LeafList {
   std::vector<std::uint32_t> pixel;
-  std::vector<double> mass;
+  std::vector<float> mass;  // what the raster adds (single precision)
   std::vector<float> channels;  // pixel-major
   std::vector<float> depth;     // 3D systems
   JobCoverage covered;          // binary renders only
@@ -96,8 +96,9 @@ class NodeCounts {
 };
 
 /// Jobs' leaves for a cluster: a flag (1: a group was over budget), the groups' node counts
-/// (how many, then group and count for each counted one), then per leaf its pixel, its mass
-/// as double bits, depth and channels as float bits, all varints, in job order.
+/// (how many, then group and count for each counted one), then per leaf its pixel (the zigzag
+/// of its step from the last), its mass, depth and channels as float bits, all varints, in job
+/// order.
 std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, const NodeCounts& counts,
                           int channels);
 
