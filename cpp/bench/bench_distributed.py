@@ -117,7 +117,8 @@ def morph_case(frames, folder):
     def run(client):
         sizes = dist.render_frames(client, zip(systems, paths), "chaos", "density", width=512, height=512)
         run.result = f"{len(sizes)} frames"
-        return len(sizes), 0  # each worker writes its frame: nothing but the size comes back
+        tasks = min(len(sizes), dist.FRAME_TASKS_PER_THREAD * dist._threads(client))
+        return tasks, 0  # each worker writes its frames: nothing but their sizes comes back
     return run
 
 

@@ -109,11 +109,13 @@ def test_point_recursive_color_image_through_workers_equals_the_local_raster(clu
 
 def test_morph_frames_written_by_workers_equal_the_local_frames(cluster, cli, tmp_path):
     ends = (SAMPLES / "sierpinski_triangle.json", SAMPLES / "barnsley_fern.json")
-    cli("morph", *ends, "--frames", "5", "--size", "96", "-o", "local", check=True)
-    cli("morph", *ends, "--frames", "5", "--size", "96", "-o", tmp_path / "cluster", "--scheduler", cluster.address,
+    # More frames than tasks (FRAME_TASKS_PER_THREAD per worker thread): tasks of several frames.
+    frames = str(3 * distributed.FRAME_TASKS_PER_THREAD)
+    cli("morph", *ends, "--frames", frames, "--size", "64", "-o", "local", check=True)
+    cli("morph", *ends, "--frames", frames, "--size", "64", "-o", tmp_path / "cluster", "--scheduler", cluster.address,
         check=True)
     names = sorted(p.name for p in (tmp_path / "local").iterdir())
-    assert names == [f"morph_{k:04d}.png" for k in range(5)]
+    assert names == [f"morph_{k:04d}.png" for k in range(int(frames))]
     assert names == sorted(p.name for p in (tmp_path / "cluster").iterdir())  # no temporaries left behind
     for name in names:
         assert (tmp_path / "local" / name).read_bytes() == (tmp_path / "cluster" / name).read_bytes()
