@@ -344,15 +344,19 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   NodeCounts counts = setup.node_counts();
   if (options.distribute) {
     // Ranges come back in job order: applying them in turn is the address order. A group's
-    // jobs may be split among workers: its count is known once every range is read.
+    // jobs may be split among workers: its count is known once every range is read (a raster
+    // over budget is thrown away). One range at a time through one list: the whole render's
+    // leaves decoded at once faulted in tens of MB only to be read once.
     LeafList list;
     try {
-      for (std::string_view bytes : options.distribute(0, setup.plan.jobs))
+      for (std::string_view bytes : options.distribute(0, setup.plan.jobs)) {
+        list.clear();
         decode_leaves(bytes, !raster.depth.empty(), channels, pixels, list, counts);
+        apply(list);
+      }
     } catch (const OverBudget&) {
       return fall_back();
     }
-    apply(list);
   } else {
     try {
       parallel_jobs(
