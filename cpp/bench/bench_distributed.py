@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Scale-out on Dask: 1 against 2 worker processes (a LocalCluster, one thread each) for a
 1024^3 and a 2048^3 volume, a 4096^2 chaos image, a 1024^2 PRR image and a 240-frame 512^2
-morph. (A 4096^2 PRR image sends its ~4 * 10^8 leaves, several GB: see the README.)
+morph. (A 4096^2 PRR fern would send 58 M pixel deposits, 367 MB: see the README.)
 
     cpp/bench/bench_distributed.py [--quick] [--repeat N] [--cases volume1024,volume2048,image4096,morph240]
 
@@ -59,14 +59,16 @@ def driver_cpu():
 
 
 def measure(client, run):
-    """Runs run() -> (tasks, bytes); returns wall, per-worker CPU, driver CPU, tasks, bytes."""
+    """Runs run(client) -> (tasks, bytes); returns wall, per-worker CPU, driver CPU, tasks, bytes
+    and the driver's merge (wall seconds after the last result arrived)."""
     before, driver = worker_cpu(client), driver_cpu()
+    run.gathered = None
     start = time.perf_counter()
-    tasks, moved = run()
-    wall = time.perf_counter() - start
+    tasks, moved = run(client)
+    end = time.perf_counter()
     after = worker_cpu(client)
     cpu = {w: after[w] - before.get(w, 0.0) for w in after}
-    return wall, cpu, driver_cpu() - driver, tasks, moved
+    return end - start, cpu, driver_cpu() - driver, tasks, moved, end - run.gathered if run.gathered else 0.0
 
 
 def counting_runner(client, task, *head):
@@ -76,6 +78,7 @@ def counting_runner(client, task, *head):
 
     def distribute(first, last):
         results = inner(first, last)
+        stats["gathered"] = time.perf_counter()  # the rest of the run is the driver's merge
         stats["tasks"] += len(results)
         stats["bytes"] += sum(len(r) for r in results)
         return results
@@ -90,7 +93,7 @@ def volume_case(resolution):
         distribute, stats = counting_runner(client, dist._volume_task, ifsforge.to_json(system), "prr",
                                             dist._worker_options(options))
         volume = _core.render_volume_distributed(system, "prr", options, distribute)
-        run.result = f"{len(volume):,} voxels"
+        run.result, run.gathered = f"{len(volume):,} voxels", stats["gathered"]
         return stats["tasks"], stats["bytes"]
     return run
 
@@ -103,7 +106,7 @@ def image_case(size, algorithm):
         distribute, stats = counting_runner(client, dist._render_task, ifsforge.to_json(system), algorithm,
                                             dist._worker_options(options))
         raster = _core.render_distributed(system, algorithm, options, distribute)
-        run.result = f"{raster.covered():,} pixels covered"
+        run.result, run.gathered = f"{raster.covered():,} pixels covered", stats["gathered"]
         return stats["tasks"], stats["bytes"]
     return run
 
@@ -163,12 +166,13 @@ def main():
             for name in chosen:
                 label, run = cases[name]
                 # The run of median wall time among --repeat (a shared machine's noise is ±10%).
-                runs = sorted((measure(client, lambda: run(client)) for _ in range(args.repeat)), key=lambda r: r[0])
-                wall, cpu, driver, tasks, moved = runs[len(runs) // 2]
+                runs = sorted((measure(client, run) for _ in range(args.repeat)), key=lambda r: r[0])
+                wall, cpu, driver, tasks, moved, merge = runs[len(runs) // 2]
                 results[name, workers] = (wall, cpu, driver)
                 busiest = max(cpu.values())
                 spread = f" (median of {len(runs)}: {runs[0][0]:.2f}-{runs[-1][0]:.2f} s)" if len(runs) > 1 else ""
-                print(f"  {label}: {run.result}; wall {wall:.2f} s{spread}, workers' CPU {sum(cpu.values()):.2f} s "
+                merged = f" (the driver's merge after the last result: {merge:.2f} s)" if merge else ""
+                print(f"  {label}: {run.result}; wall {wall:.2f} s{spread}{merged}, workers' CPU {sum(cpu.values()):.2f} s "
                       f"(busiest {busiest:.2f} s), driver CPU {driver:.2f} s, {tasks} tasks, "
                       f"{moved / max(tasks, 1) / 1e6:.2f} MB per task; worker peak RSS {peak_rss_mb(client):.0f} MB, "
                       f"driver {own_peak_mb():.0f} MB", flush=True)

@@ -96,6 +96,11 @@ TEST(Jobs, ImageLeavesOutsideTheImageOrCutShortAreRefused) {
     bytes = head + leaves;
     EXPECT_THROW(renderer("prr").render(system, o), InputError);
   }
+  // A result over its budget at a fixed depth (where there is none) is not followed for ever.
+  bytes = std::string("\x01\x00", 2);
+  RenderOptions fixed = o;
+  fixed.depth = 4;
+  EXPECT_THROW(renderer("prr").render(system, fixed), InputError);
   bytes = head + std::string("\x04") + one_half + std::string("\x01") + one_half;  // pixels 2, then 1
   const Raster raster = renderer("prr").render(system, o);
   EXPECT_EQ(raster.points, 2u);

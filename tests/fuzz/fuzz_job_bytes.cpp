@@ -1,9 +1,11 @@
 // The bytes a cluster's workers send back (ifsforge.distributed): a driver merges whatever
 // arrives, so a malformed, truncated or hostile result must end in InputError, never in a read
 // past a buffer or an allocation the bytes did not pay for. The first byte picks the reader
-// and its shape; the rest is the result.
+// (odd: histogram tiles; even: volume slabs, or with the top bit point recursive leaves) and
+// its shape; the rest is the result.
 #include "fuzz_common.h"
 #include "ifsforge/render/accumulator.h"
+#include "ifsforge/render/renderer.h"
 #include "ifsforge/volume/volume_jobs.h"
 
 namespace {
@@ -40,6 +42,22 @@ void merge_image(const std::string& bytes, int shape) {
   acc.finish(raster, 1);
 }
 
+/// Point recursive leaves (shape: channels and depth, fixed depth or the pixel stop) through
+/// the renderer's own merge, as a cluster's results reach it.
+void merge_leaves(const std::string& bytes, int shape) {
+  static const char* layouts[] = {"xy", "xy+gray", "xyz", "xyz+rgb"};
+  const ifsforge::ChannelLayout layout(layouts[shape % 4]);
+  std::vector<ifsforge::AffineMap> maps(2, ifsforge::AffineMap(layout.dim()));
+  for (auto& m : maps)
+    for (int r = 0; r < layout.dim(); ++r) m.a(r, r) = 0.5;
+  maps[1].b(0) = 0.5;
+  ifsforge::RenderOptions o;
+  o.width = o.height = 16;
+  o.depth = (shape >> 2) & 1 ? 3 : 0;
+  o.distribute = [&](std::uint64_t, std::uint64_t) { return std::vector<std::string_view>{bytes}; };
+  ifsforge::renderer("prr").render(ifsforge::Ifs("fuzz", layout, maps, {0.5, 0.5}), o);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -48,6 +66,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::with_text(data + 1, size - 1, [&](const std::string& bytes) {
     if (pick & 1)
       merge_image(bytes, pick >> 1);
+    else if (pick & 0x80)
+      merge_leaves(bytes, pick >> 1);
     else
       merge_volume(bytes, pick >> 1);
   });

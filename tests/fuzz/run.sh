@@ -65,6 +65,9 @@ for name, file, channels in (("pyramid", "sierpinski_pyramid.json", 0), ("pyrami
         put(f"{name}_{density}", 2 * mode, _core.run_volume_jobs(system, "prr", {"resolution": 24, "density": density}, 0, 1 << 40))
 fern = ifsforge.load(f"{systems}/barnsley_fern.json")
 put("fern_chaos", 1, _core.run_render_jobs(fern, "chaos", {"width": 16, "height": 16, "iterations": 4096}, 0, 1 << 40))
+square = ifsforge.parse_json('{"name": "square", "maps": [{"matrix": [[0.5, 0], [0, 0.5]], "offset": [0, 0]}, '
+                              '{"matrix": [[0.5, 0], [0, 0.5]], "offset": [0.5, 0]}]}')
+put("square_prr", 0x80, _core.run_render_jobs(square, "prr", {"width": 16, "height": 16}, 0, 1 << 40))
 PY
 fi
 # Real .vdb seeds (IFSFORGE_FUZZ_VDB_SEEDS=1) lead the fuzzer within ~200 runs to a heap overflow

@@ -329,6 +329,9 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     raster.points += list.pixel.size();
   };
   auto fall_back = [&] {
+    // A fixed depth has no budget: results saying otherwise came from another render (and
+    // falling back again would never end).
+    if (!setup.fit_pixels) throw InputError("image job result: over budget at a fixed depth (another render or build)");
     // The pixel-size stop would split for ever (or nearly): a fixed depth ends every branch,
     // whatever the system. Eq. 59's N^L >= H V leaves, one per pixel on average, leaves most
     // of a thin attractor's pixels empty (the maple leaf kept 52% of them): the depth whose
