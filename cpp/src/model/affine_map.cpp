@@ -45,19 +45,33 @@ AffineMap AffineMap::compose(const AffineMap& inner) const {
   return out;
 }
 
-void AffineMap::compose_into(const AffineMap& inner, AffineMap& out) const {
-  if (inner.dim_ != dim_) throw InputError("cannot compose maps of different dimensions");
-  if (out.dim_ != dim_) out = AffineMap(dim_);
-  for (int r = 0; r < dim_; ++r) {
-    double offset = b(r);
-    for (int c = 0; c < dim_; ++c) {
+namespace {
+
+/// out = outer o inner in dimension D (0: the maps' own), unrolled when D is known.
+template <int D>
+void compose_in(const AffineMap& outer, const AffineMap& inner, AffineMap& out) {
+  const int n = D ? D : outer.dim();
+  for (int r = 0; r < n; ++r) {
+    double offset = outer.b(r);
+    for (int c = 0; c < n; ++c) {
       double v = 0.0;
-      for (int k = 0; k < dim_; ++k) v += a(r, k) * inner.a(k, c);
+      for (int k = 0; k < n; ++k) v += outer.a(r, k) * inner.a(k, c);
       out.a(r, c) = v;
-      offset += a(r, c) * inner.b(c);
+      offset += outer.a(r, c) * inner.b(c);
     }
     out.b(r) = offset;
   }
+}
+
+}  // namespace
+
+void AffineMap::compose_into(const AffineMap& inner, AffineMap& out) const {
+  if (inner.dim_ != dim_) throw InputError("cannot compose maps of different dimensions");
+  if (out.dim_ != dim_) out = AffineMap(dim_);
+  // A recursion composes at every node: the common dimensions unrolled.
+  if (dim_ == 2) return compose_in<2>(*this, inner, out);
+  if (dim_ == 3) return compose_in<3>(*this, inner, out);
+  compose_in<0>(*this, inner, out);
 }
 
 std::optional<AffineMap> AffineMap::inverse() const {

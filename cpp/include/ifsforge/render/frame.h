@@ -37,23 +37,40 @@ struct PixelTransform {
   }
   /// @brief out = this o w: a piece's map from its parent's, one level down a recursion.
   void compose(const AffineMap& w, PixelTransform& out) const {
-    out.dim = dim;
+    if (dim == 2) return compose_in<2>(w, out);  // unrolled: a recursion composes at every node
+    if (dim == 3) return compose_in<3>(w, out);
+    compose_in<0>(w, out);
+  }
+  /// @brief The pixel box [lo, hi) of the image of the box centre +- half (dim coordinates).
+  void box(const double* center, const double* half, double* lo, double* hi) const {
+    if (dim == 2) return box_in<2>(center, half, lo, hi);
+    if (dim == 3) return box_in<3>(center, half, lo, hi);
+    box_in<0>(center, half, lo, hi);
+  }
+
+ private:
+  /// D: the dimension known when compiled (0: dim).
+  template <int D>
+  void compose_in(const AffineMap& w, PixelTransform& out) const {
+    const int n = D ? D : dim;
+    out.dim = n;
     for (int axis = 0; axis < 2; ++axis) {
       double offset = b[axis];
-      for (int k = 0; k < dim; ++k) offset += a[axis][k] * w.b(k);
+      for (int k = 0; k < n; ++k) offset += a[axis][k] * w.b(k);
       out.b[axis] = offset;
-      for (int c = 0; c < dim; ++c) {
+      for (int c = 0; c < n; ++c) {
         double v = 0.0;
-        for (int k = 0; k < dim; ++k) v += a[axis][k] * w.a(k, c);
+        for (int k = 0; k < n; ++k) v += a[axis][k] * w.a(k, c);
         out.a[axis][c] = v;
       }
     }
   }
-  /// @brief The pixel box [lo, hi) of the image of the box centre +- half (dim coordinates).
-  void box(const double* center, const double* half, double* lo, double* hi) const {
+  template <int D>
+  void box_in(const double* center, const double* half, double* lo, double* hi) const {
+    const int n = D ? D : dim;
     for (int axis = 0; axis < 2; ++axis) {
       double c = b[axis], extent = 0.0;
-      for (int k = 0; k < dim; ++k) {
+      for (int k = 0; k < n; ++k) {
         c += a[axis][k] * center[k];
         extent += std::abs(a[axis][k]) * half[k];
       }
