@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Whole commands as users run them: each figure a fresh `ifsforge` process, timed from the
 outside (wall time, peak memory and page faults of the child), on 1 and 2 threads, beside its
-target. In-process figures come from the Google Benchmark programs (bench_render, bench_volume).
+target. In-process figures come from the Google Benchmark programs (bench_render, bench_volume),
+with their page faults, rates and targets (IN_PROCESS_TARGETS).
 
     cpp/bench/bench_commands.py [--runs 3] [--quick]
 
@@ -49,18 +50,49 @@ def figure(label, args, target, runs):
 
 
 def in_process(program, filter_):
-    """Google Benchmark rows (name, real time) of build/cpp/bench/PROGRAM matching FILTER."""
+    """Google Benchmark rows (name, real time, unit, counters) of build/cpp/bench/PROGRAM
+    matching FILTER."""
     path = ROOT / "build" / "cpp" / "bench" / program
     if not path.exists():
         return []
     out = subprocess.run([str(path), f"--benchmark_filter={filter_}", "--benchmark_format=csv"],
                          capture_output=True, text=True, cwd=path.parent).stdout
+    lines = [line for line in out.splitlines() if line.startswith("name,") or line.startswith('"')]
+    if not lines:
+        return []
+    header = [h.strip('"') for h in lines[0].split(",")]
     rows = []
-    for line in out.splitlines():
-        if line.startswith('"'):
-            fields = line.split(",")
-            rows.append((fields[0].strip('"'), float(fields[2]), fields[4]))
+    for line in lines[1:]:
+        fields = dict(zip(header, line.split(",")))
+        counters = {k: float(v) for k, v in fields.items() if k not in IGNORED_COLUMNS and v}
+        rows.append((fields["name"].strip('"'), float(fields["real_time"]), fields["time_unit"], counters))
     return rows
+
+
+#: Google Benchmark's own CSV columns (the rest are the benchmark's counters).
+IGNORED_COLUMNS = {"name", "iterations", "real_time", "cpu_time", "time_unit", "bytes_per_second",
+                   "items_per_second", "label", "error_occurred", "error_message"}
+
+#: In-process figures with a target: name prefix -> (seconds below which, or points/s from which
+#: the figure meets it; the target as printed).
+IN_PROCESS_TARGETS = {
+    "PrrSierpinski4096/2/12/": ("seconds", 0.050, "< 50 ms"),  # the seed's depth (3^12 leaves)
+    "PrrSierpinski4096/2/0/": ("seconds", 0.050, "< 50 ms"),   # the default: pieces under a pixel
+    "ChaosTetrahedron3D/1/": ("points/s", 200e6, ">= 200 M points/s per core"),
+    "BM_TableTwo/ria": ("seconds", 0.4, "< 0.4 s"),
+}
+
+
+def in_process_verdict(name, real, unit, counters):
+    """(target text, verdict) of an in-process row, or two empty strings."""
+    for prefix, (what, limit, text) in IN_PROCESS_TARGETS.items():
+        if name.startswith(prefix):
+            if what == "points/s":
+                ok = counters.get("points/s", 0.0) >= limit
+            else:
+                ok = real / {"ns": 1e9, "us": 1e6, "ms": 1e3, "s": 1.0}[unit] < limit
+            return text, "ok" if ok else "MISSED"
+    return "", ""
 
 
 def main():
@@ -91,12 +123,15 @@ def main():
                        ["volume", pyramid, "--res", 1024, "-o", f"{tmp}/v.vdb", "--threads", threads],
                        6.0 if threads == 2 else None, 1)
     print()
-    print("| in process (Google Benchmark) | real time | |")
-    print("| --- | ---: | --- |")
+    print("| in process (Google Benchmark) | real time | page faults | points/s | target | |")
+    print("| --- | ---: | ---: | ---: | --- | --- |")
     for program, filter_ in (("bench_render", "PrrSierpinski4096|ChaosFern1024|ChaosTetrahedron3D"),
                              ("bench_volume", "PrrToVdb/(256|512)|TableTwo/")):
-        for name, real, unit in in_process(program, filter_):
-            print(f"| {program} {name} | {real:.1f} {unit} | |")
+        for name, real, unit, counters in in_process(program, filter_):
+            faults = f"{counters['faults']:,.0f}" if "faults" in counters else ""
+            rate = f"{counters['points/s'] / 1e6:,.0f} M" if "points/s" in counters else ""
+            target, verdict = in_process_verdict(name, real, unit, counters)
+            print(f"| {program} {name} | {real:.1f} {unit} | {faults} | {rate} | {target} | {verdict} |")
 
 
 if __name__ == "__main__":
