@@ -27,9 +27,8 @@ using prr::LeafList;
 using prr::NodeCounts;
 using prr::OverBudget;
 
-/// What every job of one render shares, and one job's walk. Every walk reads it at every node:
-/// its own cache lines keep it apart from what the threads write beside it on the stack.
-struct alignas(64) PrrImage {
+/// What every job of one render shares, and one job's walk.
+struct PrrImage {
   const Ifs& ifs;
   Frame frame;
   int eq59 = 0;

@@ -27,14 +27,6 @@ struct PixelTransform {
   int dim = 0;
   std::array<std::array<double, kMaxDim>, 2> a{};
   std::array<double, 2> b{};
-  std::array<double, 2> operator()(const Point& p) const {
-    double x = b[0], y = b[1];
-    for (int c = 0; c < dim; ++c) {
-      x += a[0][c] * p[c];
-      y += a[1][c] * p[c];
-    }
-    return {x, y};
-  }
   /// @brief out = this o w: a piece's map from its parent's, one level down a recursion.
   void compose(const AffineMap& w, PixelTransform& out) const {
     if (dim == 2) return compose_in<2>(w, out);  // unrolled: a recursion composes at every node

@@ -90,20 +90,12 @@ inline void image_box(const AffineMap& m, const RecursionPlan& plan, int rows, d
   }
 }
 
-/// @brief Pixel-space box [lo, hi) per image axis of a node's piece M(B), projected by `frame`.
+/// @brief Pixel-space box [lo, hi) per image axis of a node's piece M(B): the box of B under
+/// the piece's map straight to pixels (what the point recursive walk composes level by level).
 inline void piece_pixel_box(const Frame& frame, const RecursionPlan& plan, const AffineMap& m, double* lo, double* hi) {
-  const int spatial = frame.spatial_dims();
-  Point c{};
-  double half[3];
-  image_box(m, plan, spatial, c.data(), half);
-  const auto px = frame.to_pixel(c);
-  for (int axis = 0; axis < 2; ++axis) {
-    double extent = 0.0;
-    for (int k = 0; k < spatial; ++k) extent += std::abs(frame.projection()[axis][k]) * half[k];
-    extent /= frame.pixel_size();
-    lo[axis] = px[axis] - extent;
-    hi[axis] = px[axis] + extent;
-  }
+  PixelTransform t;
+  frame.pixel_transform(m, t);
+  t.box(plan.center.data(), plan.half.data(), lo, hi);
 }
 
 namespace detail {
