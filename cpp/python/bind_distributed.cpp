@@ -16,28 +16,6 @@ const Renderer& distributable_renderer(const std::string& algorithm) {
   return r;
 }
 
-/// A job runner (images and volumes) around distribute(first, last) -> list of bytes: the bytes
-/// are read in place (a 1024^3 volume's results are ~180 MB, a 1024^2 PRR image's ~330 MB: no
-/// copy), held until the next call or the end of the render (whose binding holds the GIL again
-/// before the runner goes).
-std::function<std::vector<std::string_view>(std::uint64_t, std::uint64_t)> bytes_runner(const py::object& distribute) {
-  auto held = std::make_shared<py::list>();
-  return [distribute, held](std::uint64_t first, std::uint64_t last) {
-    py::gil_scoped_acquire gil;
-    *held = py::list(distribute(first, last));
-    std::vector<std::string_view> out;
-    for (const auto& item : *held) {
-      char* data = nullptr;
-      Py_ssize_t size = 0;
-      if (!PyBytes_Check(item.ptr()) || PyBytes_AsStringAndSize(item.ptr(), &data, &size) != 0)
-        throw InputError("a distributed job returned " + std::string(py::str(py::type::of(item))) +
-                         ", not the bytes of run_volume_jobs or run_render_jobs");
-      out.emplace_back(data, static_cast<std::size_t>(size));
-    }
-    return out;
-  };
-}
-
 }  // namespace
 
 void bind_distributed(py::module_& m) {

@@ -45,7 +45,10 @@ void bind_io_vdb(py::module_& m) {
                     "auto, range or clamp")
       .def_readwrite("metadata", &VdbWriteOptions::metadata, "extra file metadata (string values)")
       .def_readwrite("half", &VdbWriteOptions::half, "16-bit halves for the [0, 1] grids")
-      .def_readwrite("compress", &VdbWriteOptions::compress, "Blosc-compress the leaf buffers");
+      .def_readwrite("compress", &VdbWriteOptions::compress, "Blosc-compress the leaf buffers")
+      .def_property("progress", [](const VdbWriteOptions&) { return py::none(); },
+                    [](VdbWriteOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
+                    "progress(fraction) returning False cancels (write-only)");
   m.def("write_vdb",
         [](const std::string& path, const Volume& volume, std::optional<Ifs> system, const py::kwargs& kwargs) {
           VdbWriteOptions o = options_from<VdbWriteOptions>("write_vdb", kwargs);
@@ -59,6 +62,41 @@ void bind_io_vdb(py::module_& m) {
         "puts them; metadata describes the volume and, when given, the system (its JSON). half: store the "
         "[0, 1] grids (and a binary density) as 16-bit halves (relative error <= 2^-11); compress: Blosc "
         "(about a third smaller, slower to write).");
+
+  m.def("render_volume_to_vdb",
+        [](const std::string& path, const Ifs& ifs, const std::string& algorithm, const py::object& distribute,
+           const py::kwargs& kwargs) {
+          // Each keyword goes to the options struct that has it (the two share no name).
+          py::dict volume_keywords, vdb_keywords;
+          const py::object vdb_fields = py::cast(VdbWriteOptions{});
+          for (const auto& item : kwargs)
+            (py::hasattr(vdb_fields, py::str(item.first)) ? vdb_keywords : volume_keywords)[item.first] = item.second;
+          VolumeOptions o = options_from<VolumeOptions>("render_volume_to_vdb", volume_keywords);
+          if (!distribute.is_none()) o.distribute = bytes_runner(distribute);
+          VdbWriteOptions w = options_from<VdbWriteOptions>("render_volume_to_vdb", vdb_keywords);
+          w.system = &ifs;
+          std::uint64_t voxels = 0;
+          Volume header;
+          {
+            py::gil_scoped_release release;
+            header = render_volume_to_vdb(path, ifs, algorithm, o, w, &voxels);
+          }
+          py::dict out;
+          out["voxels"] = voxels;
+          out["dims"] = py::make_tuple(header.grid.dims[0], header.grid.dims[1], header.grid.dims[2]);
+          out["voxel_size"] = header.grid.voxel_size;
+          out["origin"] = py::make_tuple(header.grid.origin[0], header.grid.origin[1], header.grid.origin[2]);
+          out["algorithm"] = header.algorithm;
+          out["depth"] = header.depth;
+          out["points"] = header.points;
+          return out;
+        },
+        py::arg("path"), py::arg("ifs"), py::arg("algorithm") = "prr", py::arg("distribute") = py::none(),
+        "render_volume straight into the .vdb at `path` (write_vdb's file, with the system's metadata): prr gives "
+        "its volume band by band as it merges its jobs, so no more than a band is held (2048^3 and beyond); the "
+        "other renderers render, then write. Keywords: render_volume's and write_vdb's. distribute(first, last): "
+        "the jobs run elsewhere (ifsforge.distributed). Returns a dict: voxels, dims, voxel_size, origin, "
+        "algorithm, depth, points.");
 
   m.def("read_vdb_info", [](const std::string& path) {
     const VdbFileInfo info = read_vdb_info(path);

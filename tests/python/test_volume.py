@@ -210,6 +210,27 @@ def test_cli_writes_vdb_and_mesh(cli, tmp_path, samples):
     assert pyopenvdb.read(str(tmp_path / "m.vdb"), "density").activeVoxelCount() == 8000
 
 
+def test_a_vdb_alone_is_written_straight_from_the_render(cli, tmp_path, samples):
+    # -o alone: PRR gives the file its volume band by band; with --mesh the volume is built whole
+    # first. The same bytes, as from Python.
+    path = samples / "volume_sierpinski_pyramid_rgb.json"
+    cli("volume", path, "--res", "200", "-o", tmp_path / "alone.vdb", check=True)
+    cli("volume", path, "--res", "200", "-o", tmp_path / "whole.vdb", "--mesh", tmp_path / "m.ply", check=True)
+    assert (tmp_path / "alone.vdb").read_bytes() == (tmp_path / "whole.vdb").read_bytes()
+    system = ifsforge.load(str(path))
+    made = ifsforge.render_volume_to_vdb(str(tmp_path / "straight.vdb"), system, "prr", resolution=200, compress=True)
+    volume = ifsforge.render_volume(system, "prr", resolution=200)
+    ifsforge.write_vdb(str(tmp_path / "rendered.vdb"), volume, system=system, compress=True)
+    assert (tmp_path / "straight.vdb").read_bytes() == (tmp_path / "rendered.vdb").read_bytes()
+    assert made["voxels"] == len(volume) > 100000 and made["points"] == volume.points
+    assert made["dims"] == tuple(volume.dims) and made["depth"] == volume.depth
+    grid = pyopenvdb.read(str(tmp_path / "straight.vdb"), "color")
+    assert grid.activeVoxelCount() == len(volume)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'colour'"):
+        ifsforge.render_volume_to_vdb(str(tmp_path / "x.vdb"), system, "prr", colour=1)
+    assert not (tmp_path / "x.vdb").exists()
+
+
 def test_cli_refuses_bad_input(cli, tmp_path, samples):
     divergent = tmp_path / "divergent.json"
     divergent.write_text(json.dumps({"format": "ifsforge/1", "name": "blow-up", "layout": "xyz", "maps": [

@@ -85,7 +85,7 @@ __version__ = "0.1.0"
 # OpenVDB files and iso-surfaces live in their own extension, imported on first use: loading
 # libopenvdb takes ~60 ms, which every command that writes no .vdb would otherwise pay.
 _VDB_NAMES = ("IsoSurfaceOptions", "VdbWriteOptions", "VoxelTargetOptions", "read_vdb_info", "read_voxel_target",
-              "volume_to_mesh", "write_vdb")
+              "render_volume_to_vdb", "volume_to_mesh", "write_vdb")
 
 
 def __getattr__(name):

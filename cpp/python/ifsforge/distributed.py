@@ -9,6 +9,7 @@ of a worker that dies; the result does not change.
 
     client = ifsforge.distributed.connect("tcp://10.0.0.1:8786")   # or cluster="local:2"
     volume = ifsforge.distributed.render_volume(system, "prr", resolution=1024, client=client)
+    ifsforge.distributed.render_volume_to_vdb("p.vdb", system, "prr", resolution=2048, client=client)
 
 Every worker needs the same ifsforge build (connect() checks it and names a worker without it).
 """
@@ -177,6 +178,17 @@ def render_volume(system, algorithm="prr", client=None, progress=None, **options
         return ifsforge.render_volume(system, algorithm, progress=progress, **options)
     run = _runner(client, _volume_task, ifsforge.to_json(system), algorithm, _worker_options(options))
     return _core.render_volume_distributed(system, algorithm, options, run, progress)
+
+
+def render_volume_to_vdb(path, system, algorithm="prr", client=None, progress=None, **options):
+    """ifsforge.render_volume_to_vdb with its jobs on `client`'s workers (prr, ria): the same file,
+    merged here a band at a time (prr). Without a client, the local render."""
+    if client is None:
+        return ifsforge.render_volume_to_vdb(path, system, algorithm, progress=progress, **options)
+    vdb_fields = set(dir(ifsforge.VdbWriteOptions()))
+    jobs = {k: v for k, v in options.items() if k not in vdb_fields}
+    run = _runner(client, _volume_task, ifsforge.to_json(system), algorithm, _worker_options(jobs))
+    return ifsforge.render_volume_to_vdb(path, system, algorithm, distribute=run, progress=progress, **options)
 
 
 def render(system, algorithm="chaos", client=None, progress=None, **options):

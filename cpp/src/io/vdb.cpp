@@ -23,32 +23,47 @@
 #include "ifsforge/io/ifs_json.h"
 #include "vdb_archive.h"
 #include "vdb_grid.h"
+#include "vdb_stream.h"
 
 namespace ifsforge {
 namespace {
 
 using detail::initialize;
-using detail::make_grid;
 
-/// A grid of one attribute, evaluated voxel by voxel from the channel means.
-openvdb::GridBase::Ptr attribute_grid(const Volume& volume, const AttributeRecipe& recipe) {
-  const int nc = volume.channel_count();
-  if (recipe.components == 3) {
-    auto grid = make_grid<openvdb::Vec3fGrid>(volume, recipe.name, [&](std::size_t v) {
-      openvdb::Vec3f rgb;
-      recipe.evaluate(&volume.channels[v * nc], rgb.asPointer());
-      // Blender's Principled Volume reads the colour grid as linear (the one colour rule).
-      for (int c = 0; c < 3; ++c) rgb[c] = srgb_to_linear(rgb[c]);
-      return rgb;
-    });
-    grid->setVectorType(openvdb::VEC_INVARIANT);
+/// The empty grids of the file and how each band's values are made: the density, then one grid
+/// per exported attribute (volume_attributes' order).
+std::vector<detail::StreamGrid> stream_grids(const Volume& header, const VdbWriteOptions& options) {
+  auto make = [&](openvdb::GridBase::Ptr grid, const std::string& name, bool half) {
+    grid->setName(name);
+    grid->setTransform(detail::transform_of(header.grid));
+    grid->setSaveFloatAsHalf(half);
     return grid;
+  };
+  std::vector<detail::StreamGrid> grids;
+  auto density = make(openvdb::FloatGrid::create(), "density", options.half && header.density_mode == VolumeDensity::Binary);
+  density->setGridClass(openvdb::GRID_FOG_VOLUME);
+  grids.push_back({density, 1, [](const VoxelSpan& band, float* values) { std::copy_n(band.density, band.size, values); }});
+  const int nc = header.channel_count();
+  for (const AttributeRecipe& recipe : attribute_recipes(header, options.color_scale)) {
+    openvdb::GridBase::Ptr grid;
+    if (recipe.components == 3) {
+      auto rgb = openvdb::Vec3fGrid::create();
+      rgb->setVectorType(openvdb::VEC_INVARIANT);
+      grid = rgb;
+    } else {
+      grid = openvdb::FloatGrid::create();
+    }
+    grids.push_back({make(grid, recipe.name, options.half), recipe.components, [recipe, nc](const VoxelSpan& band, float* values) {
+      for (std::size_t v = 0; v < band.size; ++v) {
+        float* out = values + v * recipe.components;
+        recipe.evaluate(band.channels + v * nc, out);
+        // Blender's Principled Volume reads the colour grid as linear (the one colour rule).
+        if (recipe.components == 3)
+          for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(out[c]);
+      }
+    }});
   }
-  return make_grid<openvdb::FloatGrid>(volume, recipe.name, [&](std::size_t v) {
-    float x;
-    recipe.evaluate(&volume.channels[v * nc], &x);
-    return x;
-  });
+  return grids;
 }
 
 std::string text(double value) {
@@ -58,23 +73,7 @@ std::string text(double value) {
   return out.str();
 }
 
-}  // namespace
-
-void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOptions& options) {
-  initialize();
-  check_writable(path);
-  const int components = 1 + 3 + volume.channel_count();
-  check_memory(volume.size() * (8.0 * components + 16.0), "writing a volume of " + std::to_string(volume.size()) + " voxels");
-  openvdb::GridPtrVec grids;
-  auto density = make_grid<openvdb::FloatGrid>(volume, "density", [&](std::size_t v) { return volume.density[v]; });
-  density->setGridClass(openvdb::GRID_FOG_VOLUME);
-  density->setSaveFloatAsHalf(options.half && volume.density_mode == VolumeDensity::Binary);
-  grids.push_back(density);
-  for (const AttributeRecipe& recipe : attribute_recipes(volume, options.color_scale)) {
-    grids.push_back(attribute_grid(volume, recipe));
-    grids.back()->setSaveFloatAsHalf(options.half);
-  }
-
+openvdb::MetaMap file_metadata(const Volume& volume, const VdbWriteOptions& options) {
   openvdb::MetaMap meta;
   meta.insertMeta("creator", openvdb::StringMetadata("ifsforge"));
   meta.insertMeta("ifsforge_algorithm", openvdb::StringMetadata(volume.algorithm));
@@ -97,12 +96,37 @@ void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOpti
     meta.insertMeta("ifsforge_layout", openvdb::StringMetadata(options.system->layout().text()));
   }
   for (const auto& [key, value] : options.metadata) meta.insertMeta(key, *detail::typed_metadata(value));
+  return meta;
+}
 
-  AtomicFile out(path);
+}  // namespace
+
+std::uint64_t write_vdb(const std::string& path, const Volume& header, std::size_t bands,
+                        const VolumeBandLoader& load, const VdbWriteOptions& options) {
+  initialize();
+  check_writable(path);
   // Inactive values are all background: the active mask alone restores them.
-  detail::write_vdb_archive(out.temporary_path(), path, openvdb::GridCPtrVec(grids.begin(), grids.end()), meta,
-                            openvdb::io::COMPRESS_ACTIVE_MASK | (options.compress ? openvdb::io::COMPRESS_BLOSC : 0));
-  out.commit();
+  return detail::write_vdb_bands(path, header.grid, file_metadata(header, options), stream_grids(header, options), bands,
+                                 load, openvdb::io::COMPRESS_ACTIVE_MASK | (options.compress ? openvdb::io::COMPRESS_BLOSC : 0),
+                                 options.progress);
+}
+
+void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOptions& options) {
+  write_vdb(path, volume, volume_bands(volume.grid), band_loader(volume), options);
+}
+
+Volume render_volume_to_vdb(const std::string& path, const Ifs& ifs, const std::string& algorithm,
+                            const VolumeOptions& options, const VdbWriteOptions& vdb, std::uint64_t* voxels) {
+  check_writable(path);  // before the render
+  VdbWriteOptions w = vdb;
+  if (options.progress) w.progress = progress_range(options.progress, 0.95, 1.0);  // PRR's last 5%: its merge
+  std::uint64_t written = 0;
+  Volume header = volume_renderer(algorithm).render_bands(
+      ifs, options, [&](const Volume& h, std::size_t bands, const VolumeBandLoader& load) {
+        written = write_vdb(path, h, bands, load, w);
+      });
+  if (voxels) *voxels = written;
+  return header;
 }
 
 VdbFileInfo read_vdb_info(const std::string& path) {

@@ -1,7 +1,6 @@
 #pragma once
-// Writing a .vdb through a stream ifsforge checks: OpenVDB's io::File ignores a failed write
-// (a full disk leaves a truncated file it reports as written) and stamps a random UUID. Reading
-// one through a stream that stops at the first short read.
+// Typed file metadata for .vdb files, and reading one through a stream that stops at the first
+// short read.
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 
@@ -14,12 +13,6 @@
 #include "ifsforge/core/error.h"
 
 namespace ifsforge::detail {
-
-/// Writes `grids` and `meta` to `file_path` (seekable, like io::File), checks every byte
-/// reached the file, then replaces the random UUID by one hashed from the content, so the same
-/// volume always gives the same bytes. FileError naming `shown_path` on any failure.
-void write_vdb_archive(const std::string& file_path, const std::string& shown_path,
-                       const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& meta, std::uint32_t compression);
 
 /// A metadata value of the type its text holds: a whole number -> Int64, another number ->
 /// Double, three numbers separated by spaces or commas -> Vec3d (Vec3i when all whole), else

@@ -245,23 +245,32 @@ Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options
   const std::vector<std::string_view> results =
       here ? std::vector<std::string_view>(run.encoded.begin(), run.encoded.end()) : options.distribute(0, run.jobs);
   std::vector<VolumeJobsBytes> parts(results.begin(), results.end());
-  if (!here) {
-    double entries = 0.0;
-    for (const VolumeJobsBytes& part : parts) entries += static_cast<double>(part.entries());
-    check_memory(entries * (12.0 + 4.0 * (ifs.dim() - 3)),
-                 "merging a " + std::to_string(options.resolution) + "^3 point-recursive volume");
+  const VolumeSetup& setup = run.setup;
+  Volume header = empty_volume(setup.grid, ifs, setup.quantizer, options.density);
+  header.algorithm = name();
+  for (const VolumeJobsBytes& part : parts) {
+    header.depth = std::max(header.depth, part.depth());
+    header.points += part.points();
   }
   if (options.progress && !options.progress(0.95)) throw Cancelled();
-  const VolumeSetup& setup = run.setup;
-  Volume volume = finish_volume_jobs(parts, setup.grid, ifs, setup.quantizer, options.density, kVolumeMassUnit,
-                                     setup.threads);
-  volume.algorithm = name();
-  for (const VolumeJobsBytes& part : parts) {
-    volume.depth = std::max(volume.depth, part.depth());
-    volume.points += part.points();
+  if (options.bands) {  // a band at a time: nothing more is held
+    give_volume_jobs(parts, header, setup.quantizer, kVolumeMassUnit, options.bands);
+  } else {
+    if (!here) {
+      double entries = 0.0;
+      for (const VolumeJobsBytes& part : parts) entries += static_cast<double>(part.entries());
+      check_memory(entries * (12.0 + 4.0 * (ifs.dim() - 3)),
+                   "merging a " + std::to_string(options.resolution) + "^3 point-recursive volume");
+    }
+    Volume volume = finish_volume_jobs(parts, setup.grid, ifs, setup.quantizer, options.density, kVolumeMassUnit,
+                                       setup.threads);
+    volume.algorithm = header.algorithm;
+    volume.depth = header.depth;
+    volume.points = header.points;
+    header = std::move(volume);
   }
   if (options.progress && !options.progress(1.0)) throw Cancelled();
-  return volume;
+  return header;
 }
 
 std::string PointRecursiveVolume::run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,

@@ -74,4 +74,21 @@ std::vector<VolumeAttribute> volume_attributes(const Volume& volume, ColorScale 
   return out;
 }
 
+std::size_t volume_bands(const VoxelGrid& grid) {
+  return (static_cast<std::size_t>(grid.dims[0]) + kVolumeBandRows - 1) / kVolumeBandRows;
+}
+
+VolumeBandLoader band_loader(const Volume& volume) {
+  return [&volume](std::size_t band, bool, Volume&) {
+    auto at = [&](std::uint64_t x) {
+      return static_cast<std::size_t>(std::lower_bound(volume.keys.begin(), volume.keys.end(), VoxelGrid::key(x, 0, 0)) -
+                                      volume.keys.begin());
+    };
+    const std::size_t first = at(band * kVolumeBandRows), last = at((band + 1) * kVolumeBandRows);
+    const std::size_t nc = static_cast<std::size_t>(volume.channel_count());
+    return VoxelSpan{volume.keys.data() + first, volume.density.data() + first, volume.channels.data() + first * nc,
+                     last - first};
+  };
+}
+
 }  // namespace ifsforge

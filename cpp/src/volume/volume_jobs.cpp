@@ -194,24 +194,49 @@ VolumeJobsResult decode_volume_jobs(std::string_view bytes) {
   return r;
 }
 
-Volume finish_volume_jobs(const std::vector<VolumeJobsBytes>& parts, const VoxelGrid& grid, const Ifs& ifs,
-                          const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads) {
-  // Which parts hold each slab: a render's jobs each span a few of them.
+namespace {
+
+/// Which parts hold each slab (a render's jobs each span a few of them).
+std::vector<std::vector<std::uint32_t>> slab_holders(const std::vector<VolumeJobsBytes>& parts, int channels) {
   std::vector<std::vector<std::uint32_t>> holders;
   for (std::size_t p = 0; p < parts.size(); ++p) {
-    if (parts[p].channels() != ifs.dim() - 3) throw InputError("volume job result: not a result of this system");
+    if (parts[p].channels() != channels) throw InputError("volume job result: not a result of this system");
     if (parts[p].slabs() > holders.size()) holders.resize(parts[p].slabs());
-    for (std::size_t s = parts[p].first_slab(); s < parts[p].slabs(); ++s)
-      holders[s].push_back(static_cast<std::uint32_t>(p));
+    for (std::size_t s = parts[p].first_slab(); s < parts[p].slabs(); ++s) holders[s].push_back(static_cast<std::uint32_t>(p));
   }
-  const SlabLoader load = [&](std::size_t s, std::vector<VoxelList>& lists, bool keys_only) {
+  return holders;
+}
+
+/// Loads slab s of every part holding it.
+SlabLoader slab_loader(const std::vector<VolumeJobsBytes>& parts, const std::vector<std::vector<std::uint32_t>>& holders) {
+  return [&](std::size_t s, std::vector<VoxelList>& lists, bool keys_only) {
     // The thread's lists are reused (their buffers kept); those past this slab's are emptied.
     const std::vector<std::uint32_t>& here = holders[s];
     if (lists.size() < here.size()) lists.resize(here.size());
     for (VoxelList& list : lists) list.clear();
     for (std::size_t k = 0; k < here.size(); ++k) parts[here[k]].decode(s, lists[k], keys_only);
   };
-  return finish_volume(holders.size(), load, grid, ifs, quantizer, mode, total_mass, threads);
+}
+
+}  // namespace
+
+Volume finish_volume_jobs(const std::vector<VolumeJobsBytes>& parts, const VoxelGrid& grid, const Ifs& ifs,
+                          const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads) {
+  const auto holders = slab_holders(parts, ifs.dim() - 3);
+  return finish_volume(holders.size(), slab_loader(parts, holders), grid, ifs, quantizer, mode, total_mass, threads);
+}
+
+void give_volume_jobs(const std::vector<VolumeJobsBytes>& parts, const Volume& header, const ChannelQuantizer& quantizer,
+                      double total_mass, const VolumeBandSink& sink) {
+  const int channels = header.channel_count();
+  const auto holders = slab_holders(parts, channels);
+  const SlabLoader load = slab_loader(parts, holders);
+  constexpr std::size_t kSlabsPerBand = kVolumeBandRows >> VolumeJobsBytes::kSlabShift;
+  sink(header, volume_bands(header.grid), [&](std::size_t band, bool keys_only, Volume& out) {
+    const std::size_t first = std::min(band * kSlabsPerBand, holders.size());
+    const std::size_t last = std::min(first + kSlabsPerBand, holders.size());
+    return finish_slabs(first, last, load, quantizer, header.density_mode, total_mass, channels, keys_only, out);
+  });
 }
 
 }  // namespace ifsforge

@@ -51,6 +51,22 @@ std::string VolumeRenderer::run_jobs(const Ifs&, const VolumeOptions&, std::uint
   throw InputError("the " + name() + " volume renderer does not split into independent jobs: distribute prr or ria");
 }
 
+Volume VolumeRenderer::render_bands(const Ifs& ifs, VolumeOptions options, const VolumeBandSink& sink) const {
+  bool given = false;
+  options.bands = [&](const Volume& header, std::size_t bands, const VolumeBandLoader& load) {
+    given = true;
+    sink(header, bands, load);
+  };
+  Volume volume = render(ifs, options);
+  if (!given) {
+    sink(volume, volume_bands(volume.grid), band_loader(volume));
+    volume.keys = {};
+    volume.density = {};
+    volume.channels = {};
+  }
+  return volume;
+}
+
 Volume render_volume(const Ifs& ifs, const std::string& algorithm, const VolumeOptions& options) {
   return volume_renderer(algorithm).render(ifs, options);
 }

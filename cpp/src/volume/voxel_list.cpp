@@ -154,6 +154,24 @@ class SlabMerge {
     for (std::size_t k = 0; k < w.order.size(); ++k) voxels += k == 0 || w.order[k].key != w.order[k - 1].key;
     return voxels;
   }
+  /// @brief Calls visit(key) for every distinct key of slab s, ascending: what a merge of lists
+  /// loaded keys alone (no sums) holds.
+  template <typename Visit>
+  void visit_keys(std::size_t s, SlabScratch& w, Visit&& visit) const {
+    if (sources_.size() > 1 && bitmap_fits()) {
+      std::vector<std::uint64_t>& bits = bitmap(w);
+      each_entry(s, [&](std::size_t, std::size_t, std::uint64_t c) { bits[c >> 6] |= std::uint64_t(1) << (c & 63); });
+      for (std::size_t k = 0, words = bitmap_words(); k < words; ++k) {
+        for (std::uint64_t word = bits[k]; word; word &= word - 1)
+          visit(key_of(s, (std::uint64_t(k) << 6) + __builtin_ctzll(word)));
+        bits[k] = 0;
+      }
+      return;
+    }
+    sort(s, w.order, w.scratch);
+    for (std::size_t k = 0; k < w.order.size(); ++k)
+      if (k == 0 || w.order[k].key != w.order[k - 1].key) visit(key_of(s, w.order[k].key));
+  }
   /// @brief The voxel key of a compacted key of slab s.
   std::uint64_t key_of(std::size_t s, std::uint64_t compact) const {
     const std::uint64_t k = compact & ((std::uint64_t(1) << bits_k_) - 1);
@@ -356,19 +374,6 @@ void sort_and_reduce(VoxelList& list) {
 
 namespace {
 
-/// A volume with no voxels yet: the grid and the channels' metadata.
-Volume empty_volume(const VoxelGrid& grid, const Ifs& ifs, const ChannelQuantizer& quantizer, VolumeDensity mode) {
-  Volume volume;
-  volume.grid = grid;
-  volume.density_mode = mode;
-  const auto& names = ifs.layout().names();
-  volume.channel_names.assign(names.begin() + ifs.spatial_dims(), names.end());
-  volume.color_model = ifs.layout().color_model();
-  volume.channel_lo = quantizer.lo();
-  volume.channel_hi = quantizer.hi();
-  return volume;
-}
-
 /// Sizes a volume for `total` voxels and writes voxel v from its merged sums: density by
 /// `mode` (Measure: mass over `total_mass`), channel means through the quantizer.
 struct VolumeWriter {
@@ -397,6 +402,18 @@ struct VolumeWriter {
 };
 
 }  // namespace
+
+Volume empty_volume(const VoxelGrid& grid, const Ifs& ifs, const ChannelQuantizer& quantizer, VolumeDensity mode) {
+  Volume volume;
+  volume.grid = grid;
+  volume.density_mode = mode;
+  const auto& names = ifs.layout().names();
+  volume.channel_names.assign(names.begin() + ifs.spatial_dims(), names.end());
+  volume.color_model = ifs.layout().color_model();
+  volume.channel_lo = quantizer.lo();
+  volume.channel_hi = quantizer.hi();
+  return volume;
+}
 
 Volume finish_volume(std::vector<VoxelList>& lists, const VoxelGrid& grid, const Ifs& ifs,
                      const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads) {
@@ -427,6 +444,34 @@ Volume finish_volume(std::size_t slabs, const SlabLoader& load, const VoxelGrid&
         if (merge.slabs()) merge.write_slab(0, w, index, write);
       });
   return volume;
+}
+
+VoxelSpan finish_slabs(std::size_t first, std::size_t last, const SlabLoader& load, const ChannelQuantizer& quantizer,
+                       VolumeDensity mode, double total_mass, int channels, bool keys_only, Volume& out) {
+  thread_local SlabScratch w;  // a thread of the band writer's, band after band
+  out.keys.clear();
+  out.density.clear();
+  out.channels.clear();
+  const VolumeWriter write{out, quantizer, mode, total_mass, channels};
+  for (std::size_t s = first; s < last; ++s) {
+    load(s, w.lists, keys_only);
+    const SlabMerge merge(w.lists, 1);
+    if (!merge.slabs()) continue;
+    if (keys_only) {
+      merge.visit_keys(0, w, [&](std::uint64_t key) { out.keys.push_back(key); });
+      continue;
+    }
+    merge.reduce_slab(0, w, [&](std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* sums,
+                                const std::uint64_t* extremes) {
+      const std::size_t v = out.keys.size();
+      out.keys.push_back(key);
+      out.density.push_back(0.0f);
+      out.channels.resize(out.channels.size() + channels);
+      write(v, key, hits, mass, sums, extremes);
+    });
+  }
+  return VoxelSpan{out.keys.data(), keys_only ? nullptr : out.density.data(), keys_only ? nullptr : out.channels.data(),
+                   out.keys.size()};
 }
 
 Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs, const ChannelQuantizer& quantizer,

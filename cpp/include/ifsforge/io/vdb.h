@@ -11,6 +11,7 @@
 #include "ifsforge/io/mesh.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/volume/volume.h"
+#include "ifsforge/volume/volume_renderer.h"
 
 namespace ifsforge {
 
@@ -27,6 +28,8 @@ struct VdbWriteOptions {
   bool half = true;
   /// Blosc-compress the leaf buffers: about a third smaller, at about 1.5x the writing time.
   bool compress = false;
+  /// Reports the fraction written; false cancels (Cancelled, and no file is left).
+  ProgressCallback progress;
 };
 
 /// @brief Writes `volume` as a .vdb: FloatGrid "density" (a fog volume), Vec3fGrid "color"
@@ -38,6 +41,22 @@ struct VdbWriteOptions {
 /// given, and options.metadata. The grids' leaves are built in parallel (the file does not
 /// depend on the thread count). Atomic; FileError when it cannot write.
 void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOptions& options = {});
+
+/// @brief write_vdb for a volume given band by band (too large to hold): `header` is the volume
+/// without its voxels (grid, density mode, channels and their ranges, algorithm, depth, points)
+/// and `load` gives its `bands` bands (see VolumeBandLoader). The same file as write_vdb of the
+/// whole volume, holding a band per thread and 100 bytes per leaf of 8^3 voxels. Returns the
+/// voxels written.
+std::uint64_t write_vdb(const std::string& path, const Volume& header, std::size_t bands, const VolumeBandLoader& load,
+                        const VdbWriteOptions& options = {});
+
+/// @brief Renders `ifs` with `algorithm` (render_volume) straight into the .vdb at `path`:
+/// PRR gives its volume band by band as it merges its jobs (here or from a cluster, see
+/// VolumeOptions::distribute), so that no more than a band is ever held; the others render
+/// the volume, then write it. The same file as write_vdb(path, render_volume(...)). Returns the
+/// volume without its voxels; `voxels` (optional) receives their number.
+Volume render_volume_to_vdb(const std::string& path, const Ifs& ifs, const std::string& algorithm,
+                            const VolumeOptions& options, const VdbWriteOptions& vdb = {}, std::uint64_t* voxels = nullptr);
 
 struct VdbGridInfo {
   std::string name, type;       ///< e.g. "density", "float"; "color", "vec3s"

@@ -3,6 +3,7 @@
 /// per voxel and the mean of every extra channel (colour, gray, alpha, ...) over the points
 /// that landed in it (seed 6.2.3.2, 6.3, 6.5.3.1).
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,30 @@ struct Volume {
   /// @brief Index of the voxel with `key`, or size() when it is not occupied.
   std::size_t find(std::uint64_t key) const;
 };
+
+/// The voxels of one band of a volume given band by band: x in [band, band + 1) *
+/// kVolumeBandRows, keys ascending, with their density and channel means (voxel-major; both
+/// may be null when only keys were asked for).
+struct VoxelSpan {
+  const std::uint64_t* keys = nullptr;
+  const float* density = nullptr;
+  const float* channels = nullptr;
+  std::size_t size = 0;
+};
+/// Rows of x per band: the span of a .vdb tree's lower internal nodes, so that a band's leaves
+/// are written without any other band's.
+constexpr int kVolumeBandRows = 128;
+/// Band `band` of a volume: its voxels put in `scratch` (which the caller keeps per thread) or
+/// wherever the loader already holds them; the keys alone suffice when `keys_only`. Called
+/// twice per band (keys, then all), from several threads at once.
+using VolumeBandLoader = std::function<VoxelSpan(std::size_t band, bool keys_only, Volume& scratch)>;
+/// Takes a volume band by band: `header` is the volume without its voxels (grid, density mode,
+/// channels and their ranges, algorithm, depth, points), `load` gives its `bands` bands.
+using VolumeBandSink = std::function<void(const Volume& header, std::size_t bands, const VolumeBandLoader& load)>;
+/// @brief The bands of a grid: dims[0] / kVolumeBandRows, rounded up.
+std::size_t volume_bands(const VoxelGrid& grid);
+/// @brief A loader of the bands of a volume held whole (it points into `volume`).
+VolumeBandLoader band_loader(const Volume& volume);
 
 /// One output attribute per voxel: "color" (3 components, RGB in [0, 1]; HSI converted;
 /// gray repeated), "gray", "alpha", or any other channel by its name (1 component, in [0, 1]).

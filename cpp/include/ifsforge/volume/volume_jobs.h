@@ -65,4 +65,10 @@ VolumeJobsResult decode_volume_jobs(std::string_view bytes);
 Volume finish_volume_jobs(const std::vector<VolumeJobsBytes>& parts, const VoxelGrid& grid, const Ifs& ifs,
                           const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads);
 
+/// @brief The same volume given to `sink` band by band (`header`: the volume without its voxels,
+/// see empty_volume): each band's slabs decoded from every part, merged and converted on the
+/// thread that asks for it, so that no more than a band per thread is ever held.
+void give_volume_jobs(const std::vector<VolumeJobsBytes>& parts, const Volume& header, const ChannelQuantizer& quantizer,
+                      double total_mass, const VolumeBandSink& sink);
+
 }  // namespace ifsforge

@@ -60,6 +60,10 @@ struct VolumeOptions {
   /// Empty: the jobs run here on `threads` threads. Set: the renderer plans, hands every job
   /// to it, and merges (prr and ria; the others throw InputError).
   VolumeJobRunner distribute;
+  /// Set: the renderer may give its volume band by band to `bands` instead of building it, and
+  /// return it without its voxels (prr does, merging its jobs a band at a time). See
+  /// VolumeRenderer::render_bands, which gives every renderer's volume that way.
+  VolumeBandSink bands;
 };
 
 class VolumeRenderer {
@@ -69,6 +73,9 @@ class VolumeRenderer {
   virtual std::string description() const = 0;
   /// @brief Renders `ifs` (xyz layouts with any extra channels; it must have an attractor).
   virtual Volume render(const Ifs& ifs, const VolumeOptions& options) const = 0;
+  /// @brief The volume given to `sink` band by band (VolumeOptions::bands where the renderer
+  /// takes it, else the whole rendered volume's bands); returns it without its voxels.
+  Volume render_bands(const Ifs& ifs, VolumeOptions options, const VolumeBandSink& sink) const;
   /// @brief Runs jobs [first, last) of the render `options` describe (on `options.threads`
   /// threads), merged into one result as the bytes of encode_volume_jobs: what a cluster's
   /// worker does. InputError for a renderer whose work does not split into independent jobs.

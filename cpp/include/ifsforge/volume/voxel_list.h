@@ -110,6 +110,15 @@ using SlabLoader = std::function<void(std::size_t s, std::vector<VoxelList>& lis
 /// results): each thread holds one slab's lists, never all of them.
 Volume finish_volume(std::size_t slabs, const SlabLoader& load, const VoxelGrid& grid, const Ifs& ifs,
                      const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads);
+/// @brief Slabs [first, last) of a merge by `load` (of `channels` channels), finished as
+/// finish_volume finishes them, into the keys, density and channels of `out` (storage reused
+/// from call to call; the keys alone when `keys_only`), on the calling thread: a band of a
+/// volume given band by band.
+VoxelSpan finish_slabs(std::size_t first, std::size_t last, const SlabLoader& load, const ChannelQuantizer& quantizer,
+                       VolumeDensity mode, double total_mass, int channels, bool keys_only, Volume& out);
+/// @brief A volume with no voxels yet: the grid, the density mode and the channels' names,
+/// colour model and ranges.
+Volume empty_volume(const VoxelGrid& grid, const Ifs& ifs, const ChannelQuantizer& quantizer, VolumeDensity mode);
 /// @brief The same for one sorted list.
 Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs, const ChannelQuantizer& quantizer,
                      VolumeDensity mode, double total_mass, int threads);

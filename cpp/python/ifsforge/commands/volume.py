@@ -69,13 +69,30 @@ def run(args):
             raise ifsforge.InputError(f"--mesh expects a .ply, .obj or .glb file, got '{args.mesh}'")
         common.ensure_output_folder(args.mesh)
     system = common.load_system(args.system)
+    options = dict(resolution=args.res, bounds=args.bounds, density=args.density, depth=args.depth,
+                   iterations=args.iterations, escape_bound=args.escape_bound, escape_norm=args.escape_norm,
+                   escape_pick_max=args.escape_max, seed=args.seed, threads=args.threads,
+                   progress=ProgressBar(f"volume {system.name}"))
+    if args.output:
+        # Only what shapes the volume: no thread count (the bytes never depend on it), no path.
+        shown = {k: v for k, v in sorted(vars(args).items())
+                 if k not in ("run", "command", "threads", "output", "mesh", "df3", *distributed.CLUSTER_OPTIONS)}
+        vdb = dict(metadata={"ifsforge_resolution": str(args.res),
+                             "ifsforge_command": "ifsforge volume " + " ".join(f"{k}={v}" for k, v in shown.items())},
+                   color_scale=args.color_scale, half=not args.full_precision, compress=args.compress)
     start = time.perf_counter()
+    if args.output and not args.mesh and not args.df3:
+        # The .vdb alone: straight from the render, a band at a time (2048^3 and beyond fit), and
+        # atomically (the core writes beside the target and renames).
+        with distributed.client_from_args(args) as client:
+            made = distributed.render_volume_to_vdb(args.output, system, args.algorithm, client=client, **options, **vdb)
+        nx, ny, nz = made["dims"]
+        print(f"{system.name}: {nx}x{ny}x{nz} voxels of {made['voxel_size']:.6g}, {made['algorithm']} "
+              f"(depth {made['depth']}), {made['voxels']:,} occupied, {time.perf_counter() - start:.2f} s")
+        print(f"{args.output}: {os.path.getsize(args.output):,} bytes")
+        return
     with distributed.client_from_args(args) as client:
-        volume = distributed.render_volume(
-            system, args.algorithm, client=client, resolution=args.res, bounds=args.bounds, density=args.density,
-            depth=args.depth, iterations=args.iterations, escape_bound=args.escape_bound,
-            escape_norm=args.escape_norm, escape_pick_max=args.escape_max, seed=args.seed, threads=args.threads,
-            progress=ProgressBar(f"volume {system.name}"))
+        volume = distributed.render_volume(system, args.algorithm, client=client, **options)
     nx, ny, nz = volume.dims
     print(f"{system.name}: {nx}x{ny}x{nz} voxels of {volume.voxel_size:.6g}, {volume.algorithm} "
           f"(depth {volume.depth}), {len(volume):,} occupied, {time.perf_counter() - start:.2f} s")
@@ -85,17 +102,10 @@ def run(args):
     if args.mesh:
         mesh = ifsforge.volume_to_mesh(volume, iso=args.iso, adaptivity=args.adaptivity, color_scale=args.color_scale,
                                        progress=ProgressBar(f"mesh {system.name}"))
-    targets = [path for path in (args.output, args.mesh, args.df3) if path]
-    with common.all_or_none(targets) as staged:
+    with common.all_or_none([path for path in (args.output, args.mesh, args.df3) if path]) as staged:
         if args.output:
-            # Only what shapes the volume: no thread count (the bytes never depend on it), no path.
-            shown = {k: v for k, v in sorted(vars(args).items())
-                     if k not in ("run", "command", "threads", "output", "mesh", "df3", *distributed.CLUSTER_OPTIONS)}
-            parameters = {"ifsforge_resolution": str(args.res),
-                          "ifsforge_command": "ifsforge volume " + " ".join(f"{k}={v}" for k, v in shown.items())}
             start = time.perf_counter()
-            ifsforge.write_vdb(staged[args.output], volume, system=system, metadata=parameters,
-                               color_scale=args.color_scale, half=not args.full_precision, compress=args.compress)
+            ifsforge.write_vdb(staged[args.output], volume, system=system, **vdb)
             print(f"{args.output}: {os.path.getsize(staged[args.output]):,} bytes, {time.perf_counter() - start:.2f} s")
         if args.mesh:
             ifsforge.write_mesh(staged[args.mesh], mesh["positions"], mesh["triangles"], normals=mesh["normals"],

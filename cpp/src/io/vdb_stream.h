@@ -1,0 +1,34 @@
+#pragma once
+// A .vdb written band by band (src/io only): the file OpenVDB's own writer makes for the same
+// grids, without building them. OpenVDB still writes the parts it owns (descriptors, metadata,
+// transforms); the tree (topology and leaf buffers of a 5-4-3 tree) is written here, leaf by
+// leaf at its place in the file, so a volume never has to be held whole, in any form.
+#include <openvdb/openvdb.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ifsforge/io/vdb.h"
+
+namespace ifsforge::detail {
+
+/// One grid of the file: an empty OpenVDB grid carrying its name, class, transform, vector type
+/// and half flag, and how a band's values are made (`components` floats per voxel, 1 or 3).
+struct StreamGrid {
+  openvdb::GridBase::Ptr grid;
+  int components = 1;
+  std::function<void(const VoxelSpan& band, float* values)> values;
+};
+
+/// Writes the grids of a volume on `voxel_grid` of `bands` bands (`load`, see VolumeBandLoader) to `path`:
+/// the bytes OpenVDB's io::File writes for those grids filled with the same voxels and file
+/// metadata `meta`, with the compression `compression` (COMPRESS_ACTIVE_MASK, optionally
+/// COMPRESS_BLOSC), except the file's UUID, which is hashed from the content. Atomic;
+/// FileError when it cannot write; Cancelled when `progress` returns false. Returns the voxels
+/// written.
+std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_grid, const openvdb::MetaMap& meta,
+                     const std::vector<StreamGrid>& grids, std::size_t bands, const VolumeBandLoader& load,
+                     std::uint32_t compression, const ProgressCallback& progress);
+
+}  // namespace ifsforge::detail
