@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Scale-out on Dask: 1 against 2 worker processes (a LocalCluster, one thread each) for a
-1024^3 and a 2048^3 volume, a 4096^2 chaos image, a 1024^2 PRR image and a 240-frame 512^2
+1024^3 and a 2048^3 volume (to .vdb), a 4096^2 chaos image, a 1024^2 PRR image and a 240-frame 512^2
 morph. (A 4096^2 PRR fern would send 58 M pixel deposits, 367 MB: see the README.)
 
     cpp/bench/bench_distributed.py [--quick] [--repeat N] [--cases volume1024,volume2048,image4096,morph240]
@@ -85,15 +85,18 @@ def counting_runner(client, task, *head):
     return distribute, stats
 
 
-def volume_case(resolution):
+def volume_case(resolution, folder):
+    """The volume to a .vdb, as `ifsforge volume ... -o p.vdb --cluster` makes it (merged and
+    written a band at a time)."""
     system = ifsforge.load(str(SYSTEMS / "sierpinski_pyramid.json"))
     options = {"resolution": resolution}
+    path = os.path.join(folder, f"pyramid_{resolution}.vdb")
 
     def run(client):
         distribute, stats = counting_runner(client, dist._volume_task, ifsforge.to_json(system), "prr",
                                             dist._worker_options(options))
-        volume = _core.render_volume_distributed(system, "prr", options, distribute)
-        run.result, run.gathered = f"{len(volume):,} voxels", stats["gathered"]
+        made = ifsforge.render_volume_to_vdb(path, system, "prr", distribute=distribute, **options)
+        run.result, run.gathered = f"{made['voxels']:,} voxels to {os.path.getsize(path):,} bytes", stats["gathered"]
         return stats["tasks"], stats["bytes"]
     return run
 
@@ -145,9 +148,9 @@ def main():
     folder = tempfile.mkdtemp(prefix="ifsforge-bench-")
     cases = {
         "volume1024": ("1024^3 pyramid volume (prr)" if not small else "512^3 pyramid volume (prr)",
-                       volume_case(512 if small else 1024)),
+                       volume_case(512 if small else 1024, folder)),
         "volume2048": ("2048^3 pyramid volume (prr)" if not small else "1024^3 pyramid volume (prr)",
-                       volume_case(1024 if small else 2048)),
+                       volume_case(1024 if small else 2048, folder)),
         "image4096": ("4096^2 fern image (chaos)" if not small else "2048^2 fern image (chaos)",
                       image_case(2048 if small else 4096, "chaos")),
         "prr1024": ("1024^2 fern image (prr)", image_case(1024, "prr")),

@@ -66,11 +66,15 @@ void bind_io_vdb(py::module_& m) {
   m.def("render_volume_to_vdb",
         [](const std::string& path, const Ifs& ifs, const std::string& algorithm, const py::object& distribute,
            const py::kwargs& kwargs) {
-          // Each keyword goes to the options struct that has it (the two share no name).
+          // Each keyword goes to the options struct that has it; progress (both have one) follows
+          // the whole, render and write.
           py::dict volume_keywords, vdb_keywords;
           const py::object vdb_fields = py::cast(VdbWriteOptions{});
-          for (const auto& item : kwargs)
-            (py::hasattr(vdb_fields, py::str(item.first)) ? vdb_keywords : volume_keywords)[item.first] = item.second;
+          for (const auto& item : kwargs) {
+            const std::string name = py::str(item.first);
+            (name != "progress" && py::hasattr(vdb_fields, name.c_str()) ? vdb_keywords : volume_keywords)[item.first] =
+                item.second;
+          }
           VolumeOptions o = options_from<VolumeOptions>("render_volume_to_vdb", volume_keywords);
           if (!distribute.is_none()) o.distribute = bytes_runner(distribute);
           VdbWriteOptions w = options_from<VdbWriteOptions>("render_volume_to_vdb", vdb_keywords);

@@ -128,6 +128,12 @@ TEST(VdbStream, OpenVdbWritesTheSameBytesForGrayAlphaEmptyAndWideVolumes) {
   VdbWriteOptions blosc;
   blosc.compress = true;
   expect_openvdb_writes_the_same(empty, blosc, "empty, blosc");
+  options.bounds.reset();
+  options.resolution = 150;
+  const Volume plain = render_volume(tetrahedron(), "prr", options);  // binary, no channels: its topology alone
+  ASSERT_GT(plain.size(), 1000u);
+  expect_openvdb_writes_the_same(plain, {}, "binary without channels");
+  expect_openvdb_writes_the_same(plain, blosc, "binary without channels, blosc");
   expect_openvdb_writes_the_same(wide_volume(), {}, "several root nodes");
   expect_openvdb_writes_the_same(wide_volume(), blosc, "several root nodes, blosc");
 }
@@ -169,7 +175,8 @@ TEST(VdbStream, BandsGivenOneByOneMakeTheWholeVolumesFile) {
 // Rendering straight into a .vdb (PRR's jobs merged a band at a time; the other renderers write
 // their whole volume) makes the file of rendering, then writing.
 TEST(VdbStream, RenderingStraightIntoTheFileMakesTheRenderedVolumesFile) {
-  const Ifs rgb = read_ifs_json(std::string(IFSFORGE_SOURCE_DIR) + "/samples/systems/volume_sierpinski_pyramid_rgb.json");
+  const std::string samples = std::string(IFSFORGE_SOURCE_DIR) + "/samples/systems/";
+  for (const Ifs& rgb : {read_ifs_json(samples + "volume_sierpinski_pyramid_rgb.json"), read_ifs_json(samples + "sierpinski_pyramid.json")})
   for (const char* algorithm : {"prr", "dia"})
     for (const VolumeDensity density : {VolumeDensity::Binary, VolumeDensity::Measure}) {
       VolumeOptions options;
@@ -186,7 +193,7 @@ TEST(VdbStream, RenderingStraightIntoTheFileMakesTheRenderedVolumesFile) {
       EXPECT_EQ(header.size(), 0u) << algorithm;
       EXPECT_EQ(header.points, v.points) << algorithm;
       EXPECT_EQ(header.depth, v.depth) << algorithm;
-      EXPECT_EQ(bytes_of(rendered), bytes_of(straight)) << algorithm << " " << name_of(density);
+      EXPECT_EQ(bytes_of(rendered), bytes_of(straight)) << rgb.name() << " " << algorithm << " " << name_of(density);
       std::remove(rendered.c_str());
       std::remove(straight.c_str());
     }

@@ -218,7 +218,10 @@ def test_a_vdb_alone_is_written_straight_from_the_render(cli, tmp_path, samples)
     cli("volume", path, "--res", "200", "-o", tmp_path / "whole.vdb", "--mesh", tmp_path / "m.ply", check=True)
     assert (tmp_path / "alone.vdb").read_bytes() == (tmp_path / "whole.vdb").read_bytes()
     system = ifsforge.load(str(path))
-    made = ifsforge.render_volume_to_vdb(str(tmp_path / "straight.vdb"), system, "prr", resolution=200, compress=True)
+    seen = []
+    made = ifsforge.render_volume_to_vdb(str(tmp_path / "straight.vdb"), system, "prr", resolution=200, compress=True,
+                                         progress=lambda f: seen.append(f) or True)
+    assert seen[-1] == 1.0 and any(0.95 < f < 1.0 for f in seen)  # the writing is the last 5%
     volume = ifsforge.render_volume(system, "prr", resolution=200)
     ifsforge.write_vdb(str(tmp_path / "rendered.vdb"), volume, system=system, compress=True)
     assert (tmp_path / "straight.vdb").read_bytes() == (tmp_path / "rendered.vdb").read_bytes()
@@ -229,6 +232,9 @@ def test_a_vdb_alone_is_written_straight_from_the_render(cli, tmp_path, samples)
     with pytest.raises(TypeError, match="unexpected keyword argument 'colour'"):
         ifsforge.render_volume_to_vdb(str(tmp_path / "x.vdb"), system, "prr", colour=1)
     assert not (tmp_path / "x.vdb").exists()
+    with pytest.raises(ifsforge.Cancelled):  # cancelled while writing: no file
+        ifsforge.render_volume_to_vdb(str(tmp_path / "x.vdb"), system, "prr", resolution=200, progress=lambda f: f < 0.96)
+    assert not list(tmp_path.glob("x.vdb*"))
 
 
 def test_cli_refuses_bad_input(cli, tmp_path, samples):

@@ -42,7 +42,8 @@ std::vector<detail::StreamGrid> stream_grids(const Volume& header, const VdbWrit
   std::vector<detail::StreamGrid> grids;
   auto density = make(openvdb::FloatGrid::create(), "density", options.half && header.density_mode == VolumeDensity::Binary);
   density->setGridClass(openvdb::GRID_FOG_VOLUME);
-  grids.push_back({density, 1, [](const VoxelSpan& band, float* values) { std::copy_n(band.density, band.size, values); }});
+  grids.push_back({density, 1, [](const VoxelSpan& band, float* values) { std::copy_n(band.density, band.size, values); },
+                   header.density_mode == VolumeDensity::Binary ? std::optional<float>(1.0f) : std::nullopt});
   const int nc = header.channel_count();
   for (const AttributeRecipe& recipe : attribute_recipes(header, options.color_scale)) {
     openvdb::GridBase::Ptr grid;

@@ -48,8 +48,7 @@ struct Layout {
   std::vector<LeafTopology> leaves;
   std::vector<std::uint64_t> orders;       ///< leaves[i].order (binary search)
   std::vector<std::uint64_t> first_value;  ///< active voxels before leaf i
-  std::vector<std::size_t> band_first;     ///< band b's first leaf when bands are in file order
-  bool bands_in_order = true;
+  std::vector<std::vector<std::size_t>> band_leaves;  ///< band b's leaves, in file order
   openvdb::CoordBBox bbox;
   std::uint64_t voxels = 0;
 };

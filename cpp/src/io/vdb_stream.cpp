@@ -26,15 +26,16 @@ struct BandScratch {
   Volume volume;                          ///< the loader's storage
   std::vector<std::uint32_t> slot;        ///< leaf + 1 of each (y, z) block of the current 8 rows
   std::vector<std::size_t> touched;       ///< the slots to clear at the next 8 rows
-  std::vector<LeafTopology> leaves;       ///< the band's leaves, in file order
-  std::vector<std::uint32_t> leaf_of;     ///< each voxel's leaf
-  std::vector<std::uint32_t> by_leaf;     ///< the voxels grouped by leaf, each group ascending
+  std::vector<LeafTopology> leaves;       ///< pass 1: the band's leaves
+  std::vector<std::uint32_t> start;       ///< pass 2: each leaf's first voxel in by_leaf
+  std::vector<std::uint32_t> by_leaf;     ///< pass 2: the voxels grouped by leaf, each group ascending
   std::vector<float> values;
   std::vector<openvdb::math::half> halves;
   std::string bytes;
   std::ostringstream blosc;
 };
 
+/// Reads a volume's bands (VolumeBandLoader) into leaves of 8^3 voxels.
 class BandWriter {
  public:
   BandWriter(const VoxelGrid& grid, std::size_t bands, const VolumeBandLoader& load, int threads)
@@ -43,64 +44,108 @@ class BandWriter {
         scratch_(threads) {}
 
   std::size_t bands() const { return bands_; }
+  std::vector<BandScratch>& scratch() { return scratch_; }
 
-  /// Band b's leaves in file order (and each voxel's leaf when `voxels`), from its keys.
-  VoxelSpan leaves(std::size_t b, bool voxels, BandScratch& w) {
-    const VoxelSpan span_ = load_(b, !voxels, w.volume);
-    if (w.slot.size() != blocks_) w.slot.assign(blocks_, 0);
+  /// Pass 1: band b's leaves (w.leaves, in file order) and the box of its voxels, from its keys
+  /// (grouped by 8 rows of x, in any order and repeated within a group: a merge's inputs).
+  void topology(std::size_t b, BandScratch& w, openvdb::CoordBBox& box) {
+    const VoxelSpan span = load_(b, true, w.volume);
+    prepare(w);
     w.leaves.clear();
-    w.leaf_of.resize(voxels ? span_.size : 0);
-    std::uint64_t slab = ~std::uint64_t(0);
-    for (std::size_t v = 0; v < span_.size; ++v) {
-      const std::array<int, 3> c = VoxelGrid::coord(span_.keys[v]);
-      if (c[0] / kVolumeBandRows != static_cast<int>(b) || c[1] >= dims_[1] || c[2] >= dims_[2] ||
-          (v && span_.keys[v] <= span_.keys[v - 1]))
-        throw std::logic_error("write_vdb: a band's voxels are not ascending inside it");
-      if (static_cast<std::uint64_t>(c[0] >> 3) != slab) {
-        for (std::size_t t : w.touched) w.slot[t] = 0;
-        w.touched.clear();
-        slab = c[0] >> 3;
+    std::uint32_t seen = 0;  // the groups of 8 rows met so far (16 per band)
+    int group = -1;
+    for (std::size_t v = 0; v < span.size; ++v) {
+      const std::array<int, 3> c = coord(span.keys[v], b);
+      if (c[0] >> 3 != group) {
+        group = c[0] >> 3;
+        const std::uint32_t bit = std::uint32_t(1) << (group & 15);
+        if (seen & bit) throw std::logic_error("write_vdb: a band's keys are not grouped by 8 rows");
+        seen |= bit;
+        clear(w);
       }
-      const std::size_t block = static_cast<std::size_t>(c[1] >> 3) * blocks_k_ + (c[2] >> 3);
-      std::uint32_t& slot = w.slot[block];
+      std::uint32_t& slot = w.slot[block(c)];
       if (!slot) {
         w.leaves.push_back({file_order(c[0], c[1], c[2])});
         slot = static_cast<std::uint32_t>(w.leaves.size());
-        w.touched.push_back(block);
+        w.touched.push_back(block(c));
       }
-      LeafTopology& leaf = w.leaves[slot - 1];
       const int n = (c[0] & 7) << 6 | (c[1] & 7) << 3 | (c[2] & 7);
-      leaf.mask[n >> 6] |= std::uint64_t(1) << (n & 63);
-      ++leaf.count;
-      if (voxels) w.leaf_of[v] = slot - 1;
+      w.leaves[slot - 1].mask[n >> 6] |= std::uint64_t(1) << (n & 63);
     }
-    for (std::size_t t : w.touched) w.slot[t] = 0;
-    w.touched.clear();
-    // Into file order; each voxel's leaf follows.
-    std::vector<std::uint32_t> rank(w.leaves.size());
-    std::iota(rank.begin(), rank.end(), 0u);
-    std::sort(rank.begin(), rank.end(), [&](std::uint32_t a, std::uint32_t c) { return w.leaves[a].order < w.leaves[c].order; });
-    std::vector<LeafTopology> sorted(w.leaves.size());
-    std::vector<std::uint32_t> place(w.leaves.size());
-    for (std::size_t i = 0; i < rank.size(); ++i) {
-      sorted[i] = w.leaves[rank[i]];
-      place[rank[i]] = static_cast<std::uint32_t>(i);
+    clear(w);
+    for (LeafTopology& leaf : w.leaves) {
+      // The leaf's voxels' box, from its mask: word x holds bits y << 3 | z.
+      std::uint64_t any = 0;
+      int x0 = 8, x1 = -1;
+      for (int x = 0; x < 8; ++x) {
+        leaf.count += static_cast<std::uint32_t>(__builtin_popcountll(leaf.mask[x]));
+        any |= leaf.mask[x];
+        if (leaf.mask[x]) x0 = std::min(x0, x), x1 = x;
+      }
+      std::uint64_t zs = 0;
+      for (int y = 0; y < 8; ++y) zs |= any >> (8 * y) & 0xFF;
+      const openvdb::Coord o = leaf_origin(leaf.order);
+      box.expand(openvdb::CoordBBox(o.x() + x0, o.y() + __builtin_ctzll(any) / 8, o.z() + __builtin_ctzll(zs),
+                                    o.x() + x1, o.y() + (63 - __builtin_clzll(any)) / 8, o.z() + 63 - __builtin_clzll(zs)));
     }
-    w.leaves.swap(sorted);
-    if (voxels) {
-      for (std::uint32_t& l : w.leaf_of) l = place[l];
-      // Counting sort by leaf: a leaf's voxels stay ascending, which is its mask's bit order.
-      std::vector<std::uint32_t> start(w.leaves.size() + 1, 0);
-      for (std::size_t l = 0; l < w.leaves.size(); ++l) start[l + 1] = start[l] + w.leaves[l].count;
-      w.by_leaf.resize(span_.size);
-      for (std::size_t v = 0; v < span_.size; ++v) w.by_leaf[start[w.leaf_of[v]]++] = static_cast<std::uint32_t>(v);
-    }
-    return span_;
+    std::sort(w.leaves.begin(), w.leaves.end(), [](const LeafTopology& a, const LeafTopology& c) { return a.order < c.order; });
   }
 
-  std::vector<BandScratch>& scratch() { return scratch_; }
+  /// Pass 2: band b's voxels (merged: ascending, distinct), grouped by leaf in w.by_leaf (leaf l's
+  /// from w.start[l]) for its leaves `leaves` of pass 1 (file order).
+  VoxelSpan voxels(std::size_t b, const std::vector<const LeafTopology*>& leaves, BandScratch& w) {
+    const VoxelSpan span = load_(b, false, w.volume);
+    prepare(w);
+    // The leaves of each group of 8 rows, to put in the slots when its voxels come.
+    std::vector<std::vector<std::uint32_t>> groups(kVolumeBandRows / 8);
+    w.start.assign(leaves.size() + 1, 0);
+    for (std::size_t l = 0; l < leaves.size(); ++l) {
+      groups[leaf_origin(leaves[l]->order).x() >> 3 & 15].push_back(static_cast<std::uint32_t>(l));
+      w.start[l + 1] = w.start[l] + leaves[l]->count;
+    }
+    if (w.start.back() != span.size) throw std::logic_error("write_vdb: a band's voxels are not its keys");
+    w.by_leaf.resize(span.size);
+    int group = -1;
+    for (std::size_t v = 0; v < span.size; ++v) {
+      const std::array<int, 3> c = coord(span.keys[v], b);
+      if (v && span.keys[v] <= span.keys[v - 1]) throw std::logic_error("write_vdb: a band's voxels are not ascending");
+      if (c[0] >> 3 != group) {
+        clear(w);
+        group = c[0] >> 3;
+        for (std::uint32_t l : groups[group & 15]) {
+          const openvdb::Coord o = leaf_origin(leaves[l]->order);
+          const std::size_t k = block({o.x(), o.y(), o.z()});
+          w.slot[k] = l + 1;
+          w.touched.push_back(k);
+        }
+      }
+      const std::uint32_t slot = w.slot[block(c)];
+      if (!slot) throw std::logic_error("write_vdb: a band's voxels are not its keys");
+      w.by_leaf[w.start[slot - 1]++] = static_cast<std::uint32_t>(v);
+    }
+    clear(w);
+    // start[l] now ends leaf l: back to its beginning (each leaf's count was checked by the sum).
+    for (std::size_t l = leaves.size(); l-- > 0;) w.start[l + 1] = w.start[l];
+    w.start[0] = 0;
+    return span;
+  }
 
  private:
+  std::array<int, 3> coord(std::uint64_t key, std::size_t b) const {
+    const std::array<int, 3> c = VoxelGrid::coord(key);
+    if (static_cast<std::size_t>(c[0]) / kVolumeBandRows != b || c[1] >= dims_[1] || c[2] >= dims_[2])
+      throw std::logic_error("write_vdb: a voxel outside its band");
+    return c;
+  }
+  std::size_t block(const std::array<int, 3>& c) const { return static_cast<std::size_t>(c[1] >> 3) * blocks_k_ + (c[2] >> 3); }
+  void prepare(BandScratch& w) const {
+    if (w.slot.size() != blocks_) w.slot.assign(blocks_, 0);
+  }
+  static void clear(BandScratch& w) {
+    for (std::size_t t : w.touched) w.slot[t] = 0;
+    w.touched.clear();
+  }
+
   std::size_t bands_;
   const VolumeBandLoader& load_;
   std::size_t blocks_k_, blocks_;
@@ -108,43 +153,38 @@ class BandWriter {
   std::vector<BandScratch> scratch_;
 };
 
-/// Pass 1: every band's leaves from its keys.
+/// Pass 1: every band's leaves from its keys, in file order, and which are whose.
 Layout plan(BandWriter& bands, const ProgressCallback& progress) {
   std::vector<std::vector<LeafTopology>> per_band(bands.bands());
   std::vector<openvdb::CoordBBox> boxes(bands.bands());
   parallel_jobs(bands.bands(), static_cast<int>(bands.scratch().size()), [&](std::size_t b, int worker) {
     BandScratch& w = bands.scratch()[worker];
-    const VoxelSpan span = bands.leaves(b, false, w);
+    bands.topology(b, w, boxes[b]);
     per_band[b] = w.leaves;
-    for (std::size_t v = 0; v < span.size; ++v) {
-      const std::array<int, 3> c = VoxelGrid::coord(span.keys[v]);
-      boxes[b].expand(openvdb::Coord(c[0], c[1], c[2]));
-    }
   }, progress);
   Layout layout;
   for (std::size_t b = 0; b < per_band.size(); ++b) {
-    layout.band_first.push_back(layout.leaves.size());
     layout.leaves.insert(layout.leaves.end(), per_band[b].begin(), per_band[b].end());
     if (!boxes[b].empty()) layout.bbox.expand(boxes[b]);
-    std::vector<LeafTopology>().swap(per_band[b]);
   }
   // Bands follow file order unless the grid reaches past 4096 voxels in y or z (several root nodes).
   auto by_order = [](const LeafTopology& a, const LeafTopology& c) { return a.order < c.order; };
-  layout.bands_in_order = std::is_sorted(layout.leaves.begin(), layout.leaves.end(), by_order);
-  if (!layout.bands_in_order) std::sort(layout.leaves.begin(), layout.leaves.end(), by_order);
+  if (!std::is_sorted(layout.leaves.begin(), layout.leaves.end(), by_order))
+    std::sort(layout.leaves.begin(), layout.leaves.end(), by_order);
   layout.first_value.resize(layout.leaves.size() + 1, 0);
   for (std::size_t i = 0; i < layout.leaves.size(); ++i) {
     layout.orders.push_back(layout.leaves[i].order);
     layout.first_value[i + 1] = layout.first_value[i] + layout.leaves[i].count;
   }
   layout.voxels = layout.first_value.back();
+  layout.band_leaves.resize(per_band.size());
+  for (std::size_t b = 0; b < per_band.size(); ++b) {
+    for (const LeafTopology& leaf : per_band[b])
+      layout.band_leaves[b].push_back(static_cast<std::size_t>(
+          std::lower_bound(layout.orders.begin(), layout.orders.end(), leaf.order) - layout.orders.begin()));
+    std::vector<LeafTopology>().swap(per_band[b]);
+  }
   return layout;
-}
-
-std::size_t global_leaf(const Layout& layout, std::size_t band, std::size_t local, std::uint64_t order) {
-  if (layout.bands_in_order) return layout.band_first[band] + local;
-  return static_cast<std::size_t>(std::lower_bound(layout.orders.begin(), layout.orders.end(), order) -
-                                  layout.orders.begin());
 }
 
 /// Appends one leaf's buffer, as LeafNode::writeBuffers does with active-mask compression
@@ -315,24 +355,33 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
   }
   // Pass 2: every band's values, leaf by leaf, written in place (or kept until Blosc's sizes are known).
   std::vector<std::vector<float>> band_values(threads);
-  std::vector<std::vector<std::size_t>> band_globals(bands);
+  const bool constant = std::all_of(grids.begin(), grids.end(), [](const StreamGrid& g) { return g.constant.has_value(); });
+  std::vector<std::uint32_t> every_voxel(Leaf::SIZE);
+  std::iota(every_voxel.begin(), every_voxel.end(), 0u);
   parallel_jobs(bands, threads, [&](std::size_t b, int worker) {
     BandScratch& w = writer.scratch()[worker];
-    const VoxelSpan span = writer.leaves(b, true, w);
-    std::vector<std::size_t>& global = band_globals[b];
-    global.resize(w.leaves.size());
-    for (std::size_t l = 0; l < global.size(); ++l) global[l] = global_leaf(layout, b, l, w.leaves[l].order);
-    std::vector<std::uint32_t> sizes(w.leaves.size());
-    std::vector<std::int64_t> blosc_sizes(blosc ? w.leaves.size() : 0);
+    const std::vector<std::size_t>& global = layout.band_leaves[b];
+    std::vector<const LeafTopology*> leaves;
+    for (std::size_t i : global) leaves.push_back(&layout.leaves[i]);
+    // Grids of one value everywhere (a binary density) are their topology: the band's voxels are
+    // not loaded (nor merged) for them.
+    const VoxelSpan span = constant ? VoxelSpan{} : writer.voxels(b, leaves, w);
+    std::vector<std::uint32_t> sizes(leaves.size());
+    std::vector<std::int64_t> blosc_sizes(blosc ? leaves.size() : 0);
     for (std::size_t g = 0; g < grids.size(); ++g) {
       if (stop_requested()) throw Cancelled();  // a band takes up to a second at 2048^3
       std::vector<float>& values = band_values[worker];
-      values.resize(span.size * grids[g].components);
-      grids[g].values(span, values.data());
+      if (constant) {
+        values.assign(std::size_t(Leaf::SIZE) * grids[g].components, *grids[g].constant);
+      } else {
+        values.resize(span.size * grids[g].components);
+        grids[g].values(span, values.data());
+      }
       w.bytes.clear();
-      for (std::size_t l = 0, first = 0; l < w.leaves.size(); first += w.leaves[l++].count) {
+      for (std::size_t l = 0; l < leaves.size(); ++l) {
         const std::size_t before = w.bytes.size();
-        const std::int64_t block = append_leaf(w.leaves[l], &w.by_leaf[first], values.data(), encodings[g], w);
+        const std::uint32_t* voxels = constant ? every_voxel.data() : &w.by_leaf[w.start[l]];
+        const std::int64_t block = append_leaf(*leaves[l], voxels, values.data(), encodings[g], w);
         sizes[l] = static_cast<std::uint32_t>(w.bytes.size() - before);
         if (blosc) blosc_sizes[l] = block;
       }
@@ -353,9 +402,9 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
     std::vector<std::uint64_t> buffer_bytes(grids.size());
     for (std::size_t g = 0; g < grids.size(); ++g) {
       for (std::size_t b = 0; b < bands; ++b)
-        for (std::size_t l = 0; l < band_globals[b].size(); ++l) {
-          offsets[g][band_globals[b][l] + 1] = kept[b][g].sizes[l];
-          blosc_sizes[g][band_globals[b][l]] = kept[b][g].blosc[l];
+        for (std::size_t l = 0; l < layout.band_leaves[b].size(); ++l) {
+          offsets[g][layout.band_leaves[b][l] + 1] = kept[b][g].sizes[l];
+          blosc_sizes[g][layout.band_leaves[b][l]] = kept[b][g].blosc[l];
         }
       std::partial_sum(offsets[g].begin(), offsets[g].end(), offsets[g].begin());
       buffer_bytes[g] = offsets[g].back();
@@ -363,7 +412,7 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
     end = write_heads(blosc_sizes, buffer_bytes);
     parallel_jobs(bands, threads, [&](std::size_t b, int) {
       for (std::size_t g = 0; g < grids.size(); ++g)
-        write_runs(band_globals[b], kept[b][g].bytes, kept[b][g].sizes,
+        write_runs(layout.band_leaves[b], kept[b][g].bytes, kept[b][g].sizes,
                    [&](std::size_t i) { return buffers[g] + offsets[g][i]; });
       kept[b].clear();
     }, progress_range(progress, 0.9, 1.0));

@@ -6,6 +6,7 @@
 #include <openvdb/openvdb.h>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,9 @@ struct StreamGrid {
   openvdb::GridBase::Ptr grid;
   int components = 1;
   std::function<void(const VoxelSpan& band, float* values)> values;
+  /// Set: every voxel's value (a binary density). When every grid has one, the bands' voxels are
+  /// never loaded, only their keys.
+  std::optional<float> constant;
 };
 
 /// Writes the grids of a volume on `voxel_grid` of `bands` bands (`load`, see VolumeBandLoader) to `path`:

@@ -154,24 +154,6 @@ class SlabMerge {
     for (std::size_t k = 0; k < w.order.size(); ++k) voxels += k == 0 || w.order[k].key != w.order[k - 1].key;
     return voxels;
   }
-  /// @brief Calls visit(key) for every distinct key of slab s, ascending: what a merge of lists
-  /// loaded keys alone (no sums) holds.
-  template <typename Visit>
-  void visit_keys(std::size_t s, SlabScratch& w, Visit&& visit) const {
-    if (sources_.size() > 1 && bitmap_fits()) {
-      std::vector<std::uint64_t>& bits = bitmap(w);
-      each_entry(s, [&](std::size_t, std::size_t, std::uint64_t c) { bits[c >> 6] |= std::uint64_t(1) << (c & 63); });
-      for (std::size_t k = 0, words = bitmap_words(); k < words; ++k) {
-        for (std::uint64_t word = bits[k]; word; word &= word - 1)
-          visit(key_of(s, (std::uint64_t(k) << 6) + __builtin_ctzll(word)));
-        bits[k] = 0;
-      }
-      return;
-    }
-    sort(s, w.order, w.scratch);
-    for (std::size_t k = 0; k < w.order.size(); ++k)
-      if (k == 0 || w.order[k].key != w.order[k - 1].key) visit(key_of(s, w.order[k].key));
-  }
   /// @brief The voxel key of a compacted key of slab s.
   std::uint64_t key_of(std::size_t s, std::uint64_t compact) const {
     const std::uint64_t k = compact & ((std::uint64_t(1) << bits_k_) - 1);
@@ -455,12 +437,12 @@ VoxelSpan finish_slabs(std::size_t first, std::size_t last, const SlabLoader& lo
   const VolumeWriter write{out, quantizer, mode, total_mass, channels};
   for (std::size_t s = first; s < last; ++s) {
     load(s, w.lists, keys_only);
-    const SlabMerge merge(w.lists, 1);
-    if (!merge.slabs()) continue;
-    if (keys_only) {
-      merge.visit_keys(0, w, [&](std::uint64_t key) { out.keys.push_back(key); });
+    if (keys_only) {  // the inputs' keys: a band loader's keys need no merge
+      for (const VoxelList& list : w.lists) out.keys.insert(out.keys.end(), list.keys.begin(), list.keys.end());
       continue;
     }
+    const SlabMerge merge(w.lists, 1);
+    if (!merge.slabs()) continue;
     merge.reduce_slab(0, w, [&](std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* sums,
                                 const std::uint64_t* extremes) {
       const std::size_t v = out.keys.size();

@@ -75,8 +75,9 @@ struct VoxelSpan {
 /// are written without any other band's.
 constexpr int kVolumeBandRows = 128;
 /// Band `band` of a volume: its voxels put in `scratch` (which the caller keeps per thread) or
-/// wherever the loader already holds them; the keys alone suffice when `keys_only`. Called
-/// twice per band (keys, then all), from several threads at once.
+/// wherever the loader already holds them, ascending. With `keys_only`, the keys alone, and they
+/// may come as a merge's inputs: grouped by 8 rows of x (a group never split), in any order
+/// within a group and repeated. Called twice per band (keys, then all), from several threads.
 using VolumeBandLoader = std::function<VoxelSpan(std::size_t band, bool keys_only, Volume& scratch)>;
 /// Takes a volume band by band: `header` is the volume without its voxels (grid, density mode,
 /// channels and their ranges, algorithm, depth, points), `load` gives its `bands` bands.

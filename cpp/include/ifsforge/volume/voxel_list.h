@@ -112,8 +112,8 @@ Volume finish_volume(std::size_t slabs, const SlabLoader& load, const VoxelGrid&
                      const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads);
 /// @brief Slabs [first, last) of a merge by `load` (of `channels` channels), finished as
 /// finish_volume finishes them, into the keys, density and channels of `out` (storage reused
-/// from call to call; the keys alone when `keys_only`), on the calling thread: a band of a
-/// volume given band by band.
+/// from call to call), on the calling thread: a band of a volume given band by band. With
+/// `keys_only`, the keys of every input, slab after slab, unmerged (see VolumeBandLoader).
 VoxelSpan finish_slabs(std::size_t first, std::size_t last, const SlabLoader& load, const ChannelQuantizer& quantizer,
                        VolumeDensity mode, double total_mass, int channels, bool keys_only, Volume& out);
 /// @brief A volume with no voxels yet: the grid, the density mode and the channels' names,
