@@ -1,6 +1,7 @@
 """Hostile input (issue 18): every case refuses with exit 2, no signal, no traceback, no output
 file, a message naming its file and place, and a peak memory within the budget."""
 import os
+import resource
 import signal
 import stat
 import subprocess
@@ -339,6 +340,26 @@ def test_volume_estimate_measures_the_set_before_refusing(tmp_path):
                              "--res", "300", "-o", "v.vdb"], capture_output=True, env=env, cwd=tmp_path)
     assert result.returncode == 0, result.stderr.decode()
     assert "10,030,400 occupied" in result.stdout.decode()
+
+
+def limited_file_size():
+    """In the child: files may grow to 1 MB, past which a write fails (EFBIG), as on a full disk."""
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (1 << 20, 1 << 20))
+
+
+@pytest.mark.parametrize("extra", [[], ["--mesh", "m.ply"]])
+def test_a_vdb_that_cannot_grow_is_a_clear_error_and_leaves_nothing(tmp_path, extra):
+    # The .vdb written band by band (alone) or from the whole volume (with a mesh): its leaves are
+    # written at their offsets, past the limit; the error names the file and nothing is left.
+    env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON))
+    result = subprocess.run(["/usr/bin/python3", "-m", "ifsforge", "volume", SAMPLES / "volume_sierpinski_pyramid_rgb.json",
+                             "--res", "256", "-o", "v.vdb", *extra], capture_output=True, env=env, cwd=tmp_path,
+                            preexec_fn=limited_file_size)
+    err = result.stderr.decode(errors="replace")
+    assert result.returncode == 2 and "Traceback" not in err, err
+    assert "cannot write 'v.vdb'" in err and "too large" in err, err
+    assert not any(tmp_path.iterdir())
 
 
 @pytest.mark.skipif(os.geteuid() != 0 or not os.path.exists("/dev/full"), reason="needs /dev/full")

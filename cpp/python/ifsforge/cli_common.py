@@ -98,7 +98,10 @@ def all_or_none(targets):
             os.replace(staging, target)
     except (ifsforge.Error, OSError) as error:
         _remove(staged.values())
-        raise type(error)(f"{error}; none of the {len(staged)} outputs was written") from None
+        message = str(error)
+        for target, staging in staged.items():  # the user's names, not the staging files'
+            message = message.replace(staging, target)
+        raise type(error)(f"{message}; none of the {len(staged)} outputs was written") from None
     except BaseException:
         _remove(staged.values())
         raise

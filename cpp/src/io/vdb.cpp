@@ -62,7 +62,7 @@ std::vector<detail::StreamGrid> stream_grids(const Volume& header, const VdbWrit
         if (recipe.components == 3)
           for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(out[c]);
       }
-    }});
+    }, std::nullopt});
   }
   return grids;
 }
