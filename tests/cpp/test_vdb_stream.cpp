@@ -17,6 +17,8 @@
 
 #include "ifsforge/io/ifs_json.h"
 #include "ifsforge/io/vdb.h"
+#include "ifsforge/core/error.h"
+#include "ifsforge/volume/volume_jobs.h"
 #include "ifsforge/volume/volume_renderer.h"
 #include "test_systems.h"
 
@@ -177,8 +179,9 @@ TEST(VdbStream, BandsGivenOneByOneMakeTheWholeVolumesFile) {
 TEST(VdbStream, RenderingStraightIntoTheFileMakesTheRenderedVolumesFile) {
   const std::string samples = std::string(IFSFORGE_SOURCE_DIR) + "/samples/systems/";
   for (const Ifs& rgb : {read_ifs_json(samples + "volume_sierpinski_pyramid_rgb.json"), read_ifs_json(samples + "sierpinski_pyramid.json")})
-  for (const char* algorithm : {"prr", "dia"})
-    for (const VolumeDensity density : {VolumeDensity::Binary, VolumeDensity::Measure}) {
+  for (const char* algorithm : {"prr", "eta"})
+    for (const VolumeDensity density : {VolumeDensity::Binary, VolumeDensity::Hits, VolumeDensity::Measure}) {
+      if (density == VolumeDensity::Measure && std::string(algorithm) == "eta") continue;  // eta has no measure
       VolumeOptions options;
       options.resolution = 160;  // 2 bands
       options.density = density;
@@ -197,4 +200,37 @@ TEST(VdbStream, RenderingStraightIntoTheFileMakesTheRenderedVolumesFile) {
       std::remove(rendered.c_str());
       std::remove(straight.c_str());
     }
+}
+
+// Voxels outside the grid (a malformed volume, or a cluster's result for another grid) are
+// InputError, and no file is left.
+TEST(VdbStream, VoxelsOutsideTheGridAreInputErrorsAndLeaveNoFile) {
+  const std::string path = temporary("outside.vdb");
+  Volume v = wide_volume();
+  v.grid.dims[2] = 8999;  // the last voxel's z is 8999
+  EXPECT_THROW(write_vdb(path, v), InputError);
+  const Ifs pyramid = read_ifs_json(std::string(IFSFORGE_SOURCE_DIR) + "/samples/systems/sierpinski_pyramid.json");
+  VolumeOptions options;
+  options.resolution = 200;
+  const std::string bytes = volume_renderer("prr").run_jobs(pyramid, options, 0, ~std::uint64_t(0));
+  const VolumeJobsBytes part(bytes);
+  VoxelGrid small;
+  small.dims = {100, 200, 200};  // the result reaches x = 199: past the grid's only band
+  const Volume header = empty_volume(small, pyramid, ChannelQuantizer(), VolumeDensity::Binary);
+  EXPECT_THROW(give_volume_jobs({part}, header, ChannelQuantizer(), 1.0,
+                                [&](const Volume& h, std::size_t bands, const VolumeBandLoader& load) {
+                                  write_vdb(path, h, bands, load);
+                                }),
+               InputError);
+  small.dims = {200, 100, 200};  // y beyond the grid: found by the writer
+  EXPECT_THROW(give_volume_jobs({part}, empty_volume(small, pyramid, ChannelQuantizer(), VolumeDensity::Binary),
+                                ChannelQuantizer(), 1.0,
+                                [&](const Volume& h, std::size_t bands, const VolumeBandLoader& load) {
+                                  write_vdb(path, h, bands, load);
+                                }),
+               InputError);
+  EXPECT_FALSE(std::filesystem::exists(path));
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(path).parent_path()))
+    EXPECT_EQ(entry.path().filename().string().rfind(std::filesystem::path(path).filename().string() + ".tmp", 0),
+              std::string::npos);
 }

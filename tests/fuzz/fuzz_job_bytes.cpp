@@ -6,7 +6,10 @@
 #include "fuzz_common.h"
 #include "ifsforge/render/accumulator.h"
 #include "ifsforge/render/renderer.h"
+#include "ifsforge/io/vdb.h"
 #include "ifsforge/volume/volume_jobs.h"
+
+#include <unistd.h>
 
 namespace {
 
@@ -28,8 +31,17 @@ void merge_volume(const std::string& bytes, int mode) {
   if (channels == 2 || channels > 3) return;
   const ifsforge::ChannelQuantizer quantizer(std::vector<double>(channels, 0.0), std::vector<double>(channels, 1.0));
   // Twice the same part: every voxel merges with itself, through the bitmap or the sort.
-  ifsforge::finish_volume_jobs({part, part}, ifsforge::VoxelGrid{}, system_with(channels), quantizer,
-                               static_cast<ifsforge::VolumeDensity>(mode % 3), 1.0, 2);
+  const auto density = static_cast<ifsforge::VolumeDensity>(mode % 3);
+  ifsforge::finish_volume_jobs({part, part}, ifsforge::VoxelGrid{}, system_with(channels), quantizer, density, 1.0, 2);
+  // Given band by band to the .vdb writer, as `ifsforge volume -o` merges a cluster's results.
+  ifsforge::VoxelGrid grid;
+  grid.dims = {300, 40, 40};
+  const ifsforge::Volume header = ifsforge::empty_volume(grid, system_with(channels), quantizer, density);
+  static const std::string path = "/tmp/ifsforge-fuzz-bands-" + std::to_string(getpid()) + ".vdb";
+  ifsforge::give_volume_jobs({part, part}, header, quantizer, 1.0,
+                             [&](const ifsforge::Volume& h, std::size_t bands, const ifsforge::VolumeBandLoader& load) {
+                               ifsforge::write_vdb(path, h, bands, load);
+                             });
 }
 
 void merge_image(const std::string& bytes, int shape) {

@@ -133,8 +133,9 @@ class BandWriter {
  private:
   std::array<int, 3> coord(std::uint64_t key, std::size_t b) const {
     const std::array<int, 3> c = VoxelGrid::coord(key);
-    if (static_cast<std::size_t>(c[0]) / kVolumeBandRows != b || c[1] >= dims_[1] || c[2] >= dims_[2])
-      throw std::logic_error("write_vdb: a voxel outside its band");
+    if (static_cast<std::size_t>(c[0]) / kVolumeBandRows != b || c[0] >= dims_[0] || c[1] >= dims_[1] || c[2] >= dims_[2])
+      throw InputError("write_vdb: voxel (" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " +
+                       std::to_string(c[2]) + ") lies outside its band or the volume's grid");
     return c;
   }
   std::size_t block(const std::array<int, 3>& c) const { return static_cast<std::size_t>(c[1] >> 3) * blocks_k_ + (c[2] >> 3); }

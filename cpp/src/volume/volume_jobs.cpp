@@ -232,6 +232,8 @@ void give_volume_jobs(const std::vector<VolumeJobsBytes>& parts, const Volume& h
   const auto holders = slab_holders(parts, channels);
   const SlabLoader load = slab_loader(parts, holders);
   constexpr std::size_t kSlabsPerBand = kVolumeBandRows >> VolumeJobsBytes::kSlabShift;
+  if (holders.size() > volume_bands(header.grid) * kSlabsPerBand)
+    throw InputError("volume job result: voxels beyond the grid's " + std::to_string(header.grid.dims[0]) + " rows");
   sink(header, volume_bands(header.grid), [&](std::size_t band, bool keys_only, Volume& out) {
     const std::size_t first = std::min(band * kSlabsPerBand, holders.size());
     const std::size_t last = std::min(first + kSlabsPerBand, holders.size());
