@@ -34,9 +34,12 @@ inline openvdb::Coord leaf_origin(std::uint64_t order) {
   };
   return openvdb::Coord(axis(45, 22, 8), axis(36, 17, 4), axis(27, 12, 0));
 }
+/// The internal nodes holding a leaf (upper: 4096 voxels wide, lower: 128), as its order's prefix.
 inline std::uint64_t upper_of(std::uint64_t order) { return order >> 27; }
 inline std::uint64_t lower_of(std::uint64_t order) { return order >> 12; }
 
+/// A leaf of the file: its place (file_order of its origin), the mask of its active voxels
+/// (bit (x & 7) << 6 | (y & 7) << 3 | (z & 7), as LeafNode's value mask) and their count.
 struct LeafTopology {
   std::uint64_t order = 0;
   std::uint64_t mask[8] = {};

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <numeric>
 #include <sstream>
@@ -222,7 +223,7 @@ std::int64_t append_leaf(const LeafTopology& leaf, const std::uint32_t* voxels, 
     return 0;
   }
   w.blosc.str(std::string());
-  openvdb::io::bloscToStream(w.blosc, data, e.value_bytes() / e.components * e.components, leaf.count);
+  openvdb::io::bloscToStream(w.blosc, data, e.value_bytes(), leaf.count);
   const std::string block = w.blosc.str();
   out += block;
   return static_cast<std::int64_t>(block.size());
