@@ -45,5 +45,4 @@ JobRunner bytes_runner(const py::object& distribute) {
   };
 }
 
-
 }  // namespace ifsforge::python

@@ -1,24 +1,14 @@
 #include "ifsforge/io/vdb.h"
 
-#include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
-#include <new>
-#include <limits>
-#include <memory>
-#include <mutex>
 #include <sstream>
 
 #include "ifsforge/core/color.h"
 #include "ifsforge/core/error.h"
-#include "ifsforge/core/memory.h"
-#include "ifsforge/core/parallel.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/ifs_json.h"
 #include "vdb_archive.h"

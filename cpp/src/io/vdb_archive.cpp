@@ -1,15 +1,8 @@
 #include "vdb_archive.h"
 
-#include <openvdb/io/Archive.h>
-
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
 #include <vector>
-
-#include "ifsforge/core/error.h"
 
 namespace ifsforge::detail {
 namespace {
