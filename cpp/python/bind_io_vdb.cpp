@@ -46,6 +46,7 @@ void bind_io_vdb(py::module_& m) {
       .def_readwrite("metadata", &VdbWriteOptions::metadata, "extra file metadata (string values)")
       .def_readwrite("half", &VdbWriteOptions::half, "16-bit halves for the [0, 1] grids")
       .def_readwrite("compress", &VdbWriteOptions::compress, "Blosc-compress the leaf buffers")
+      .def_readwrite("threads", &VdbWriteOptions::threads, "threads that write (0: every core); the file never depends on it")
       .def_property("progress", [](const VdbWriteOptions&) { return py::none(); },
                     [](VdbWriteOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
                     "progress(fraction) returning False cancels (write-only)");
@@ -66,13 +67,14 @@ void bind_io_vdb(py::module_& m) {
   m.def("render_volume_to_vdb",
         [](const std::string& path, const Ifs& ifs, const std::string& algorithm, const py::object& distribute,
            const py::kwargs& kwargs) {
-          // Each keyword goes to the options struct that has it; progress (both have one) follows
-          // the whole, render and write.
+          // Each keyword goes to the options struct that has it; progress and threads (both have
+          // them) are the render's, and the writing follows them.
           py::dict volume_keywords, vdb_keywords;
           const py::object vdb_fields = py::cast(VdbWriteOptions{});
           for (const auto& item : kwargs) {
             const std::string name = py::str(item.first);
-            (name != "progress" && py::hasattr(vdb_fields, name.c_str()) ? vdb_keywords : volume_keywords)[item.first] =
+            (name != "progress" && name != "threads" && py::hasattr(vdb_fields, name.c_str()) ? vdb_keywords
+                                                                                               : volume_keywords)[item.first] =
                 item.second;
           }
           VolumeOptions o = options_from<VolumeOptions>("render_volume_to_vdb", volume_keywords);

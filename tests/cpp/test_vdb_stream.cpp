@@ -234,3 +234,25 @@ TEST(VdbStream, VoxelsOutsideTheGridAreInputErrorsAndLeaveNoFile) {
     EXPECT_EQ(entry.path().filename().string().rfind(std::filesystem::path(path).filename().string() + ".tmp", 0),
               std::string::npos);
 }
+
+// The writer's threads (bands in parallel, leaves written wherever they belong) never change the
+// bytes, Blosc included.
+TEST(VdbStream, TheThreadCountNeverChangesTheFile) {
+  VolumeOptions options;
+  options.resolution = 400;  // 4 bands
+  const Volume v = render_volume(tetrahedron(true), "prr", options);
+  for (const bool compress : {false, true}) {
+    std::string first;
+    for (const int threads : {1, 2, 3, 8}) {
+      VdbWriteOptions o;
+      o.compress = compress;
+      o.threads = threads;
+      const std::string path = temporary("threads.vdb");
+      write_vdb(path, v, o);
+      const std::string bytes = bytes_of(path);
+      std::remove(path.c_str());
+      if (first.empty()) first = bytes;
+      EXPECT_EQ(bytes, first) << threads << " threads" << (compress ? ", blosc" : "");
+    }
+  }
+}

@@ -185,7 +185,7 @@ def render_volume_to_vdb(path, system, algorithm="prr", client=None, progress=No
     merged here a band at a time (prr). Without a client, the local render."""
     if client is None:
         return ifsforge.render_volume_to_vdb(path, system, algorithm, progress=progress, **options)
-    vdb_fields = set(dir(ifsforge.VdbWriteOptions()))
+    vdb_fields = set(dir(ifsforge.VdbWriteOptions())) - {"threads"}  # the render's (a worker's: one)
     jobs = {k: v for k, v in options.items() if k not in vdb_fields}
     run = _runner(client, _volume_task, ifsforge.to_json(system), algorithm, _worker_options(jobs))
     return ifsforge.render_volume_to_vdb(path, system, algorithm, distribute=run, progress=progress, **options)

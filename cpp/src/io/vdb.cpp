@@ -99,7 +99,7 @@ std::uint64_t write_vdb(const std::string& path, const Volume& header, std::size
   // Inactive values are all background: the active mask alone restores them.
   return detail::write_vdb_bands(path, header.grid, file_metadata(header, options), stream_grids(header, options), bands,
                                  load, openvdb::io::COMPRESS_ACTIVE_MASK | (options.compress ? openvdb::io::COMPRESS_BLOSC : 0),
-                                 options.progress);
+                                 options.threads, options.progress);
 }
 
 void write_vdb(const std::string& path, const Volume& volume, const VdbWriteOptions& options) {
@@ -111,6 +111,7 @@ Volume render_volume_to_vdb(const std::string& path, const Ifs& ifs, const std::
   check_writable(path);  // before the render
   VdbWriteOptions w = vdb;
   if (options.progress) w.progress = progress_range(options.progress, 0.95, 1.0);  // PRR's last 5%: its merge
+  w.threads = options.threads;
   std::uint64_t written = 0;
   Volume header = volume_renderer(algorithm).render_bands(
       ifs, options, [&](const Volume& h, std::size_t bands, const VolumeBandLoader& load) {

@@ -260,7 +260,8 @@ struct KeptBytes {
 
 /// A content hash as a UUID (8-4-4-4-12 hex) of the file's bytes after the UUID: blocks hashed
 /// in parallel eight bytes at a time, then the blocks' hashes in order.
-std::string content_uuid(const std::string& written, const FileAt& file, std::uint64_t begin, std::uint64_t end) {
+std::string content_uuid(const std::string& written, const FileAt& file, std::uint64_t begin, std::uint64_t end,
+                         int threads) {
   struct Reader {
     int fd;
     ~Reader() { if (fd >= 0) ::close(fd); }
@@ -269,7 +270,7 @@ std::string content_uuid(const std::string& written, const FileAt& file, std::ui
   constexpr std::uint64_t kBlock = 4u << 20, kPrime = 0x100000001b3ull;
   const std::size_t blocks = static_cast<std::size_t>((end - begin + kBlock - 1) / kBlock);
   std::vector<std::array<std::uint64_t, 2>> hashes(blocks);
-  std::vector<std::vector<char>> buffers(resolve_threads(0), std::vector<char>(kBlock));
+  std::vector<std::vector<char>> buffers(threads, std::vector<char>(kBlock));
   parallel_jobs(blocks, static_cast<int>(buffers.size()), [&](std::size_t k, int worker) {
     char* data = buffers[worker].data();
     const std::uint64_t at = begin + k * kBlock, size = std::min(kBlock, end - at);
@@ -303,10 +304,10 @@ std::string content_uuid(const std::string& written, const FileAt& file, std::ui
 
 std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_grid, const openvdb::MetaMap& meta,
                      const std::vector<StreamGrid>& grids, std::size_t bands, const VolumeBandLoader& load,
-                     std::uint32_t compression, const ProgressCallback& progress) {
+                     std::uint32_t compression, int thread_count, const ProgressCallback& progress) {
   AtomicFile out(path);
   const FileAt file(fileno(out.file()), path);
-  const int threads = resolve_threads(0);
+  const int threads = resolve_threads(thread_count);
   BandWriter writer(voxel_grid, bands, load, threads);
   const Layout layout = plan(writer, progress_range(progress, 0.0, 0.2));
   const std::size_t leaves = layout.leaves.size();
@@ -419,7 +420,7 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
       kept[b].clear();
     }, progress_range(progress, 0.9, 1.0));
   }
-  const std::string uuid = content_uuid(out.temporary_path(), file, 57, end);
+  const std::string uuid = content_uuid(out.temporary_path(), file, 57, end, threads);
   file.write(21, uuid.data(), uuid.size());
   out.commit();
   return layout.voxels;

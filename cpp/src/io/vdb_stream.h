@@ -29,10 +29,10 @@ struct StreamGrid {
 /// the bytes OpenVDB's io::File writes for those grids filled with the same voxels and file
 /// metadata `meta`, with the compression `compression` (COMPRESS_ACTIVE_MASK, optionally
 /// COMPRESS_BLOSC), except the file's UUID, which is hashed from the content. Atomic;
-/// FileError when it cannot write; Cancelled when `progress` returns false. Returns the voxels
+/// FileError when it cannot write; `threads` (0: every core) never change the bytes; Cancelled when `progress` returns false. Returns the voxels
 /// written.
 std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_grid, const openvdb::MetaMap& meta,
                      const std::vector<StreamGrid>& grids, std::size_t bands, const VolumeBandLoader& load,
-                     std::uint32_t compression, const ProgressCallback& progress);
+                     std::uint32_t compression, int threads, const ProgressCallback& progress);
 
 }  // namespace ifsforge::detail

@@ -30,6 +30,8 @@ struct VdbWriteOptions {
   bool compress = false;
   /// Reports the fraction written; false cancels (Cancelled, and no file is left).
   ProgressCallback progress;
+  /// Threads that write (0: every core); the file never depends on it.
+  int threads = 0;
 };
 
 /// @brief Writes `volume` as a .vdb: FloatGrid "density" (a fog volume), Vec3fGrid "color"

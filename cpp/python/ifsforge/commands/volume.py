@@ -105,7 +105,7 @@ def run(args):
     with common.all_or_none([path for path in (args.output, args.mesh, args.df3) if path]) as staged:
         if args.output:
             start = time.perf_counter()
-            ifsforge.write_vdb(staged[args.output], volume, system=system, **vdb)
+            ifsforge.write_vdb(staged[args.output], volume, system=system, threads=args.threads, **vdb)
             print(f"{args.output}: {os.path.getsize(staged[args.output]):,} bytes, {time.perf_counter() - start:.2f} s")
         if args.mesh:
             ifsforge.write_mesh(staged[args.mesh], mesh["positions"], mesh["triangles"], normals=mesh["normals"],
