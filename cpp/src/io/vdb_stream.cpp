@@ -55,24 +55,39 @@ class BandWriter {
     w.leaves.clear();
     std::uint32_t seen = 0;  // the groups of 8 rows met so far (16 per band)
     int group = -1;
+    // Keys of one run (the same x, y and z >> 3) set bits of one word of one leaf's mask: they
+    // are gathered in `bits`, and the leaf is looked up once per run.
+    std::uint64_t run = ~std::uint64_t(0), bits = 0;
+    std::size_t leaf = 0, word = 0;
+    int base = 0;
     for (std::size_t v = 0; v < span.size; ++v) {
-      const std::array<int, 3> c = coord(span.keys[v], b);
-      if (c[0] >> 3 != group) {
-        group = c[0] >> 3;
-        const std::uint32_t bit = std::uint32_t(1) << (group & 15);
-        if (seen & bit) throw std::logic_error("write_vdb: a band's keys are not grouped by 8 rows");
-        seen |= bit;
-        clear(w);
+      const std::uint64_t key = span.keys[v];
+      if (key >> 3 != run) {
+        if (bits) w.leaves[leaf].mask[word] |= bits;
+        bits = 0;
+        run = key >> 3;
+        const std::array<int, 3> c = coord(key & ~std::uint64_t(7), b);
+        if (c[0] >> 3 != group) {
+          group = c[0] >> 3;
+          const std::uint32_t bit = std::uint32_t(1) << (group & 15);
+          if (seen & bit) throw std::logic_error("write_vdb: a band's keys are not grouped by 8 rows");
+          seen |= bit;
+          clear(w);
+        }
+        std::uint32_t& slot = w.slot[block(c)];
+        if (!slot) {
+          w.leaves.push_back({file_order(c[0], c[1], c[2])});
+          slot = static_cast<std::uint32_t>(w.leaves.size());
+          w.touched.push_back(block(c));
+        }
+        leaf = slot - 1;
+        word = static_cast<std::size_t>(c[0] & 7);
+        base = (c[1] & 7) << 3;
       }
-      std::uint32_t& slot = w.slot[block(c)];
-      if (!slot) {
-        w.leaves.push_back({file_order(c[0], c[1], c[2])});
-        slot = static_cast<std::uint32_t>(w.leaves.size());
-        w.touched.push_back(block(c));
-      }
-      const int n = (c[0] & 7) << 6 | (c[1] & 7) << 3 | (c[2] & 7);
-      w.leaves[slot - 1].mask[n >> 6] |= std::uint64_t(1) << (n & 63);
+      if (static_cast<int>(key & kZ) >= dims_[2]) coord(key, b);  // throws: outside the grid
+      bits |= std::uint64_t(1) << (base | static_cast<int>(key & 7));
     }
+    if (bits) w.leaves[leaf].mask[word] |= bits;
     clear(w);
     for (LeafTopology& leaf : w.leaves) {
       // The leaf's voxels' box, from its mask: word x holds bits y << 3 | z.
@@ -107,22 +122,30 @@ class BandWriter {
     if (w.start.back() != span.size) throw std::logic_error("write_vdb: a band's voxels are not its keys");
     w.by_leaf.resize(span.size);
     int group = -1;
+    std::uint64_t run = ~std::uint64_t(0);  // as in topology(): a run's leaf is looked up once
+    std::uint32_t* next = nullptr;
     for (std::size_t v = 0; v < span.size; ++v) {
-      const std::array<int, 3> c = coord(span.keys[v], b);
-      if (v && span.keys[v] <= span.keys[v - 1]) throw std::logic_error("write_vdb: a band's voxels are not ascending");
-      if (c[0] >> 3 != group) {
-        clear(w);
-        group = c[0] >> 3;
-        for (std::uint32_t l : groups[group & 15]) {
-          const openvdb::Coord o = leaf_origin(leaves[l]->order);
-          const std::size_t k = block({o.x(), o.y(), o.z()});
-          w.slot[k] = l + 1;
-          w.touched.push_back(k);
+      const std::uint64_t key = span.keys[v];
+      if (v && key <= span.keys[v - 1]) throw std::logic_error("write_vdb: a band's voxels are not ascending");
+      if (key >> 3 != run) {
+        run = key >> 3;
+        const std::array<int, 3> c = coord(key & ~std::uint64_t(7), b);
+        if (c[0] >> 3 != group) {
+          clear(w);
+          group = c[0] >> 3;
+          for (std::uint32_t l : groups[group & 15]) {
+            const openvdb::Coord o = leaf_origin(leaves[l]->order);
+            const std::size_t k = block({o.x(), o.y(), o.z()});
+            w.slot[k] = l + 1;
+            w.touched.push_back(k);
+          }
         }
+        const std::uint32_t slot = w.slot[block(c)];
+        if (!slot) throw std::logic_error("write_vdb: a band's voxels are not its keys");
+        next = &w.start[slot - 1];
       }
-      const std::uint32_t slot = w.slot[block(c)];
-      if (!slot) throw std::logic_error("write_vdb: a band's voxels are not its keys");
-      w.by_leaf[w.start[slot - 1]++] = static_cast<std::uint32_t>(v);
+      if (static_cast<int>(key & kZ) >= dims_[2]) coord(key, b);  // throws: outside the grid
+      w.by_leaf[(*next)++] = static_cast<std::uint32_t>(v);
     }
     clear(w);
     // start[l] now ends leaf l: back to its beginning (each leaf's count was checked by the sum).
@@ -139,6 +162,7 @@ class BandWriter {
                        std::to_string(c[2]) + ") lies outside its band or the volume's grid");
     return c;
   }
+  static constexpr std::uint64_t kZ = (std::uint64_t(1) << VoxelGrid::kKeyBits) - 1;  ///< a key's z bits
   std::size_t block(const std::array<int, 3>& c) const { return static_cast<std::size_t>(c[1] >> 3) * blocks_k_ + (c[2] >> 3); }
   void prepare(BandScratch& w) const {
     if (w.slot.size() != blocks_) w.slot.assign(blocks_, 0);
