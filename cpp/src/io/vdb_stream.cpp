@@ -29,6 +29,7 @@ struct BandScratch {
   std::vector<std::size_t> touched;       ///< the slots to clear at the next 8 rows
   std::vector<LeafTopology> leaves;       ///< pass 1: the band's leaves
   std::vector<std::uint32_t> start;       ///< pass 2: each leaf's first voxel in by_leaf
+  std::vector<std::uint32_t> end;         ///< pass 2: where each leaf's voxels end in by_leaf
   std::vector<std::uint32_t> by_leaf;     ///< pass 2: the voxels grouped by leaf, each group ascending
   std::vector<float> values;
   std::vector<openvdb::math::half> halves;
@@ -120,10 +121,12 @@ class BandWriter {
       w.start[l + 1] = w.start[l] + leaves[l]->count;
     }
     if (w.start.back() != span.size) throw std::logic_error("write_vdb: a band's voxels are not its keys");
+    w.end.assign(w.start.begin() + 1, w.start.end());
     w.by_leaf.resize(span.size);
     int group = -1;
     std::uint64_t run = ~std::uint64_t(0);  // as in topology(): a run's leaf is looked up once
     std::uint32_t* next = nullptr;
+    std::uint32_t end = 0;
     for (std::size_t v = 0; v < span.size; ++v) {
       const std::uint64_t key = span.keys[v];
       if (v && key <= span.keys[v - 1]) throw std::logic_error("write_vdb: a band's voxels are not ascending");
@@ -143,8 +146,10 @@ class BandWriter {
         const std::uint32_t slot = w.slot[block(c)];
         if (!slot) throw std::logic_error("write_vdb: a band's voxels are not its keys");
         next = &w.start[slot - 1];
+        end = w.end[slot - 1];
       }
       if (static_cast<int>(key & kZ) >= dims_[2]) coord(key, b);  // throws: outside the grid
+      if (*next == end) throw std::logic_error("write_vdb: a band's voxels are not its keys");
       w.by_leaf[(*next)++] = static_cast<std::uint32_t>(v);
     }
     clear(w);
