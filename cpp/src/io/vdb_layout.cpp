@@ -92,10 +92,8 @@ std::string topology(const Layout& layout, const Encoding& e) {
   return out;
 }
 
-/// The descriptor, offsets, compression, metadata and transform of a grid, as Archive::writeGrid
-/// writes them (the offsets are patched in once known).
-std::string grid_head(const StreamGrid& g, const Layout& layout, std::uint32_t compression,
-                      const std::vector<std::int64_t>& blosc_sizes) {
+GridHead grid_head(const StreamGrid& g, const Layout& layout, std::uint32_t compression,
+                   const std::vector<std::int64_t>& blosc_sizes) {
   openvdb::GridBase::Ptr grid = g.grid->copyGrid();
   openvdb::io::DelayedLoadMetadata delayed;
   if (!layout.leaves.empty()) {
@@ -115,12 +113,15 @@ std::string grid_head(const StreamGrid& g, const Layout& layout, std::uint32_t c
   grid->insertMeta(openvdb::GridBase::META_FILE_COMPRESSION, openvdb::StringMetadata(openvdb::io::compressionToString(compression)));
   std::ostringstream os;
   openvdb::io::GridDescriptor(g.grid->getName(), g.grid->type(), g.grid->saveFloatAsHalf()).writeHeader(os);
-  const std::int64_t placeholder[3] = {0, 0, 0};
-  os.write(reinterpret_cast<const char*>(placeholder), sizeof placeholder);
+  GridHead head;
+  head.offsets_at = static_cast<std::size_t>(os.tellp());
+  const std::int64_t offsets[3] = {0, 0, 0};  // known once the topology and the leaves are
+  os.write(reinterpret_cast<const char*>(offsets), sizeof offsets);
   os.write(reinterpret_cast<const char*>(&compression), sizeof compression);
   grid->writeMeta(os);
   grid->writeTransform(os);
-  return os.str();
+  head.bytes = os.str();
+  return head;
 }
 
 /// Archive::writeHeader (the UUID left for the content hash) and the file metadata and grid count.
@@ -132,16 +133,10 @@ std::string file_head(const openvdb::MetaMap& meta, std::int32_t grids) {
   os.write(reinterpret_cast<const char*>(&magic), sizeof magic);
   os.write(reinterpret_cast<const char*>(version), sizeof version);
   os.put(1);  // seekable: grid offsets are stored
-  os << std::string(36, '0');
+  os << std::string(kUuidLength, '0');
   meta.writeMeta(os);
   os.write(reinterpret_cast<const char*>(&grids), sizeof grids);
   return os.str();
-}
-
-std::size_t descriptor_bytes(const StreamGrid& g) {
-  std::ostringstream descriptor;
-  openvdb::io::GridDescriptor(g.grid->getName(), g.grid->type(), g.grid->saveFloatAsHalf()).writeHeader(descriptor);
-  return descriptor.str().size();
 }
 
 }  // namespace ifsforge::detail

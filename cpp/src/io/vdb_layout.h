@@ -66,14 +66,18 @@ struct Encoding {
 /// @brief Tree::writeTopology of the planned leaves, as a grid of encoding `e` writes it.
 std::string topology(const Layout& layout, const Encoding& e);
 
-/// @brief A grid's descriptor, offsets (zero: patched once known, at descriptor_bytes()),
-/// compression, metadata (with the statistics and delayed-load metadata OpenVDB adds) and
-/// transform, as Archive::writeGrid writes them. `blosc_sizes`: each leaf's Blosc block.
-std::string grid_head(const StreamGrid& g, const Layout& layout, std::uint32_t compression,
-                      const std::vector<std::int64_t>& blosc_sizes);
-/// @brief The bytes of a grid's descriptor (its name and type), where grid_head's offsets start.
-std::size_t descriptor_bytes(const StreamGrid& g);
+/// A grid's head: its descriptor, three stream offsets, compression, metadata and transform.
+struct GridHead {
+  std::string bytes;
+  std::size_t offsets_at = 0;  ///< where the offsets (grid, buffers, end) go, once known
+};
+/// @brief A grid's head as Archive::writeGrid writes it, the metadata with the statistics and
+/// delayed-load metadata OpenVDB adds, the offsets zero. `blosc_sizes`: each leaf's Blosc block.
+GridHead grid_head(const StreamGrid& g, const Layout& layout, std::uint32_t compression,
+                   const std::vector<std::int64_t>& blosc_sizes);
 
+/// Archive::writeHeader's UUID: 36 characters after the magic, versions and offsets flag.
+constexpr std::size_t kUuidOffset = 21, kUuidLength = 36;
 /// @brief Archive::writeHeader with a UUID of zeros (for the content hash), the file metadata
 /// and the grid count.
 std::string file_head(const openvdb::MetaMap& meta, std::int32_t grids);

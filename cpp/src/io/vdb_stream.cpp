@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <numeric>
 #include <sstream>
 
@@ -352,15 +353,21 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
     const std::string head = file_head(meta, static_cast<std::int32_t>(grids.size()));
     file.write(0, head.data(), head.size());
     std::uint64_t at = head.size();
+    // Grids of the same value size and tile encoding share their topology's bytes.
+    std::map<std::pair<int, bool>, std::string> topologies;
     for (std::size_t g = 0; g < grids.size(); ++g) {
-      std::string bytes = grid_head(grids[g], layout, compression, blosc_sizes[g]);
-      const std::size_t positions = descriptor_bytes(grids[g]);
-      bytes += topology(layout, encodings[g]);
+      GridHead grid = grid_head(grids[g], layout, compression, blosc_sizes[g]);
+      std::string& bytes = grid.bytes;
+      const Encoding& e = encodings[g];
+      std::string& tree = topologies[{e.components, e.blosc && !e.half}];
+      if (tree.empty()) tree = topology(layout, e);
+      bytes += tree;
       buffers[g] = at + bytes.size();
-      const std::int64_t offsets[3] = {static_cast<std::int64_t>(at + positions + 24),
+      // The grid starts after its offsets (at its compression), its leaves after the topology.
+      const std::int64_t offsets[3] = {static_cast<std::int64_t>(at + grid.offsets_at + 3 * sizeof(std::int64_t)),
                                        static_cast<std::int64_t>(buffers[g]),
                                        static_cast<std::int64_t>(buffers[g] + buffer_bytes[g])};
-      std::memcpy(&bytes[positions], offsets, sizeof offsets);
+      std::memcpy(&bytes[grid.offsets_at], offsets, sizeof offsets);
       file.write(at, bytes.data(), bytes.size());
       at = buffers[g] + buffer_bytes[g];
     }
@@ -449,8 +456,8 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
       kept[b].clear();
     }, progress_range(progress, 0.9, 1.0));
   }
-  const std::string uuid = content_uuid(out.temporary_path(), file, 57, end, threads);
-  file.write(21, uuid.data(), uuid.size());
+  const std::string uuid = content_uuid(out.temporary_path(), file, kUuidOffset + kUuidLength, end, threads);
+  file.write(kUuidOffset, uuid.data(), uuid.size());
   out.commit();
   return layout.voxels;
 }
