@@ -39,7 +39,7 @@ Raster DeterministicIteration::render(const Ifs& ifs, const RenderOptions& optio
   PixelSet current = full_pixel_set(space, std::vector<float>(start.begin() + 2, start.begin() + 2 + space.channels),
                                     threads, progress_range(options.progress, 0.0, 0.0));
   const PixelSet condensation = condensation_set(ifs, space);
-  PixelScatter scatter = set_scatter(space, threads);
+  PixelScatter scatter = set_scatter(space, threads, progress_range(options.progress, 0.0, 0.0));
   std::vector<SetImage> terms;
   for (std::size_t i = 0; i < ifs.size(); ++i) terms.push_back({i, &current});
   std::uint64_t operations = 0;

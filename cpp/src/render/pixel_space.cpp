@@ -227,16 +227,15 @@ std::vector<std::uint32_t> condensation_pixels(const Ifs& ifs, const Frame& fram
   return out;
 }
 
-PixelScatter::PixelScatter(std::size_t pixels, int values, int workers)
+PixelScatter::PixelScatter(std::size_t pixels, int values, int workers, const ProgressCallback& poll)
     : values_(values), workers_(workers), merged_((pixels + 63) / 64, 0) {
-  // Each worker's buffers are first touched on a core of their own (at 16000^2 they hold
-  // 1.25 GB each: a serial zero-fill kept Ctrl-C waiting for seconds).
-  parallel_jobs(workers_.size(), workers, [&](std::size_t k, int) {
-    Worker& w = workers_[k];
-    w.flag.assign(pixels, 0);
-    w.touched.assign(pixels + 1, 0);
-    w.sums.assign(pixels * values, 0);
-  });
+  // At 16000^2 each worker's buffers hold 1.25 GB: they are faulted in on every core, within
+  // reach of Ctrl-C (a fill without a check kept it waiting for up to 1.7 s), then zeroed.
+  for (Worker& w : workers_) {
+    resize_large(w.flag, pixels, poll);
+    resize_large(w.touched, pixels + 1, poll);
+    resize_large(w.sums, pixels * values, poll);
+  }
 }
 
 void PixelScatter::take(Worker& w, std::size_t pixel, std::vector<std::uint64_t>& sums) {
@@ -249,7 +248,8 @@ void PixelScatter::take(Worker& w, std::size_t pixel, std::vector<std::uint64_t>
   }
 }
 
-void PixelScatter::merge(std::vector<std::uint64_t>& sums, std::vector<std::uint32_t>& touched) {
+void PixelScatter::merge(std::vector<std::uint64_t>& sums, std::vector<std::uint32_t>& touched,
+                         const ProgressCallback& poll) {
   std::size_t count = 0;
   for (const Worker& w : workers_) count += w.count;
   const std::size_t pixels = workers_.empty() ? 0 : workers_[0].flag.size();
@@ -269,9 +269,9 @@ void PixelScatter::merge(std::vector<std::uint64_t>& sums, std::vector<std::uint
         }
         if (any) runs[run].push_back(static_cast<std::uint32_t>(p));
       }
-    });
+    }, poll);
     touched.clear();
-    touched.reserve(count);
+    reserve_large(touched, count, poll);  // 1 GB at 16000^2: faulted in on every core
     for (const auto& run : runs) touched.insert(touched.end(), run.begin(), run.end());
     for (Worker& w : workers_) w.count = 0;
     return;
@@ -410,15 +410,21 @@ PixelSet hutchinson(const PixelSpace& space, const std::vector<SetImage>& terms,
       scatter.add(0, extra->pixels[k], codes);
     }
   }
-  std::vector<std::uint64_t> sums(channels ? space.pixels() * (1 + channels) : 0, 0);
+  // The merge of a 16000^2 grid's first passes takes seconds: Ctrl-C hears it too.
+  const ProgressCallback poll = progress_range(progress, 1.0, 1.0);
+  std::vector<std::uint64_t> sums;
+  assign_large(sums, channels ? space.pixels() * (1 + channels) : 0, std::uint64_t(0), poll);
   PixelSet out;
-  scatter.merge(sums, out.pixels);
-  for (std::uint32_t p : out.pixels)
+  scatter.merge(sums, out.pixels, poll);
+  for (std::size_t k = 0; k < out.pixels.size() && channels; ++k) {
+    if ((k & 0xFFFFF) == 0 && poll && !poll(0.0)) throw Cancelled();
+    const std::uint32_t p = out.pixels[k];
     for (int c = 0; c < channels; ++c) {
       const double mean = static_cast<double>(sums[std::size_t(p) * (1 + channels) + 1 + c]) /
                           static_cast<double>(sums[std::size_t(p) * (1 + channels)]);
       out.values.push_back(static_cast<float>(codec.decode(c, mean)));
     }
+  }
   return out;
 }
 

@@ -55,7 +55,7 @@ Growth grow(const Ifs& ifs, const RenderOptions& options, const ParameterValues&
       fresh.values.insert(fresh.values.end(), seeds[k].second.begin(), seeds[k].second.end());
     }
   }
-  PixelScatter scatter = set_scatter(space, threads);
+  PixelScatter scatter = set_scatter(space, threads, progress_range(options.progress, 0.0, 0.0));
   // Processor 2: the maps, applied to what grew last.
   for (int generation = 0; !fresh.pixels.empty(); ++generation) {
     for (std::size_t k = 0; k < fresh.pixels.size(); ++k) {

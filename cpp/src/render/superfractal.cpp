@@ -64,7 +64,7 @@ Raster Superfractal::render(const Ifs& ifs, const RenderOptions& options) const 
   std::vector<PixelSet> buffers(variability);
   std::vector<const PixelSet*> current(variability, &full);
   const PixelSet condensation = condensation_set(ifs, space);
-  PixelScatter scatter = set_scatter(space, threads);
+  PixelScatter scatter = set_scatter(space, threads, progress_range(options.progress, 0.0, 0.0));
   std::uint64_t operations = 0;
   for (long long iteration = 0; iteration < iterations; ++iteration) {
     std::vector<PixelSet> next(variability);

@@ -98,7 +98,8 @@ std::vector<std::uint32_t> condensation_pixels(const Ifs& ifs, const Frame& fram
 class PixelScatter {
  public:
   /// `values` integers per pixel (0: only which pixels were touched).
-  PixelScatter(std::size_t pixels, int values, int workers);
+  /// `poll` hears Ctrl-C while the buffers are faulted in.
+  PixelScatter(std::size_t pixels, int values, int workers, const ProgressCallback& poll = {});
   static double bytes(std::size_t pixels, int values, int workers) {
     return static_cast<double>(pixels) * workers * (5.0 + 8.0 * values);
   }
@@ -147,7 +148,8 @@ class PixelScatter {
   /// @brief Adds every worker's sums into `sums` (pixels x values, may be empty when values
   /// is 0) and lists the pixels any worker touched, increasing, in `touched`; leaves the
   /// workers cleared for the next round.
-  void merge(std::vector<std::uint64_t>& sums, std::vector<std::uint32_t>& touched);
+  /// `poll` hears Ctrl-C.
+  void merge(std::vector<std::uint64_t>& sums, std::vector<std::uint32_t>& touched, const ProgressCallback& poll = {});
   int values() const { return values_; }
 
  private:
@@ -165,8 +167,8 @@ class PixelScatter {
 };
 
 /// @brief A scatter shaped for hutchinson(): a count and the channel codes per pixel.
-inline PixelScatter set_scatter(const PixelSpace& space, int workers) {
-  return PixelScatter(space.pixels(), space.channels ? 1 + space.channels : 0, workers);
+inline PixelScatter set_scatter(const PixelSpace& space, int workers, const ProgressCallback& poll = {}) {
+  return PixelScatter(space.pixels(), space.channels ? 1 + space.channels : 0, workers, poll);
 }
 
 /// @brief Reports `fraction` to the caller's progress callback; throws Cancelled when it
