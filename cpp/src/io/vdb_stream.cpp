@@ -161,12 +161,18 @@ class BandWriter {
   }
 
  private:
+  /// Once per run of keys: inline, its error path apart (called out of line, it was a third of
+  /// the plan's time at 2048^3).
   std::array<int, 3> coord(std::uint64_t key, std::size_t b) const {
     const std::array<int, 3> c = VoxelGrid::coord(key);
-    if (static_cast<std::size_t>(c[0]) / kVolumeBandRows != b || c[0] >= dims_[0] || c[1] >= dims_[1] || c[2] >= dims_[2])
-      throw InputError("write_vdb: voxel (" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " +
-                       std::to_string(c[2]) + ") lies outside its band or the volume's grid");
+    if (__builtin_expect(static_cast<std::size_t>(c[0]) / kVolumeBandRows != b || c[0] >= dims_[0] ||
+                             c[1] >= dims_[1] || c[2] >= dims_[2], 0))
+      outside(c);
     return c;
+  }
+  [[noreturn]] __attribute__((noinline, cold)) static void outside(const std::array<int, 3>& c) {
+    throw InputError("write_vdb: voxel (" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " +
+                     std::to_string(c[2]) + ") lies outside its band or the volume's grid");
   }
   static constexpr std::uint64_t kZ = (std::uint64_t(1) << VoxelGrid::kKeyBits) - 1;  ///< a key's z bits
   std::size_t block(const std::array<int, 3>& c) const { return static_cast<std::size_t>(c[1] >> 3) * blocks_k_ + (c[2] >> 3); }
@@ -272,6 +278,13 @@ class FileAt {
       size -= static_cast<std::size_t>(n);
       offset += static_cast<std::uint64_t>(n);
     }
+  }
+  /// Starts writing the file's dirty pages to disk without waiting: the commit's fsync then
+  /// finds most of them written (it took 0.15 s after a 242 MB file's last leaf).
+  void start_writeback() const {
+#ifdef SYNC_FILE_RANGE_WRITE
+    ::sync_file_range(fd_, 0, 0, SYNC_FILE_RANGE_WRITE);  // advice only: the commit's fsync reports errors
+#endif
   }
   int fd() const { return fd_; }
   const std::string& shown() const { return shown_; }
@@ -433,6 +446,7 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
         return buffers[g] + (kLeafMaskBytes + 1) * std::uint64_t(i) + layout.first_value[i] * value_bytes;
       });
     }
+    if (!blosc) file.start_writeback();
   }, progress_range(progress, 0.2, blosc ? 0.9 : 1.0));
   if (blosc) {
     // Every leaf's size in file order, then the heads, then the kept bytes where they belong.
@@ -454,6 +468,7 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
         write_runs(layout.band_leaves[b], kept[b][g].bytes, kept[b][g].sizes,
                    [&](std::size_t i) { return buffers[g] + offsets[g][i]; });
       kept[b].clear();
+      file.start_writeback();
     }, progress_range(progress, 0.9, 1.0));
   }
   const std::string uuid = content_uuid(out.temporary_path(), file, kUuidOffset + kUuidLength, end, threads);

@@ -148,23 +148,34 @@ VolumeJobsBytes::VolumeJobsBytes(std::string_view bytes) : bytes_(bytes) {
   for (Slab& slab : slabs_) slab.begin += in.offset();
 }
 
-void VolumeJobsBytes::decode(std::size_t s, VoxelList& out, bool keys_only) const {
-  if (out.size() == 0) out.channels = channels_;
-  if (out.channels != channels_) throw InputError("volume job result: another number of channels");
+VarintReader VolumeJobsBytes::read_keys(std::size_t s, std::vector<std::uint64_t>& keys) const {
   if (s < first_ || s >= slabs()) throw std::out_of_range("volume job result: no such slab");
   const Slab& slab = slabs_[s - first_];
   VarintReader in(bytes_.substr(slab.begin, slab.size), kWhat);
-  const std::size_t at = out.size(), n = slab.entries, nc = channels_;
-  out.keys.resize(at + n);
+  const std::size_t at = keys.size(), n = slab.entries;
+  // Grown geometrically: a band's keys (tens of MB at 2048^3) come a slab of each part at a
+  // time, and a reserve of the exact size each time copied them all again (plan 0.4 -> 1.8 s).
+  if (keys.capacity() < at + n) keys.reserve(std::max(at + n, 2 * keys.capacity()));
+  keys.resize(at + n);
   std::uint64_t key = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint64_t next = key + in.next();
     if (i > 0 && next <= key) throw InputError("volume job result: keys not ascending");
-    out.keys[at + i] = key = next;
+    keys[at + i] = key = next;
   }
-  if (n && (slab_of(out.keys[at]) != s || slab_of(key) != s))
-    throw InputError("volume job result: a voxel outside its slab");
+  if (n && (slab_of(keys[at]) != s || slab_of(key) != s)) throw InputError("volume job result: a voxel outside its slab");
+  return in;
+}
+
+void VolumeJobsBytes::decode_keys(std::size_t s, std::vector<std::uint64_t>& keys) const { read_keys(s, keys); }
+
+void VolumeJobsBytes::decode(std::size_t s, VoxelList& out, bool keys_only) const {
+  if (out.size() == 0) out.channels = channels_;
+  if (out.channels != channels_) throw InputError("volume job result: another number of channels");
+  const std::size_t at = out.size(), nc = channels_;
+  VarintReader in = read_keys(s, out.keys);
   if (keys_only) return;
+  const std::size_t n = out.size() - at;
   auto read = [&](std::vector<std::uint64_t>& values, std::size_t per_entry) {
     values.resize((at + n) * per_entry);
     for (std::size_t i = at * per_entry; i < values.size(); ++i) values[i] = in.next();
@@ -237,7 +248,12 @@ void give_volume_jobs(const std::vector<VolumeJobsBytes>& parts, const Volume& h
   sink(header, volume_bands(header.grid), [&](std::size_t band, bool keys_only, Volume& out) {
     const std::size_t first = std::min(band * kSlabsPerBand, holders.size());
     const std::size_t last = std::min(first + kSlabsPerBand, holders.size());
-    return finish_slabs(first, last, load, quantizer, header.density_mode, total_mass, channels, keys_only, out);
+    if (!keys_only) return finish_slabs(first, last, load, quantizer, header.density_mode, total_mass, channels, out);
+    // The keys of every part, slab after slab, unmerged (see VolumeBandLoader): decoded in place.
+    out.keys.clear();
+    for (std::size_t s = first; s < last; ++s)
+      for (std::uint32_t p : holders[s]) parts[p].decode_keys(s, out.keys);
+    return VoxelSpan{out.keys.data(), nullptr, nullptr, out.keys.size()};
   });
 }
 

@@ -429,18 +429,14 @@ Volume finish_volume(std::size_t slabs, const SlabLoader& load, const VoxelGrid&
 }
 
 VoxelSpan finish_slabs(std::size_t first, std::size_t last, const SlabLoader& load, const ChannelQuantizer& quantizer,
-                       VolumeDensity mode, double total_mass, int channels, bool keys_only, Volume& out) {
+                       VolumeDensity mode, double total_mass, int channels, Volume& out) {
   thread_local SlabScratch w;  // a thread of the band writer's, band after band
   out.keys.clear();
   out.density.clear();
   out.channels.clear();
   const VolumeWriter write{out, quantizer, mode, total_mass, channels};
   for (std::size_t s = first; s < last; ++s) {
-    load(s, w.lists, keys_only);
-    if (keys_only) {  // the inputs' keys: a band loader's keys need no merge
-      for (const VoxelList& list : w.lists) out.keys.insert(out.keys.end(), list.keys.begin(), list.keys.end());
-      continue;
-    }
+    load(s, w.lists, false);
     const SlabMerge merge(w.lists, 1);
     if (!merge.slabs()) continue;
     merge.reduce_slab(0, w, [&](std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* sums,
@@ -452,8 +448,7 @@ VoxelSpan finish_slabs(std::size_t first, std::size_t last, const SlabLoader& lo
       write(v, key, hits, mass, sums, extremes);
     });
   }
-  return VoxelSpan{out.keys.data(), keys_only ? nullptr : out.density.data(), keys_only ? nullptr : out.channels.data(),
-                   out.keys.size()};
+  return VoxelSpan{out.keys.data(), out.density.data(), out.channels.data(), out.keys.size()};
 }
 
 Volume finish_volume(VoxelList&& list, const VoxelGrid& grid, const Ifs& ifs, const ChannelQuantizer& quantizer,

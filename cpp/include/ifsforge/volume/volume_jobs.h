@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "ifsforge/core/varint.h"
 #include "ifsforge/volume/volume_renderer.h"
 
 namespace ifsforge {
@@ -42,8 +43,12 @@ class VolumeJobsBytes {
   /// @brief Appends slab s's entries to `out` (keys alone when `keys_only`); InputError when
   /// they are malformed, not ascending or outside the slab. s must be in the table.
   void decode(std::size_t s, VoxelList& out, bool keys_only = false) const;
+  /// @brief Appends slab s's keys alone to `keys` (checked as decode checks them).
+  void decode_keys(std::size_t s, std::vector<std::uint64_t>& keys) const;
 
  private:
+  /// Appends slab s's keys; the reader stands after them.
+  VarintReader read_keys(std::size_t s, std::vector<std::uint64_t>& keys) const;
   friend VolumeJobsResult decode_volume_jobs(std::string_view bytes);
   struct Slab {
     std::size_t begin = 0, size = 0;

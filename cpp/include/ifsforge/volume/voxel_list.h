@@ -112,10 +112,9 @@ Volume finish_volume(std::size_t slabs, const SlabLoader& load, const VoxelGrid&
                      const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads);
 /// @brief Slabs [first, last) of a merge by `load` (of `channels` channels), finished as
 /// finish_volume finishes them, into the keys, density and channels of `out` (storage reused
-/// from call to call), on the calling thread: a band of a volume given band by band. With
-/// `keys_only`, the keys of every input, slab after slab, unmerged (see VolumeBandLoader).
+/// from call to call), on the calling thread: a band of a volume given band by band.
 VoxelSpan finish_slabs(std::size_t first, std::size_t last, const SlabLoader& load, const ChannelQuantizer& quantizer,
-                       VolumeDensity mode, double total_mass, int channels, bool keys_only, Volume& out);
+                       VolumeDensity mode, double total_mass, int channels, Volume& out);
 /// @brief A volume with no voxels yet: the grid, the density mode and the channels' names,
 /// colour model and ranges.
 Volume empty_volume(const VoxelGrid& grid, const Ifs& ifs, const ChannelQuantizer& quantizer, VolumeDensity mode);
