@@ -207,18 +207,19 @@ Layout plan(BandWriter& bands, const ProgressCallback& progress) {
   }
   // Bands follow file order unless the grid reaches past 4096 voxels in y or z (several root nodes).
   auto by_order = [](const LeafTopology& a, const LeafTopology& c) { return a.order < c.order; };
-  if (!std::is_sorted(layout.leaves.begin(), layout.leaves.end(), by_order))
-    std::sort(layout.leaves.begin(), layout.leaves.end(), by_order);
+  const bool in_bands = std::is_sorted(layout.leaves.begin(), layout.leaves.end(), by_order);
+  if (!in_bands) std::sort(layout.leaves.begin(), layout.leaves.end(), by_order);
   layout.first_value.resize(layout.leaves.size() + 1, 0);
   for (std::size_t i = 0; i < layout.leaves.size(); ++i) {
     layout.orders.push_back(layout.leaves[i].order);
     layout.first_value[i + 1] = layout.first_value[i] + layout.leaves[i].count;
   }
   layout.voxels = layout.first_value.back();
+  // Band b's leaves: the next ones in file order, or found by search after the sort.
   layout.band_leaves.resize(per_band.size());
-  for (std::size_t b = 0; b < per_band.size(); ++b) {
+  for (std::size_t b = 0, next = 0; b < per_band.size(); ++b) {
     for (const LeafTopology& leaf : per_band[b])
-      layout.band_leaves[b].push_back(static_cast<std::size_t>(
+      layout.band_leaves[b].push_back(in_bands ? next++ : static_cast<std::size_t>(
           std::lower_bound(layout.orders.begin(), layout.orders.end(), leaf.order) - layout.orders.begin()));
     std::vector<LeafTopology>().swap(per_band[b]);
   }

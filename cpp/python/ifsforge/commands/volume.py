@@ -53,6 +53,12 @@ def register(subparsers):
     p.set_defaults(run=run)
 
 
+def summarize(system, dims, voxel_size, algorithm, depth, occupied, start):
+    nx, ny, nz = dims
+    print(f"{system.name}: {nx}x{ny}x{nz} voxels of {voxel_size:.6g}, {algorithm} (depth {depth}), "
+          f"{occupied:,} occupied, {time.perf_counter() - start:.2f} s")
+
+
 def run(args):
     if not args.output and not args.mesh and not args.df3:
         raise ifsforge.InputError("nothing to write: give -o out.vdb, --mesh out.glb and/or --df3 out.df3")
@@ -86,16 +92,12 @@ def run(args):
         # atomically (the core writes beside the target and renames).
         with distributed.client_from_args(args) as client:
             made = distributed.render_volume_to_vdb(args.output, system, args.algorithm, client=client, **options, **vdb)
-        nx, ny, nz = made["dims"]
-        print(f"{system.name}: {nx}x{ny}x{nz} voxels of {made['voxel_size']:.6g}, {made['algorithm']} "
-              f"(depth {made['depth']}), {made['voxels']:,} occupied, {time.perf_counter() - start:.2f} s")
+        summarize(system, made["dims"], made["voxel_size"], made["algorithm"], made["depth"], made["voxels"], start)
         print(f"{args.output}: {os.path.getsize(args.output):,} bytes")
         return
     with distributed.client_from_args(args) as client:
         volume = distributed.render_volume(system, args.algorithm, client=client, **options)
-    nx, ny, nz = volume.dims
-    print(f"{system.name}: {nx}x{ny}x{nz} voxels of {volume.voxel_size:.6g}, {volume.algorithm} "
-          f"(depth {volume.depth}), {len(volume):,} occupied, {time.perf_counter() - start:.2f} s")
+    summarize(system, volume.dims, volume.voxel_size, volume.algorithm, volume.depth, len(volume), start)
     # The mesh is built before anything is written, then the .vdb and the mesh are committed
     # together: an error or Ctrl-C leaves neither.
     mesh = None
