@@ -26,6 +26,13 @@ Ifs sierpinski() {
              {similarity(0.5, 0, 0, 0), similarity(0.5, 0, 0.5, 0), similarity(0.5, 0, 0.25, 0.5)}, {1, 1, 1});
 }
 
+Ifs fern() {
+  return Ifs("fern", ChannelLayout("xy"),
+             {AffineMap(2, {0, 0, 0, 0.16}, {0, 0}), AffineMap(2, {0.85, 0.04, -0.04, 0.85}, {0, 1.6}),
+              AffineMap(2, {0.2, -0.26, 0.23, 0.22}, {0, 1.6}), AffineMap(2, {-0.15, 0.28, 0.26, 0.24}, {0, 0.44})},
+             {0.01, 0.85, 0.07, 0.07});
+}
+
 Ifs koch() {
   const double third = 1.0 / 3.0;
   return Ifs("koch", ChannelLayout("xy"),
@@ -182,6 +189,42 @@ TEST(Renderers, PrrFixedDepthPlotsNToTheL) {
   EXPECT_NEAR(total, 1.0, 1e-5);  // the measure is a probability
 }
 
+TEST(Recursion, PiecesAreImagesOfTheInvariantBoxWhenItIsTight) {
+  // The Sierpinski triangle's box [0, 1]^2 is invariant: B exactly, no margin.
+  RecursionPlan plan = plan_recursion(sierpinski(), 0, 8);
+  for (int c = 0; c < 2; ++c) {
+    EXPECT_DOUBLE_EQ(plan.center[c], 0.5);
+    EXPECT_NEAR(plan.half[c], 0.5, 1e-11);
+  }
+  // The fern's rotations make its invariant box half as wide again as the fern: the sampled
+  // box grown by kPieceBoxMargin instead, which holds every point of the attractor.
+  plan = plan_recursion(fern(), 0, 8);
+  const Bounds b = fern().attractor_bounds(1u << 16);
+  for (int c = 0; c < 2; ++c)
+    EXPECT_NEAR(plan.half[c], (0.5 + kPieceBoxMargin) * (b.hi[c] - b.lo[c]), 1e-9);
+}
+
+TEST(Renderers, PrrStopsAtPiecesThatFitAPixel) {
+  // At 2^9 pixels the depth-9 pieces of the Sierpinski triangle are one pixel wide, on pixel
+  // edges or half a pixel off them: each is one leaf of one or two deposits (a margin around B
+  // made every one of them wider than a pixel, and the tree went a level deeper). Each pixel
+  // holds 1 or 1/2 of a piece's mass 3^-9, the exact invariant measure of the pixel.
+  const Raster r = renderer("prr").render(sierpinski(), size(512));
+  EXPECT_LE(r.points, 2u * 19683u);
+  const double piece = std::pow(3.0, -9);
+  std::size_t covered = 0;
+  double total = 0;
+  for (float d : r.density) {
+    if (d == 0.0f) continue;
+    ++covered;
+    total += d;
+    const double halves = 2.0 * d / piece;
+    EXPECT_NEAR(halves, std::round(halves), 1e-4);
+  }
+  EXPECT_EQ(covered, 26244u);  // 4/3 of 3^9
+  EXPECT_NEAR(total, 1.0, 1e-5);
+}
+
 TEST(Renderers, RefuseBadInput) {
   setenv("IFSFORGE_MEMORY_BUDGET_MB", "256", 1);
   Ifs divergent("div", ChannelLayout("xy"), {similarity(1.5, 0, 0, 0), similarity(1.2, 30, 1, 0)});
@@ -236,13 +279,6 @@ TEST(Renderers, FixedDepthOverTenToTheTwelveLeavesIsRefusedByName) {
   o.depth = 25;  // 3^25 = 8.5e11: allowed (cancelled at once here)
   o.progress = [](double) { return false; };
   EXPECT_THROW(renderer("prr").render(sierpinski(), o), Cancelled);
-}
-
-Ifs fern() {
-  return Ifs("fern", ChannelLayout("xy"),
-             {AffineMap(2, {0, 0, 0, 0.16}, {0, 0}), AffineMap(2, {0.85, 0.04, -0.04, 0.85}, {0, 1.6}),
-              AffineMap(2, {0.2, -0.26, 0.23, 0.22}, {0, 1.6}), AffineMap(2, {-0.15, 0.28, 0.26, 0.24}, {0, 0.44})},
-             {0.01, 0.85, 0.07, 0.07});
 }
 
 TEST(Recursion, BalancedJobsAreACompletePrefixCodeInAddressOrder) {

@@ -7,6 +7,7 @@
 #include "ifsforge/core/cells.h"
 #include "ifsforge/core/memory.h"
 #include "ifsforge/render/accumulator.h"
+#include "ifsforge/render/recursion.h"
 
 namespace ifsforge {
 
@@ -206,13 +207,7 @@ Point apply(const double* m, int n, const Point& p) {
 
 PieceBoxes::PieceBoxes(const Ifs& ifs, const Frame& frame)
     : frame_(frame), n_(ifs.dim()), spatial_(ifs.spatial_dims()) {
-  const Bounds b = ifs.attractor_bounds(1u << 16);
-  for (int c = 0; c < n_; ++c) {
-    const double extent = b.hi[c] - b.lo[c];
-    // The sample may miss the attractor's far tips: grow the box a little.
-    center_.push_back(0.5 * (b.lo[c] + b.hi[c]));
-    half_.push_back(0.5 * extent + 0.02 * extent + 1e-12 * (std::abs(b.lo[c]) + std::abs(b.hi[c])));
-  }
+  piece_box(ifs, ifs.attractor_bounds(1u << 16), kPieceBoxMargin, false, center_, half_);
 }
 
 void PieceBoxes::pixel_box(const double* m, double* lo, double* hi) const {

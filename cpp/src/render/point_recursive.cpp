@@ -125,6 +125,18 @@ struct PrrImage {
     }
   }
 
+  /// The extent of the piece's box M(B) toward the viewer, in pixels (3D systems).
+  double depth_extent(const AffineMap& m) const {
+    const auto& toward = frame.toward_viewer();
+    double extent = 0.0;
+    for (int c = 0; c < ifs.dim(); ++c) {
+      double row = 0.0;
+      for (int r = 0; r < 3; ++r) row += toward[r] * m.a(r, c);
+      extent += std::abs(row) * plan.half[c];
+    }
+    return 2.0 * extent / frame.pixel_size();
+  }
+
   NodeCounts node_counts() const { return NodeCounts(groups, budget); }
 
   /// The group of an address at least `plan.prefix` long: its first prefix digits.
@@ -179,8 +191,10 @@ struct PrrImage {
                              std::min<std::int64_t>(y1, frame.height() - 1)))
           return pruned = true;
       }
-      if (in_one_cell(lo, hi, 2)) return true;
-      return std::max(hi[0] - lo[0], hi[1] - lo[1]) < cut;
+      // In 3D a leaf's depth is its centre's: a piece also thinner than a pixel toward the
+      // viewer keeps the z-buffer within half a pixel of its nearest point.
+      return (in_one_cell(lo, hi, 2) || std::max(hi[0] - lo[0], hi[1] - lo[1]) < cut) &&
+             (spatial != 3 || depth_extent(node.map) < 1.0);
     };
     list.clear();
     // `px` is p's pixel position (to_pixel(p)); p itself is read for depth and channels only.

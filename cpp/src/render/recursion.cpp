@@ -2,12 +2,103 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <queue>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/render/parameters.h"
 
 namespace ifsforge {
+
+namespace {
+
+/// The smallest box B with AABB(w_i(B)) inside B for every map, from `start`: the fixed point
+/// of B -> hull of the AABBs of w_i(B), a contraction when every map shrinks boxes (row sums
+/// of |A| below 1). It holds the attractor, tightly for axis-aligned maps, and the boxes of
+/// the pieces w_a(B) nest. False when the iteration does not settle.
+bool invariant_box(const Ifs& ifs, std::vector<double>& lo, std::vector<double>& hi) {
+  const int n = ifs.dim();
+  for (const auto& m : ifs.maps())
+    for (int r = 0; r < n; ++r) {
+      double row = 0.0;
+      for (int c = 0; c < n; ++c) row += std::abs(m.a(r, c));
+      if (!(row < 1.0)) return false;
+    }
+  std::vector<double> center(n), half(n), next_lo(n), next_hi(n);
+  for (int iteration = 0; iteration < 4000; ++iteration) {
+    for (int c = 0; c < n; ++c) {
+      center[c] = 0.5 * (lo[c] + hi[c]);
+      half[c] = 0.5 * (hi[c] - lo[c]);
+    }
+    std::fill(next_lo.begin(), next_lo.end(), std::numeric_limits<double>::infinity());
+    std::fill(next_hi.begin(), next_hi.end(), -std::numeric_limits<double>::infinity());
+    for (const auto& m : ifs.maps())
+      for (int r = 0; r < n; ++r) {
+        double c0 = m.b(r), h = 0.0;
+        for (int c = 0; c < n; ++c) {
+          c0 += m.a(r, c) * center[c];
+          h += std::abs(m.a(r, c)) * half[c];
+        }
+        next_lo[r] = std::min(next_lo[r], c0 - h);
+        next_hi[r] = std::max(next_hi[r], c0 + h);
+      }
+    double change = 0.0, size = 0.0;
+    for (int c = 0; c < n; ++c) {
+      change = std::max({change, std::abs(next_lo[c] - lo[c]), std::abs(next_hi[c] - hi[c])});
+      size = std::max(size, next_hi[c] - next_lo[c]);
+    }
+    lo.swap(next_lo);
+    hi.swap(next_hi);
+    if (change <= 1e-14 * (1.0 + size)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void piece_box(const Ifs& ifs, const Bounds& bounds, double margin, bool any_invariant, std::vector<double>& center,
+               std::vector<double>& half) {
+  const int n = ifs.dim(), spatial = ifs.spatial_dims();
+  std::vector<double> lo(n), hi(n);
+  for (int c = 0; c < n; ++c) {
+    const double extent = bounds.hi[c] - bounds.lo[c];
+    lo[c] = bounds.lo[c] - margin * extent;
+    hi[c] = bounds.hi[c] + margin * extent;
+  }
+  // The invariant box of `system` on rows [0, rows); unless `any_invariant`, only when it lies
+  // inside the grown bounds.
+  auto take = [&](const Ifs& system, int rows) {
+    std::vector<double> l(bounds.lo.begin(), bounds.lo.begin() + rows), h(bounds.hi.begin(), bounds.hi.begin() + rows);
+    if (!invariant_box(system, l, h)) return false;
+    for (int r = 0; r < rows && !any_invariant; ++r)
+      if (l[r] < lo[r] || h[r] > hi[r]) return false;
+    std::copy(l.begin(), l.end(), lo.begin());
+    std::copy(h.begin(), h.end(), hi.begin());
+    return true;
+  };
+  // Without one, the spatial rows alone may have one (a gray channel that reads x, y, z):
+  // exact spatial boxes keep a grid-aligned fractal's pieces on cell faces.
+  if (ifs.classify() == Classification::Hyperbolic && !take(ifs, n) && n > spatial) {
+    std::vector<AffineMap> maps;
+    bool independent = true;
+    for (const auto& m : ifs.maps()) {
+      AffineMap s(spatial);
+      for (int r = 0; r < spatial; ++r) {
+        for (int c = 0; c < spatial; ++c) s.a(r, c) = m.a(r, c);
+        for (int c = spatial; c < n; ++c) independent = independent && m.a(r, c) == 0.0;
+        s.b(r) = m.b(r);
+      }
+      maps.push_back(s);
+    }
+    if (independent) take(Ifs(ifs.name(), ChannelLayout(spatial == 2 ? "xy" : "xyz"), maps, ifs.probabilities()), spatial);
+  }
+  center.clear();
+  half.clear();
+  for (int c = 0; c < n; ++c) {
+    center.push_back(0.5 * (lo[c] + hi[c]));
+    half.push_back(0.5 * (hi[c] - lo[c]) + 1e-12 * std::abs(center.back()));
+  }
+}
 
 void check_leaf_count(std::size_t maps, int depth) {
   if (maps < 2 || depth <= 0) return;
@@ -22,14 +113,9 @@ RecursionPlan plan_recursion(const Ifs& ifs, int depth, int auto_depth) {
   check_leaf_count(ifs.size(), depth);
   RecursionPlan plan;
   plan.max_depth = std::clamp(depth > 0 ? depth : auto_depth, 1, 64);
-  const Bounds b = ifs.attractor_bounds(1u << 16);
-  for (int c = 0; c < ifs.dim(); ++c) {
-    const double extent = b.hi[c] - b.lo[c];
-    // The sample may miss the attractor's far tips: grow the box a little.
-    const double margin = 0.02 * extent + 1e-12 * (std::abs(b.lo[c]) + std::abs(b.hi[c]));
-    plan.center.push_back(0.5 * (b.lo[c] + b.hi[c]));
-    plan.half.push_back(0.5 * extent + margin);
-  }
+  // A rotating map's invariant box (the fern's) is half as wide again as its attractor: the
+  // deeper tree it asks for ran past the node budget. Only a tight one is taken.
+  piece_box(ifs, ifs.attractor_bounds(1u << 16), kPieceBoxMargin, false, plan.center, plan.half);
   const std::uint64_t n = ifs.size();
   if (n > 1) {
     double below = std::pow(static_cast<double>(n), plan.max_depth);

@@ -125,48 +125,6 @@ std::vector<Point> farthest_points(const std::vector<Point>& points) {
   return out;
 }
 
-/// The smallest box B with AABB(w_i(B)) inside B for every map, from `start`: the fixed point
-/// of B -> hull of the AABBs of w_i(B), a contraction when every map shrinks boxes (row sums
-/// of |A| below 1). It holds the attractor, tightly for axis-aligned maps, and the boxes of
-/// the pieces w_a(B) nest. False when the iteration does not settle.
-bool invariant_box(const Ifs& ifs, std::vector<double>& lo, std::vector<double>& hi) {
-  const int n = ifs.dim();
-  for (const auto& m : ifs.maps())
-    for (int r = 0; r < n; ++r) {
-      double row = 0.0;
-      for (int c = 0; c < n; ++c) row += std::abs(m.a(r, c));
-      if (!(row < 1.0)) return false;
-    }
-  std::vector<double> center(n), half(n), next_lo(n), next_hi(n);
-  for (int iteration = 0; iteration < 4000; ++iteration) {
-    for (int c = 0; c < n; ++c) {
-      center[c] = 0.5 * (lo[c] + hi[c]);
-      half[c] = 0.5 * (hi[c] - lo[c]);
-    }
-    std::fill(next_lo.begin(), next_lo.end(), std::numeric_limits<double>::infinity());
-    std::fill(next_hi.begin(), next_hi.end(), -std::numeric_limits<double>::infinity());
-    for (const auto& m : ifs.maps())
-      for (int r = 0; r < n; ++r) {
-        double c0 = m.b(r), h = 0.0;
-        for (int c = 0; c < n; ++c) {
-          c0 += m.a(r, c) * center[c];
-          h += std::abs(m.a(r, c)) * half[c];
-        }
-        next_lo[r] = std::min(next_lo[r], c0 - h);
-        next_hi[r] = std::max(next_hi[r], c0 + h);
-      }
-    double change = 0.0, size = 0.0;
-    for (int c = 0; c < n; ++c) {
-      change = std::max({change, std::abs(next_lo[c] - lo[c]), std::abs(next_hi[c] - hi[c])});
-      size = std::max(size, next_hi[c] - next_lo[c]);
-    }
-    lo.swap(next_lo);
-    hi.swap(next_hi);
-    if (change <= 1e-14 * (1.0 + size)) return true;
-  }
-  return false;
-}
-
 }  // namespace
 
 Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes) {
@@ -220,38 +178,9 @@ VolumeSetup prepare_volume(const Ifs& ifs, const VolumeOptions& options) {
       throw DivergentSystemError("system '" + ifs.name() + "' has unbounded channel '" +
                                  ifs.layout().names()[c] + "'");
   }
-  // B: the invariant box when there is one (exact for axis-aligned maps, pieces nest),
-  // else the bounds with a 1% margin for the tips a sample may miss.
-  std::vector<double> lo = setup.bounds.lo, hi = setup.bounds.hi;
-  const bool hyperbolic = ifs.classify() == Classification::Hyperbolic;
-  const bool invariant = hyperbolic && invariant_box(ifs, lo, hi);
-  // Without one, the spatial rows alone may have one (a gray channel that reads x, y, z):
-  // exact spatial boxes keep a grid-aligned fractal's pieces on voxel faces.
-  int exact = invariant ? n : 0;
-  if (!invariant && hyperbolic && n > 3) {
-    std::vector<AffineMap> spatial;
-    bool independent = true;
-    for (const auto& m : ifs.maps()) {
-      AffineMap s(3);
-      for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) s.a(r, c) = m.a(r, c);
-        for (int c = 3; c < n; ++c) independent = independent && m.a(r, c) == 0.0;
-        s.b(r) = m.b(r);
-      }
-      spatial.push_back(s);
-    }
-    std::vector<double> lo3(lo.begin(), lo.begin() + 3), hi3(hi.begin(), hi.begin() + 3);
-    if (independent && invariant_box(Ifs(ifs.name(), ChannelLayout("xyz"), spatial, ifs.probabilities()), lo3, hi3)) {
-      std::copy(lo3.begin(), lo3.end(), lo.begin());
-      std::copy(hi3.begin(), hi3.end(), hi.begin());
-      exact = 3;
-    }
-  }
-  for (int c = 0; c < n; ++c) {
-    const double extent = hi[c] - lo[c];
-    setup.center.push_back(0.5 * (lo[c] + hi[c]));
-    setup.half.push_back(0.5 * extent + (c < exact ? 0.0 : 0.01 * extent) + 1e-12 * std::abs(setup.center.back()));
-  }
+  // Any invariant box: a volume's pieces nest in it, and its occupancy tests find more of the
+  // attractor's voxels (the 3D fern at 256^3 lost 128 of 19,718 in the grown bounds instead).
+  piece_box(ifs, setup.bounds, 0.01, true, setup.center, setup.half);
   if (options.bounds) {
     setup.grid = fit_voxel_grid(*options.bounds, options.resolution);
   } else {

@@ -41,6 +41,19 @@ struct RecursionNode {
   int length;                       ///< k
 };
 
+/// Images grow a sampled attractor box by this share of its extent per side (a sample may miss
+/// the far tips).
+constexpr double kPieceBoxMargin = 0.02;
+
+/// @brief The box B every piece is an image of, as `center` and `half` (all channels): the
+/// smallest box with AABB(w_i(B)) inside B when the system has one (exact for axis-aligned
+/// maps: a grid-aligned fractal's pieces then lie on cell faces, and nest), else `bounds`
+/// grown by `margin` of its extent per side, for the tips a sample may miss. When only the
+/// spatial rows have one (channels that do not feed the position), those rows are exact.
+/// Unless `any_invariant`, an invariant box wider than the grown bounds is not taken.
+void piece_box(const Ifs& ifs, const Bounds& bounds, double margin, bool any_invariant, std::vector<double>& center,
+               std::vector<double>& half);
+
 /// @brief InputError naming `depth` when a fixed depth gives `maps`^depth leaves, more than
 /// 10^12 (the limit on chaos game points, kMaxIterations): work that would run for hours.
 void check_leaf_count(std::size_t maps, int depth);
