@@ -2,14 +2,16 @@
 """Whole commands as users run them: each figure a fresh `ifsforge` process, timed from the
 outside (wall time, peak memory and page faults of the child), on 1 and 2 threads, beside its
 target. In-process figures come from the Google Benchmark programs (bench_render, bench_volume),
-with their page faults, rates and targets (IN_PROCESS_TARGETS).
+with their page faults, rates and targets (IN_PROCESS_TARGETS). Last, the fern and the Sierpinski
+triangle against flam3-render as commands (flam3_side_by_side.py), when flam3-utils is installed.
 
     cpp/bench/bench_commands.py [--runs 3] [--quick]
 
---quick skips the 1024^3 volume. Needs the built ifsforge (build/python).
+--quick skips the 1024^3 volume and flam3. Needs the built ifsforge (build/python).
 """
 import argparse
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -20,6 +22,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 SYSTEMS = ROOT / "samples" / "systems"
 ENV = dict(os.environ, PYTHONPATH=str(ROOT / "build" / "python"))
+#: The ratio to flam3-render each thread count must reach, as commands.
+FLAM3_TARGETS = {1: 20.0, 2: 35.0}
 
 
 def run_child(args):
@@ -132,6 +136,20 @@ def main():
             rate = f"{counters['points/s'] / 1e6:,.0f} M" if "points/s" in counters else ""
             target, verdict = in_process_verdict(name, real, unit, counters)
             print(f"| {program} {name} | {real:.1f} {unit} | {faults} | {rate} | {target} | {verdict} |")
+    if args.quick or not shutil.which("flam3-render"):
+        return
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from flam3_side_by_side import side_by_side
+    print()
+    print("| against flam3-render, 210 M samples at 1024² (commands) | flam3 | ifsforge | ratio | target | |")
+    print("| --- | ---: | ---: | ---: | --- | --- |")
+    with tempfile.TemporaryDirectory() as tmp:
+        for threads, target in FLAM3_TARGETS.items():
+            for name in ("fern", "sierpinski"):
+                flam3, ours = side_by_side(name, threads, args.runs, folder=tmp)
+                verdict = "ok" if flam3 / ours >= target else "MISSED"
+                print(f"| {name}, {threads} thread(s) | {flam3:.3f} s | {ours:.3f} s | {flam3 / ours:.1f}x | "
+                      f">= {target:g}x | {verdict} |", flush=True)
 
 
 if __name__ == "__main__":

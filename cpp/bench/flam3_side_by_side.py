@@ -40,6 +40,22 @@ def render_only(system, samples, threads):
     return time.perf_counter() - start
 
 
+def side_by_side(name, threads, runs, quality=200, folder="/tmp"):
+    """Medians of flam3-render and of the ifsforge command over `runs` alternating runs of system
+    `name` (SYSTEMS), in seconds."""
+    samples = quality * 1024 * 1024
+    python_env = dict(os.environ, PYTHONPATH=str(ROOT / "build" / "python"))
+    flam3_env = dict(os.environ, nthreads=str(threads), qs=str(quality), format="ppm",
+                     **{"in": str(FLAMES / f"{name}_de0.flame"), "out": f"{folder}/{name}.ppm"})
+    ours = ["/usr/bin/python3", "-m", "ifsforge", "render", str(SYSTEMS[name]), "-o", f"{folder}/{name}.png",
+            "--size", "1024", "--iterations", str(samples), "--threads", str(threads)]
+    flam3_times, our_times = [], []
+    for _ in range(runs):
+        flam3_times.append(timed(["flam3-render"], flam3_env))
+        our_times.append(timed(ours, python_env))
+    return statistics.median(flam3_times), statistics.median(our_times)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--runs", type=int, default=5)
@@ -49,20 +65,10 @@ def main():
     if not shutil.which("flam3-render"):
         sys.exit("flam3-render is missing: apt-get install flam3-utils")
     samples = args.quality * 1024 * 1024
-    python_env = dict(os.environ, PYTHONPATH=str(ROOT / "build" / "python"))
     print(f"{samples / 1e6:.0f} M samples into 1024x1024, {args.threads} thread(s), {args.runs} runs each")
     with tempfile.TemporaryDirectory() as tmp:
         for name, system in SYSTEMS.items():
-            flame = FLAMES / f"{name}_de0.flame"
-            flam3_env = dict(os.environ, nthreads=str(args.threads), qs=str(args.quality), format="ppm",
-                             **{"in": str(flame), "out": f"{tmp}/{name}.ppm"})
-            ours = ["/usr/bin/python3", "-m", "ifsforge", "render", str(system), "-o", f"{tmp}/{name}.png",
-                    "--size", "1024", "--iterations", str(samples), "--threads", str(args.threads)]
-            flam3_times, our_times = [], []
-            for _ in range(args.runs):
-                flam3_times.append(timed(["flam3-render"], flam3_env))
-                our_times.append(timed(ours, python_env))
-            f, o = statistics.median(flam3_times), statistics.median(our_times)
+            f, o = side_by_side(name, args.threads, args.runs, args.quality, tmp)
             r = statistics.median(render_only(system, samples, args.threads) for _ in range(args.runs))
             print(f"{name:11s} flam3 {f:7.3f} s ({samples / f / 1e6:6.1f} M samples/s) | ifsforge command "
                   f"{o:7.3f} s ({samples / o / 1e6:6.1f} M/s, {f / o:5.1f}x) | ifsforge render() {r:6.3f} s "
