@@ -260,7 +260,7 @@ Raster ImageBased::render(const Ifs& ifs, const RenderOptions& options) const {
       double values[kMaxDim];
       std::vector<float> color(ch);
       for (std::size_t p = 0; p < pixels; ++p) {
-        if ((p & 0xFFFFF) == 0 && poll && !poll(0.0)) throw Cancelled();
+        poll_now_and_then(p, poll);
         const float v = q[p * stride];
         if (v <= 0.0f) continue;
         for (int c = 0; c < ch; ++c) color[c] = q[p * stride + 1 + c] / v;

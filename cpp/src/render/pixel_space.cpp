@@ -417,7 +417,7 @@ PixelSet hutchinson(const PixelSpace& space, const std::vector<SetImage>& terms,
   PixelSet out;
   scatter.merge(sums, out.pixels, poll);
   for (std::size_t k = 0; k < out.pixels.size() && channels; ++k) {
-    if ((k & 0xFFFFF) == 0 && poll && !poll(0.0)) throw Cancelled();
+    poll_now_and_then(k, poll);
     const std::uint32_t p = out.pixels[k];
     for (int c = 0; c < channels; ++c) {
       const double mean = static_cast<double>(sums[std::size_t(p) * (1 + channels) + 1 + c]) /

@@ -1,6 +1,9 @@
 #pragma once
 /// @file Progress reporting and cancellation for long work.
+#include <cstddef>
 #include <functional>
+
+#include "ifsforge/core/error.h"
 
 namespace ifsforge {
 
@@ -13,6 +16,12 @@ using ProgressCallback = std::function<bool(double fraction)>;
 inline ProgressCallback progress_range(const ProgressCallback& progress, double from, double to) {
   if (!progress) return nullptr;
   return [progress, from, to](double fraction) { return progress(from + fraction * (to - from)); };
+}
+
+/// @brief Lets a long serial loop hear Ctrl-C: at every 2^20th `item`, calls poll(0) (a
+/// progress_range fixed where the loop sits) and throws Cancelled when it says stop.
+inline void poll_now_and_then(std::size_t item, const ProgressCallback& poll) {
+  if ((item & 0xFFFFF) == 0 && poll && !poll(0.0)) throw Cancelled();
 }
 
 }  // namespace ifsforge
