@@ -39,7 +39,7 @@ void bind_distributed(py::module_& m) {
            const py::object& progress) {
           VolumeOptions o = options_from<VolumeOptions>("render_volume", options);
           o.progress = wrap_progress(progress);
-          o.distribute = bytes_runner(distribute);
+          o.distribute = BytesRunner(distribute);
           const VolumeRenderer& r = volume_renderer(algorithm);
           py::gil_scoped_release release;
           return r.render(ifs, o);
@@ -69,7 +69,7 @@ void bind_distributed(py::module_& m) {
            const py::object& progress) {
           RenderOptions o = render_options(options);
           o.progress = wrap_progress(progress);
-          o.distribute = bytes_runner(distribute);
+          o.distribute = BytesRunner(distribute);
           const Renderer& r = distributable_renderer(algorithm);
           check_parameters(r, o);
           py::gil_scoped_release release;

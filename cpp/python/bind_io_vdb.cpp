@@ -78,7 +78,7 @@ void bind_io_vdb(py::module_& m) {
                 item.second;
           }
           VolumeOptions o = options_from<VolumeOptions>("render_volume_to_vdb", volume_keywords);
-          if (!distribute.is_none()) o.distribute = bytes_runner(distribute);
+          if (!distribute.is_none()) o.distribute = BytesRunner(distribute);
           VdbWriteOptions w = options_from<VdbWriteOptions>("render_volume_to_vdb", vdb_keywords);
           w.system = &ifs;
           std::uint64_t voxels = 0;

@@ -27,22 +27,19 @@ py::dict mesh_dict(TriangleMesh mesh) {
   return out;
 }
 
-JobRunner bytes_runner(const py::object& distribute) {
-  auto held = std::make_shared<py::list>();
-  return [distribute, held](std::uint64_t first, std::uint64_t last) {
-    py::gil_scoped_acquire gil;
-    *held = py::list(distribute(first, last));
-    std::vector<std::string_view> out;
-    for (const auto& item : *held) {
-      char* data = nullptr;
-      Py_ssize_t size = 0;
-      if (!PyBytes_Check(item.ptr()) || PyBytes_AsStringAndSize(item.ptr(), &data, &size) != 0)
-        throw InputError("a distributed job returned " + std::string(py::str(py::type::of(item))) +
-                         ", not the bytes of run_volume_jobs or run_render_jobs");
-      out.emplace_back(data, static_cast<std::size_t>(size));
-    }
-    return out;
-  };
+std::vector<std::string_view> BytesRunner::operator()(std::uint64_t first, std::uint64_t last, int depth) const {
+  py::gil_scoped_acquire gil;
+  *held_ = py::list(depth ? distribute_(first, last, depth) : distribute_(first, last));
+  std::vector<std::string_view> out;
+  for (const auto& item : *held_) {
+    char* data = nullptr;
+    Py_ssize_t size = 0;
+    if (!PyBytes_Check(item.ptr()) || PyBytes_AsStringAndSize(item.ptr(), &data, &size) != 0)
+      throw InputError("a distributed job returned " + std::string(py::str(py::type::of(item))) +
+                       ", not the bytes of run_volume_jobs or run_render_jobs");
+    out.emplace_back(data, static_cast<std::size_t>(size));
+  }
+  return out;
 }
 
 }  // namespace ifsforge::python

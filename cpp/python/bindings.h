@@ -50,13 +50,24 @@ void add_choices(py::module_& m, const char* key) {
 /// (False cancels). Ctrl-C also cancels. Empty when `callback` is None.
 ProgressCallback wrap_progress(const py::object& callback);
 
-/// The core's job runner: distribute(first, last) -> bytes of each range's job results.
-using JobRunner = std::function<std::vector<std::string_view>(std::uint64_t, std::uint64_t)>;
-/// @brief A job runner (images and volumes) around distribute(first, last) -> list of bytes: the bytes
-/// are read in place (a 1024^3 volume's results are ~180 MB, a 1024^2 PRR image's ~330 MB: no
-/// copy), held until the next call or the end of the render (whose binding holds the GIL again
-/// before the runner goes).
-JobRunner bytes_runner(const py::object& distribute);
+/// @brief The core's job runner (images and volumes) around distribute(first, last) -> list of
+/// bytes of each range's job results: the bytes are read in place (a 1024^3 volume's results
+/// are ~180 MB: no copy), held until the next call or the end of the render (whose binding
+/// holds the GIL again before the runner goes). An image's runner passes distribute a third
+/// argument, the depth, when a point-recursive render fell back to a fixed one.
+class BytesRunner {
+ public:
+  explicit BytesRunner(const py::object& distribute)
+      : distribute_(distribute), held_(std::make_shared<py::list>()) {}
+  std::vector<std::string_view> operator()(std::uint64_t first, std::uint64_t last) const {
+    return (*this)(first, last, 0);
+  }
+  std::vector<std::string_view> operator()(std::uint64_t first, std::uint64_t last, int depth) const;
+
+ private:
+  py::object distribute_;
+  std::shared_ptr<py::list> held_;
+};
 
 /// @brief An `up` argument: None (the format's default: none), "y", "z" or ifsforge.Up.
 std::optional<Up> up_argument(const py::object& up);

@@ -71,7 +71,7 @@ TEST(Jobs, ImageRangesEqualTheLocalImage) {
     const Raster local = r.render(system, o);
     RenderOptions remote = o;
     std::vector<std::string> held;
-    remote.distribute = [&](std::uint64_t first, std::uint64_t last) {
+    remote.distribute = [&](std::uint64_t first, std::uint64_t last, int) {
       held = in_ranges(first, last, 5, [&](std::uint64_t a, std::uint64_t b) { return r.run_jobs(system, o, a, b); });
       return std::vector<std::string_view>(held.begin(), held.end());
     };
@@ -81,18 +81,49 @@ TEST(Jobs, ImageRangesEqualTheLocalImage) {
   }
 }
 
+TEST(Jobs, ImageRangesFollowTheFallBackToAFixedDepth) {
+  // Pieces that halve across and shrink by a tenth along: a 64-pixel tall piece needs 40 levels
+  // (2^40 nodes) to fit a pixel, so the node budget runs out and PRR falls back to a fixed
+  // depth, which the jobs must then run at wherever they run.
+  const Ifs system("tall", ChannelLayout("xy"),
+                   {AffineMap(2, {0.5, 0, 0, 0.9}, {0, 0}), AffineMap(2, {0.5, 0, 0, 0.9}, {0.5, 0.1})}, {0.5, 0.5});
+  RenderOptions o;
+  o.width = o.height = 64;
+  const Renderer& r = renderer("prr");
+  const Raster local = r.render(system, o);
+  RenderOptions remote = o;
+  std::vector<std::string> held;
+  std::vector<int> depths;
+  remote.distribute = [&](std::uint64_t first, std::uint64_t last, int depth) {
+    depths.push_back(depth);
+    RenderOptions jobs = o;
+    jobs.depth = depth;
+    held = in_ranges(first, last, 3, [&](std::uint64_t a, std::uint64_t b) { return r.run_jobs(system, jobs, a, b); });
+    return std::vector<std::string_view>(held.begin(), held.end());
+  };
+  const Raster merged = r.render(system, remote);
+  ASSERT_EQ(depths.size(), 2u);  // the pixel stop over budget, then the fixed depth
+  EXPECT_EQ(depths[0], 0);
+  EXPECT_GT(depths[1], 0);
+  EXPECT_EQ(local.points, std::uint64_t(1) << depths[1]);  // every leaf of the fixed depth on the image
+  EXPECT_EQ(local.density, merged.density);
+  EXPECT_EQ(local.points, merged.points);
+}
+
 TEST(Jobs, ImageLeavesOutsideTheImageOrCutShortAreRefused) {
   RenderOptions o;
   o.width = o.height = 16;
   std::string bytes;
-  o.distribute = [&](std::uint64_t, std::uint64_t) { return std::vector<std::string_view>{bytes}; };
+  o.distribute = [&](std::uint64_t, std::uint64_t, int) { return std::vector<std::string_view>{bytes}; };
   const Ifs system("square", ChannelLayout("xy"),
                    {AffineMap(2, {0.5, 0, 0, 0.5}, {0, 0}), AffineMap(2, {0.5, 0, 0, 0.5}, {0.5, 0.5})}, {0.5, 0.5});
-  // No budget flag, no counted groups, then leaves: a pixel step and a mass (float bits).
-  const std::string head("\x00\x00", 2), one_half("\x80\x80\x80\xf8\x03", 5);
+  // No budget flag, no counted groups, then entries: a pixel step, the leaves summed and their
+  // mass (float bits).
+  const std::string head("\x00\x00", 2), one_half("\x01\x80\x80\x80\xf8\x03", 6);
   for (const std::string& leaves : {std::string("\x04") + one_half + std::string("\x05") + one_half,  // 2, then -1
                                     std::string("\x80\x04") + one_half,                                 // pixel 256
-                                    std::string("\x04\x80\x80")}) {                                    // mass cut short
+                                    std::string("\x04\x00") + one_half.substr(1),                       // no leaves
+                                    std::string("\x04\x01\x80\x80")}) {                                // mass cut short
     bytes = head + leaves;
     EXPECT_THROW(renderer("prr").render(system, o), InputError);
   }
@@ -101,9 +132,9 @@ TEST(Jobs, ImageLeavesOutsideTheImageOrCutShortAreRefused) {
   RenderOptions fixed = o;
   fixed.depth = 4;
   EXPECT_THROW(renderer("prr").render(system, fixed), InputError);
-  bytes = head + std::string("\x04") + one_half + std::string("\x01") + one_half;  // pixels 2, then 1
+  bytes = head + std::string("\x04\x03") + one_half.substr(1) + std::string("\x01") + one_half;  // 2 (3 leaves), 1
   const Raster raster = renderer("prr").render(system, o);
-  EXPECT_EQ(raster.points, 2u);
+  EXPECT_EQ(raster.points, 4u);
   EXPECT_EQ(raster.density[1], 0.5f);
   EXPECT_EQ(raster.density[2], 0.5f);
 }

@@ -328,6 +328,21 @@ TEST(Renderers, PrrMeasureIsTheSameImageOnAnyThreadCountWithBalancedJobs) {
   EXPECT_EQ(one.points, 1074759u);
 }
 
+TEST(Renderers, PrrJobsSumTheLeavesThatComeToAPixelTogether) {
+  // The fern's 512^2 measure puts about 25 leaves on each pixel it covers, most of them from
+  // one job close together: a job's result carries a pixel's sum (under a byte per leaf in
+  // all), where it carried every leaf (six bytes each) before.
+  RenderOptions o = size(512);
+  const Renderer& prr = renderer("prr");
+  const Raster raster = prr.render(fern(), o);
+  std::size_t covered = 0;
+  for (float d : raster.density) covered += d > 0.0f;
+  ASSERT_GT(raster.points, 20 * covered);
+  const std::string bytes = prr.run_jobs(fern(), o, 0, std::uint64_t(1) << 40);
+  EXPECT_LT(bytes.size(), raster.points / 2);
+  EXPECT_GT(bytes.size(), 3 * covered);  // at least a pixel's step, its leaves and its mass each
+}
+
 TEST(ToneMap, HsiPrimaries) {
   float rgb[3];
   hsi_to_rgb(0.0, 1.0, 1.0 / 3.0, rgb);  // pure red has I = 1/3

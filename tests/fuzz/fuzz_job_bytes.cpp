@@ -66,7 +66,7 @@ void merge_leaves(const std::string& bytes, int shape) {
   ifsforge::RenderOptions o;
   o.width = o.height = 16;
   o.depth = (shape >> 2) & 1 ? 3 : 0;
-  o.distribute = [&](std::uint64_t, std::uint64_t) { return std::vector<std::string_view>{bytes}; };
+  o.distribute = [&](std::uint64_t, std::uint64_t, int) { return std::vector<std::string_view>{bytes}; };
   ifsforge::renderer("prr").render(ifsforge::Ifs("fuzz", layout, maps, {0.5, 0.5}), o);
 }
 

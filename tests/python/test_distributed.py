@@ -107,6 +107,20 @@ def test_point_recursive_color_image_through_workers_equals_the_local_raster(clu
     assert local.points == remote.points
 
 
+def test_point_recursive_fall_back_to_a_fixed_depth_runs_on_the_workers_too(cluster):
+    # The maple leaf's pieces run past PRR's node budget at this size: the render falls back to
+    # a fixed depth, which the workers' jobs must run at as well.
+    system = ifsforge.load(str(SAMPLES / "maple_leaf.json"))
+    options = dict(width=256, height=256)
+    local = ifsforge.render(system, "prr", **options)
+    with distributed.connect(scheduler=cluster.address) as client:
+        remote = distributed.render(system, "prr", client=client, **options)
+    n = len(system.maps)
+    assert local.points == n ** round(np.log(local.points) / np.log(n))  # N^L leaves: the fixed depth
+    assert np.array_equal(local.density, remote.density)
+    assert local.points == remote.points
+
+
 def test_morph_frames_written_by_workers_equal_the_local_frames(cluster, cli, tmp_path):
     ends = (SAMPLES / "sierpinski_triangle.json", SAMPLES / "barnsley_fern.json")
     # More frames than tasks (FRAME_TASKS_PER_THREAD per worker thread): tasks of several frames.

@@ -140,12 +140,16 @@ def _threads(client):
     return max(1, sum(client.nthreads().values()))
 
 
-def _runner(client, task, *head):
-    """distribute(first, last): the jobs cut into ranges, one task each, results in range order."""
-    def distribute(first, last):
+def _runner(client, task, system_json, algorithm, options):
+    """distribute(first, last, depth=0): the jobs cut into ranges, one task each, results in range
+    order. depth: the fixed depth a point-recursive image fell back to (its pieces ran past their
+    node budget), which the tasks run at too."""
+    def distribute(first, last, depth=0):
         count = max(1, min(last - first, TASKS_PER_THREAD * _threads(client)))
         cuts = [first + (last - first) * k // count for k in range(count + 1)]
-        futures = [client.submit(task, *head, a, b, pure=False) for a, b in zip(cuts, cuts[1:]) if b > a]
+        jobs = dict(options, depth=depth) if depth else options
+        futures = [client.submit(task, system_json, algorithm, jobs, a, b, pure=False)
+                   for a, b in zip(cuts, cuts[1:]) if b > a]
         try:
             return client.gather(futures)
         except ifsforge.Error:  # raised by the core on a worker: as it would be here

@@ -425,7 +425,7 @@ Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
   Accumulator acc = options.distribute ? empty_accumulator(ifs, setup)
                                        : chaos_accumulate(ifs, options, setup, 0, setup.plan.jobs, threads);
   if (options.distribute)
-    for (std::string_view bytes : options.distribute(0, setup.plan.jobs)) acc.merge_encoded(bytes);
+    for (std::string_view bytes : options.distribute(0, setup.plan.jobs, options.depth)) acc.merge_encoded(bytes);
   Raster raster;
   describe_channels(ifs, raster);
   acc.finish(raster, threads);

@@ -26,6 +26,7 @@ using prr::JobCoverage;
 using prr::LeafList;
 using prr::NodeCounts;
 using prr::OverBudget;
+using prr::PixelSums;
 
 /// What every job of one render shares, and one job's walk.
 struct PrrImage {
@@ -160,9 +161,10 @@ struct PrrImage {
                   clip(hi[1], frame.height() - 1) + 1);
   }
 
-  /// The leaves of one job that land on the image, in the walk's order, into `list` (cleared
-  /// first, its buffers kept), its nodes counted into `counts`; OverBudget.
-  void job(std::uint64_t job, LeafList& list, NodeCounts& counts) const {
+  /// The leaves of one job that land on the image, in the walk's order (those close together
+  /// on one pixel summed through `sums`, the thread's), into `list` (cleared first, its
+  /// buffers kept), its nodes counted into `counts`; OverBudget.
+  void job(std::uint64_t job, LeafList& list, PixelSums& sums, NodeCounts& counts) const {
     const double w = frame.width(), h = frame.height();
     // The pieces' maps straight to pixels, level by level (to_pixel[k] for the node of length
     // k stop() saw last: the walk asks stop() about every node above the deepest level, parents
@@ -200,11 +202,10 @@ struct PrrImage {
     // `px` is p's pixel position (to_pixel(p)); p itself is read for depth and channels only.
     auto plot = [&](const std::array<double, 2>& px, const Point& p, double mass) {
       if (!(px[0] >= 0.0 && px[0] < w && px[1] >= 0.0 && px[1] < h)) return;
-      if (prune) list.covered.set(std::int64_t(px[0]), std::int64_t(px[1]));
-      list.pixel.push_back(static_cast<std::uint32_t>(std::size_t(px[1]) * frame.width() + std::size_t(px[0])));
-      list.mass.push_back(static_cast<float>(mass));
-      if (spatial == 3) list.depth.push_back(static_cast<float>(frame.depth(p)));
-      for (int c = 0; c < channels; ++c) list.channels.push_back(static_cast<float>(p[spatial + c]));
+      const auto x = std::size_t(px[0]), y = std::size_t(px[1]);
+      if (prune) list.covered.set(std::int64_t(x), std::int64_t(y));
+      sums.add(list, x, y, static_cast<std::uint32_t>(y * frame.width() + x), mass,
+               spatial == 3 ? static_cast<float>(frame.depth(p)) : 0.0f, p.data() + spatial);
     };
     // A piece's spread images in pixel space, and (2D, no channels: nothing else is read from
     // them) their masses merged per pixel: a piece under a pixel reaches at most four, where
@@ -292,6 +293,12 @@ struct PrrImage {
         plot({xs[merged[m]], ys[merged[m]]}, image, merged_mass[m]);
     });
     flush();
+    sums.flush(list);
+  }
+
+  std::vector<PixelSums> thread_sums(const RenderOptions& options) const {
+    return std::vector<PixelSums>(static_cast<std::size_t>(resolve_threads(options.threads)),
+                                  PixelSums(channels, spatial == 3));
   }
 };
 
@@ -333,13 +340,13 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   auto apply = [&](const LeafList& list) {
     for (std::size_t k = 0; k < list.pixel.size(); ++k) {
       const std::uint32_t px = list.pixel[k];
-      raster.density[px] = std::max(raster.density[px] + list.mass[k], kCovered);
+      raster.density[px] = std::max(raster.density[px] + static_cast<float>(list.mass[k]), kCovered);
+      raster.points += list.leaves[k];
       if (!list.depth.empty()) raster.depth[px] = std::max(raster.depth[px], list.depth[k]);
       if (!channels) continue;
-      ++hits[px];
+      hits[px] += list.leaves[k];
       for (int c = 0; c < channels; ++c) sums[std::size_t(px) * channels + c] += list.channels[k * channels + c];
     }
-    raster.points += list.pixel.size();
   };
   auto fall_back = [&] {
     // A fixed depth has no budget: results saying otherwise came from another render (and
@@ -365,7 +372,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     // leaves decoded at once faulted in tens of MB only to be read once.
     LeafList list;
     try {
-      for (std::string_view bytes : options.distribute(0, setup.plan.jobs)) {
+      for (std::string_view bytes : options.distribute(0, setup.plan.jobs, options.depth)) {
         list.clear();
         decode_leaves(bytes, !raster.depth.empty(), channels, pixels, list, counts);
         apply(list);
@@ -374,10 +381,11 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
       return fall_back();
     }
   } else {
+    std::vector<PixelSums> pixel_sums = setup.thread_sums(options);
     try {
       parallel_jobs(
           setup.plan.jobs, options.threads,
-          [&](std::size_t job, int) {
+          [&](std::size_t job, int thread) {
             LeafList list;
             {
               std::lock_guard<std::mutex> lock(mutex);
@@ -386,7 +394,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
                 spare.pop_back();
               }
             }
-            setup.job(job, list, counts);
+            setup.job(job, list, pixel_sums[thread], counts);
             std::lock_guard<std::mutex> lock(mutex);
             if (job != next_job) {
               waiting.emplace(job, std::move(list));
@@ -422,9 +430,12 @@ std::string PointRecursive::run_jobs(const Ifs& ifs, const RenderOptions& option
   last = std::min(last, setup.plan.jobs);
   std::vector<LeafList> lists(last > first ? last - first : 0);
   NodeCounts counts = setup.node_counts();
+  std::vector<PixelSums> pixel_sums = setup.thread_sums(options);
   try {
-    parallel_jobs(lists.size(), options.threads, [&](std::size_t k, int) { setup.job(first + k, lists[k], counts); },
-                  options.progress);
+    parallel_jobs(
+        lists.size(), options.threads,
+        [&](std::size_t k, int thread) { setup.job(first + k, lists[k], pixel_sums[thread], counts); },
+        options.progress);
   } catch (const OverBudget&) {
     return encode_leaves({}, true, counts, setup.channels);
   }

@@ -25,17 +25,23 @@ std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, 
     std::memcpy(&b, &f, 4);
     put_varint(out, b);
   };
-  // A pixel as the zigzag of its step from the last one (a job's leaves lie near each other:
-  // one or two bytes instead of three or four).
+  auto put_double = [&](double d) {
+    std::uint64_t b;
+    std::memcpy(&b, &d, 8);
+    put_varint(out, b);
+  };
+  // A pixel as the zigzag of its step from the last one (a job's pixels lie near each other:
+  // one or two bytes instead of three or four). The mass goes as the float the raster adds.
   std::int64_t last = 0;
   for (const LeafList& list : lists) {
     for (std::size_t k = 0; k < list.pixel.size(); ++k) {
       const std::int64_t step = std::int64_t(list.pixel[k]) - last;
       last = list.pixel[k];
       put_varint(out, (std::uint64_t(step) << 1) ^ std::uint64_t(step >> 63));
-      put_float(list.mass[k]);
+      put_varint(out, list.leaves[k]);
+      put_float(static_cast<float>(list.mass[k]));
       if (!list.depth.empty()) put_float(list.depth[k]);
-      for (int c = 0; c < channels; ++c) put_float(list.channels[k * channels + c]);
+      for (int c = 0; c < channels; ++c) put_double(list.channels[k * channels + c]);
     }
   }
   return out;
@@ -65,10 +71,18 @@ void decode_leaves(std::string_view bytes, bool depth, int channels, std::size_t
     const std::uint64_t px = last + ((zigzag >> 1) ^ (~(zigzag & 1) + 1));
     if (px >= pixels) throw InputError("image job result: pixel out of range (another render or build)");
     last = px;
+    const std::uint64_t leaves = in.next();
+    if (leaves == 0 || leaves > 0xFFFFFFFFu) throw InputError("image job result: malformed leaf count");
     list.pixel.push_back(static_cast<std::uint32_t>(px));
+    list.leaves.push_back(static_cast<std::uint32_t>(leaves));
     list.mass.push_back(next_float());
     if (depth) list.depth.push_back(next_float());
-    for (int c = 0; c < channels; ++c) list.channels.push_back(next_float());
+    for (int c = 0; c < channels; ++c) {
+      const std::uint64_t b = in.next();
+      double sum;
+      std::memcpy(&sum, &b, 8);
+      list.channels.push_back(sum);
+    }
   }
 }
 

@@ -3,8 +3,10 @@
 // the pixels it has covered, the node counts that decide the fallback, and their bytes for
 // a cluster.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -58,20 +60,82 @@ class JobCoverage {
   std::vector<std::uint64_t> bits_;
 };
 
-/// The leaves of one job that land on the image.
+/// The leaves of one job that land on the image, in the walk's order, those that came to one
+/// pixel close together summed into one entry (PixelSums).
 struct LeafList {
   std::vector<std::uint32_t> pixel;
-  std::vector<float> mass;  // what the raster adds (single precision)
-  std::vector<float> channels;  // pixel-major
-  std::vector<float> depth;     // 3D systems
-  JobCoverage covered;          // binary renders only
+  std::vector<std::uint32_t> leaves;  // how many leaves the entry sums (the raster's points)
+  std::vector<double> mass;           // their mass; the raster adds it in single precision
+  std::vector<double> channels;       // their channel values' sums, pixel-major
+  std::vector<float> depth;           // 3D systems: the nearest
+  JobCoverage covered;                // binary renders only
 
   void clear() {
     pixel.clear();
+    leaves.clear();
     mass.clear();
     channels.clear();
     depth.clear();
   }
+};
+
+/// A job's latest pixels and their sums, direct-mapped on the pixel's position modulo 32 x 32
+/// (a neighbourhood stays in the L1 cache): leaves landing on a pixel the job reached a moment
+/// ago (siblings, the pixels a small piece straddles) add to its entry, which goes to the list
+/// when another pixel takes its slot, or at the job's end. A fern's job puts 26 leaves on each
+/// pixel it covers, which the raster (or a cluster's driver) would otherwise add one by one.
+/// What is summed depends on the job's walk alone: the same for any thread count or worker.
+class alignas(64) PixelSums {  // one per thread: apart from its neighbour's cache line
+ public:
+  PixelSums(int channels, bool depth) : channels_(channels), depth_(depth) {
+    pixel_.fill(kEmpty);
+    sums_.resize(std::size_t(kSlots) * channels);
+  }
+
+  /// A leaf at pixel (x, y) (index `pixel`) with its mass, depth and `channels` values.
+  void add(LeafList& list, std::size_t x, std::size_t y, std::uint32_t pixel, double mass, float depth,
+           const double* values) {
+    const std::size_t s = (x & 31) | (y & 31) << 5;
+    double* sums = sums_.data() + s * channels_;
+    if (pixel_[s] != pixel) {
+      if (pixel_[s] != kEmpty) flush(list, s);
+      pixel_[s] = pixel;
+      leaves_[s] = 0;
+      mass_[s] = 0.0;
+      nearest_[s] = -std::numeric_limits<float>::infinity();
+      std::fill(sums, sums + channels_, 0.0);
+    }
+    ++leaves_[s];
+    mass_[s] += mass;
+    nearest_[s] = std::max(nearest_[s], depth);
+    for (int c = 0; c < channels_; ++c) sums[c] += values[c];
+  }
+
+  /// Every entry to `list`, in slot order, leaving the cache empty: at the job's end.
+  void flush(LeafList& list) {
+    for (std::size_t s = 0; s < kSlots; ++s)
+      if (pixel_[s] != kEmpty) {
+        flush(list, s);
+        pixel_[s] = kEmpty;
+      }
+  }
+
+ private:
+  static constexpr std::size_t kSlots = 32 * 32;
+  static constexpr std::uint32_t kEmpty = ~std::uint32_t(0);  // no image has 2^32 pixels
+  void flush(LeafList& list, std::size_t s) const {
+    list.pixel.push_back(pixel_[s]);
+    list.leaves.push_back(leaves_[s]);
+    list.mass.push_back(mass_[s]);
+    if (depth_) list.depth.push_back(nearest_[s]);
+    list.channels.insert(list.channels.end(), sums_.begin() + s * channels_, sums_.begin() + (s + 1) * channels_);
+  }
+  int channels_;
+  bool depth_;
+  std::array<std::uint32_t, kSlots> pixel_, leaves_;
+  std::array<double, kSlots> mass_;
+  std::array<float, kSlots> nearest_;
+  std::vector<double> sums_;
 };
 
 /// Thrown when a group of jobs exceeds its node budget: render() falls back to a fixed depth.
@@ -96,13 +160,13 @@ class NodeCounts {
 };
 
 /// Jobs' leaves for a cluster: a flag (1: a group was over budget), the groups' node counts
-/// (how many, then group and count for each counted one), then per leaf its pixel (the zigzag
-/// of its step from the last), its mass, depth and channels as float bits, all varints, in job
-/// order.
+/// (how many, then group and count for each counted one), then per entry its pixel (the zigzag
+/// of its step from the last), its leaves, its mass and depth as float bits and its channel
+/// sums as double bits, all varints, in job order.
 std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, const NodeCounts& counts,
                           int channels);
 
-/// The leaves encode_leaves wrote, appended to one list (in job order), their node counts
+/// The entries encode_leaves wrote, appended to one list (in job order), their node counts
 /// added to `counts`; OverBudget when a group was, or now is, over budget.
 void decode_leaves(std::string_view bytes, bool depth, int channels, std::size_t pixels, LeafList& list,
                    NodeCounts& counts);

@@ -251,7 +251,7 @@ Raster point_recursive(const Ifs& ifs, const RenderOptions& options, const Rende
   Accumulator acc = setup.empty();
   std::uint64_t leaves = 0;
   if (options.distribute) {
-    for (std::string_view bytes : options.distribute(0, setup.jobs)) acc.merge_encoded(bytes);
+    for (std::string_view bytes : options.distribute(0, setup.jobs, options.depth)) acc.merge_encoded(bytes);
   } else {
     acc = setup.accumulate(options, 0, setup.jobs, threads, leaves);
   }

@@ -22,7 +22,10 @@ namespace ifsforge {
 /// Renderer::run_jobs bytes of consecutive ranges, in job order (each renderer merges them
 /// exactly: integer sums, or leaves applied in address order). As for volumes, the runner
 /// keeps the bytes alive until its next call or its end: the merge reads them in place.
-using RenderJobRunner = std::function<std::vector<std::string_view>(std::uint64_t first, std::uint64_t last)>;
+/// `depth`: the options' depth, except that a point-recursive render whose pieces ran past
+/// their node budget falls back to a fixed depth, which the jobs must then run at too.
+using RenderJobRunner =
+    std::function<std::vector<std::string_view>(std::uint64_t first, std::uint64_t last, int depth)>;
 
 struct RenderOptions {
   int width = 1024, height = 1024;
