@@ -1,17 +1,19 @@
 #!/usr/bin/python3
-"""Scale-out on Dask: 1 against 2 worker processes (a LocalCluster, one thread each) for a
-1024^3 and a 2048^3 volume (to .vdb), a 4096^2 chaos image, a 1024^2 PRR image and a 240-frame 512^2
-morph; on request (--cases prr4096) the 4096^2 PRR fern, which sends 58 M pixel deposits (367 MB).
+"""Scale-out on Dask: 1 against 2 worker processes (ifsforge.distributed.local_cluster, one thread
+each) for a 1024^3 and a 2048^3 volume (to .vdb), a 4096^2 chaos image, a 4096^2 PRR image and a
+240-frame 512^2 morph; on request (--cases prr1024) a 1024^2 PRR image.
 
-    cpp/bench/bench_distributed.py [--quick] [--repeat N] [--cases volume1024,volume2048,image4096,prr1024,morph240,prr4096]
+    cpp/bench/bench_distributed.py [--quick] [--repeat N] [--cases volume1024,volume2048,image4096,prr4096,morph240,prr1024]
 
 Printed per case and worker count: wall time, the workers' CPU time (user + sys of each worker
 process, from getrusage) and its busiest worker, the driver's CPU time, the tasks, the per-task
 overhead (wall time of empty tasks through the same scheduler) and the bytes moved per task.
 The machine may be shared: the CPU-time figures (the busiest worker's CPU plus the driver's, which
 merges) give the speed-up the work allows whatever the load; the wall figures are what this run saw.
-Each case runs --repeat times (default 3) per worker count; the run of median wall time is shown.
---quick: 512^3 / 1024^3 volumes, a 2048^2 image and 48 frames. Needs the built ifsforge (build/python).
+Each case runs --repeat times (default 3) per worker count, in rounds of 1 then 2 workers (each a
+fresh cluster), so that a shared machine's drift over minutes weighs on both; the run of median wall
+time is shown.
+--quick: 512^3 / 1024^3 volumes, 2048^2 images and 48 frames. Needs the built ifsforge (build/python).
 """
 import argparse
 import os
@@ -76,8 +78,8 @@ def counting_runner(client, task, *head):
     inner = dist._runner(client, task, *head)
     stats = {"tasks": 0, "bytes": 0}
 
-    def distribute(first, last):
-        results = inner(first, last)
+    def distribute(first, last, depth=0):
+        results = inner(first, last, depth)
         stats["gathered"] = time.perf_counter()  # the rest of the run is the driver's merge
         stats["tasks"] += len(results)
         stats["bytes"] += sum(len(r) for r in results)
@@ -141,7 +143,7 @@ def task_overhead(client, count=200):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--cases", default="volume1024,volume2048,image4096,prr1024,morph240")
+    parser.add_argument("--cases", default="volume1024,volume2048,image4096,prr4096,morph240")
     parser.add_argument("--repeat", type=int, default=3, help="runs per case and worker count (the median is shown)")
     args = parser.parse_args()
     small = args.quick
@@ -154,32 +156,40 @@ def main():
         "image4096": ("4096^2 fern image (chaos)" if not small else "2048^2 fern image (chaos)",
                       image_case(2048 if small else 4096, "chaos")),
         "prr1024": ("1024^2 fern image (prr)", image_case(1024, "prr")),
-        "prr4096": ("4096^2 fern image (prr)", image_case(4096, "prr")),
+        "prr4096": ("4096^2 fern image (prr)" if not small else "2048^2 fern image (prr)",
+                    image_case(2048 if small else 4096, "prr")),
         "morph240": ("240-frame 512^2 morph (chaos)" if not small else "48-frame 512^2 morph (chaos)",
                      morph_case(48 if small else 240, folder)),
     }
     chosen = [c for c in args.cases.split(",") if c]
+    # Rounds of (1 worker, then 2): a shared machine's speed drifts over minutes, and each round
+    # measures both counts within a few of them (a fresh cluster each time).
+    runs, overhead, peak = {}, {}, {}
+    for _ in range(args.repeat):
+        for workers in (1, 2):
+            with dist.local_cluster(workers) as cluster, distributed.Client(cluster) as client:
+                dist.check_workers(client)
+                overhead.setdefault(workers, task_overhead(client))
+                for name in chosen:
+                    runs.setdefault((name, workers), []).append(measure(client, cases[name][1]))
+                peak[workers] = max(peak.get(workers, 0.0), peak_rss_mb(client))
     results = {}
     for workers in (1, 2):
-        with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                      dashboard_address=None, silence_logs=50) as cluster, \
-                distributed.Client(cluster) as client:
-            dist.check_workers(client)
-            overhead = task_overhead(client)
-            print(f"{workers} worker(s): {overhead * 1000:.1f} ms per empty task", flush=True)
-            for name in chosen:
-                label, run = cases[name]
-                # The run of median wall time among --repeat (a shared machine's noise is ±10%).
-                runs = sorted((measure(client, run) for _ in range(args.repeat)), key=lambda r: r[0])
-                wall, cpu, driver, tasks, moved, merge = runs[len(runs) // 2]
-                results[name, workers] = (wall, cpu, driver)
-                busiest = max(cpu.values())
-                spread = f" (median of {len(runs)}: {runs[0][0]:.2f}-{runs[-1][0]:.2f} s)" if len(runs) > 1 else ""
-                merged = f" (the driver's merge after the last result: {merge:.2f} s)" if merge else ""
-                print(f"  {label}: {run.result}; wall {wall:.2f} s{spread}{merged}, workers' CPU {sum(cpu.values()):.2f} s "
-                      f"(busiest {busiest:.2f} s), driver CPU {driver:.2f} s, {tasks} tasks, "
-                      f"{moved / max(tasks, 1) / 1e6:.2f} MB per task; worker peak RSS {peak_rss_mb(client):.0f} MB, "
-                      f"driver {own_peak_mb():.0f} MB", flush=True)
+        print(f"{workers} worker(s): {overhead[workers] * 1000:.1f} ms per empty task; worker peak RSS "
+              f"{peak[workers]:.0f} MB", flush=True)
+        for name in chosen:
+            label, run = cases[name]
+            # The run of median wall time among --repeat (a shared machine's noise is ±10%).
+            ordered = sorted(runs[name, workers], key=lambda r: r[0])
+            wall, cpu, driver, tasks, moved, merge = ordered[len(ordered) // 2]
+            results[name, workers] = (wall, cpu, driver)
+            busiest = max(cpu.values())
+            spread = f" (median of {len(ordered)}: {ordered[0][0]:.2f}-{ordered[-1][0]:.2f} s)" if len(ordered) > 1 else ""
+            merged = f" (the driver's merge after the last result: {merge:.2f} s)" if merge else ""
+            print(f"  {label}: {run.result}; wall {wall:.2f} s{spread}{merged}, workers' CPU {sum(cpu.values()):.2f} s "
+                  f"(busiest {busiest:.2f} s), driver CPU {driver:.2f} s, {tasks} tasks, "
+                  f"{moved / max(tasks, 1) / 1e6:.2f} MB per task", flush=True)
+    print(f"driver peak RSS {own_peak_mb():.0f} MB")
     print("speed-up of 2 workers over 1 (wall; CPU: the busiest worker's CPU plus the driver's, 1 against 2):")
     for name in chosen:
         (w1, c1, d1), (w2, c2, d2) = results[name, 1], results[name, 2]

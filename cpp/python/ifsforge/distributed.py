@@ -28,6 +28,17 @@ TASKS_PER_THREAD = 4
 #: Tasks per worker thread an animation's frames are cut into: one task per frame cost the
 #: driver ~4 ms each, a fifth of a 512^2 frame's render on this machine's two cores.
 FRAME_TASKS_PER_THREAD = 8
+#: Dask settings for the worker processes of a local cluster (dask-worker reads the same from
+#: DASK_DISTRIBUTED__... variables, see the README). The statistical profiler sampled a busy
+#: worker's stack every 10 ms (without a dashboard to show it), and the event-loop tick and the
+#: memory and system monitors woke an idle worker 70 times a second: 2 workers rendering a
+#: 4096^2 chaos image spent 4-6% of their CPU on these.
+QUIET_WORKERS = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "1s",
+    "distributed.admin.system-monitor.interval": "5s",
+    "distributed.worker.memory.monitor-interval": "1s",
+}
 
 # Evaluated on each worker by the builtin eval (so the probe itself needs no ifsforge there):
 # the digest of the compiled core the worker imports.
@@ -81,6 +92,15 @@ def check_workers(client):
                                f"here {expected[:12]}): install the same build on every worker")
 
 
+def local_cluster(workers):
+    """A LocalCluster of `workers` processes of one thread each on this machine (QUIET_WORKERS)."""
+    distributed = _distributed()
+    import dask  # installed with distributed
+    with dask.config.set(QUIET_WORKERS):  # the worker processes take the config they start with
+        return distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                        dashboard_address=None, silence_logs=50)
+
+
 @contextlib.contextmanager
 def connect(scheduler=None, cluster=None, timeout=CONNECT_TIMEOUT):
     """A checked `distributed.Client`: to the scheduler at `scheduler` ('tcp://HOST:PORT'), or
@@ -92,9 +112,7 @@ def connect(scheduler=None, cluster=None, timeout=CONNECT_TIMEOUT):
     distributed = _distributed()
     with contextlib.ExitStack() as stack:
         if cluster is not None:
-            local = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                             dashboard_address=None, silence_logs=50)
-            stack.enter_context(local)
+            local = stack.enter_context(local_cluster(workers))
             address = local.scheduler_address
         else:
             address = scheduler
