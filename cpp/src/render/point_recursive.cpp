@@ -340,7 +340,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   auto apply = [&](const LeafList& list) {
     for (std::size_t k = 0; k < list.pixel.size(); ++k) {
       const std::uint32_t px = list.pixel[k];
-      raster.density[px] = std::max(raster.density[px] + static_cast<float>(list.mass[k]), kCovered);
+      raster.density[px] = std::max(raster.density[px] + list.mass[k], kCovered);
       raster.points += list.leaves[k];
       if (!list.depth.empty()) raster.depth[px] = std::max(raster.depth[px], list.depth[k]);
       if (!channels) continue;

@@ -39,7 +39,7 @@ std::string encode_leaves(const std::vector<LeafList>& lists, bool over_budget, 
       last = list.pixel[k];
       put_varint(out, (std::uint64_t(step) << 1) ^ std::uint64_t(step >> 63));
       put_varint(out, list.leaves[k]);
-      put_float(static_cast<float>(list.mass[k]));
+      put_float(list.mass[k]);
       if (!list.depth.empty()) put_float(list.depth[k]);
       for (int c = 0; c < channels; ++c) put_double(list.channels[k * channels + c]);
     }

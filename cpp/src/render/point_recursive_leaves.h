@@ -65,7 +65,7 @@ class JobCoverage {
 struct LeafList {
   std::vector<std::uint32_t> pixel;
   std::vector<std::uint32_t> leaves;  // how many leaves the entry sums (the raster's points)
-  std::vector<double> mass;           // their mass; the raster adds it in single precision
+  std::vector<float> mass;            // their mass, summed in double, as the raster adds it
   std::vector<double> channels;       // their channel values' sums, pixel-major
   std::vector<float> depth;           // 3D systems: the nearest
   JobCoverage covered;                // binary renders only
@@ -88,7 +88,6 @@ struct LeafList {
 class alignas(64) PixelSums {  // one per thread: apart from its neighbour's cache line
  public:
   PixelSums(int channels, bool depth) : channels_(channels), depth_(depth) {
-    pixel_.fill(kEmpty);
     sums_.resize(std::size_t(kSlots) * channels);
   }
 
@@ -96,44 +95,46 @@ class alignas(64) PixelSums {  // one per thread: apart from its neighbour's cac
   void add(LeafList& list, std::size_t x, std::size_t y, std::uint32_t pixel, double mass, float depth,
            const double* values) {
     const std::size_t s = (x & 31) | (y & 31) << 5;
-    double* sums = sums_.data() + s * channels_;
-    if (pixel_[s] != pixel) {
-      if (pixel_[s] != kEmpty) flush(list, s);
-      pixel_[s] = pixel;
-      leaves_[s] = 0;
-      mass_[s] = 0.0;
-      nearest_[s] = -std::numeric_limits<float>::infinity();
-      std::fill(sums, sums + channels_, 0.0);
+    Slot& slot = slots_[s];
+    if (slot.pixel != pixel) {
+      if (slot.pixel != kEmpty) flush(list, s);
+      slot = {pixel, 0, 0.0};
+      if (depth_) nearest_[s] = -std::numeric_limits<float>::infinity();
+      if (channels_) std::fill(sums_.begin() + s * channels_, sums_.begin() + (s + 1) * channels_, 0.0);
     }
-    ++leaves_[s];
-    mass_[s] += mass;
-    nearest_[s] = std::max(nearest_[s], depth);
-    for (int c = 0; c < channels_; ++c) sums[c] += values[c];
+    ++slot.leaves;
+    slot.mass += mass;
+    if (depth_) nearest_[s] = std::max(nearest_[s], depth);
+    for (int c = 0; c < channels_; ++c) sums_[std::size_t(s) * channels_ + c] += values[c];
   }
 
-  /// Every entry to `list`, in slot order, leaving the cache empty: at the job's end.
+  /// Every entry to `list`, in slot order, leaving the table empty: at the job's end.
   void flush(LeafList& list) {
     for (std::size_t s = 0; s < kSlots; ++s)
-      if (pixel_[s] != kEmpty) {
+      if (slots_[s].pixel != kEmpty) {
         flush(list, s);
-        pixel_[s] = kEmpty;
+        slots_[s].pixel = kEmpty;
       }
   }
 
  private:
   static constexpr std::size_t kSlots = 32 * 32;
   static constexpr std::uint32_t kEmpty = ~std::uint32_t(0);  // no image has 2^32 pixels
+  struct Slot {
+    std::uint32_t pixel = kEmpty, leaves = 0;
+    double mass = 0.0;
+  };
   void flush(LeafList& list, std::size_t s) const {
-    list.pixel.push_back(pixel_[s]);
-    list.leaves.push_back(leaves_[s]);
-    list.mass.push_back(mass_[s]);
+    list.pixel.push_back(slots_[s].pixel);
+    list.leaves.push_back(slots_[s].leaves);
+    list.mass.push_back(static_cast<float>(slots_[s].mass));
     if (depth_) list.depth.push_back(nearest_[s]);
-    list.channels.insert(list.channels.end(), sums_.begin() + s * channels_, sums_.begin() + (s + 1) * channels_);
+    if (channels_)
+      list.channels.insert(list.channels.end(), sums_.begin() + s * channels_, sums_.begin() + (s + 1) * channels_);
   }
   int channels_;
   bool depth_;
-  std::array<std::uint32_t, kSlots> pixel_, leaves_;
-  std::array<double, kSlots> mass_;
+  std::array<Slot, kSlots> slots_;
   std::array<float, kSlots> nearest_;
   std::vector<double> sums_;
 };
