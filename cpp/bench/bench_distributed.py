@@ -109,7 +109,7 @@ def image_case(size, algorithm):
 
     def run(client):
         distribute, stats = counting_runner(client, dist._render_task, ifsforge.to_json(system), algorithm,
-                                            dist._worker_options(options))
+                                            dist._worker_options(options), dist.IMAGE_TASKS_PER_THREAD)
         raster = _core.render_distributed(system, algorithm, options, distribute)
         run.result, run.gathered = f"{raster.covered():,} pixels covered", stats["gathered"]
         return stats["tasks"], stats["bytes"]
