@@ -35,7 +35,7 @@ FRAME_TASKS_PER_THREAD = 8
 #: Dask settings for the worker processes of a local cluster (dask-worker reads the same from
 #: DASK_DISTRIBUTED__... variables, see the README). The statistical profiler sampled a busy
 #: worker's stack every 10 ms (without a dashboard to show it), and the event-loop tick and the
-#: memory and system monitors woke an idle worker 70 times a second: 2 workers rendering a
+#: memory and system monitors woke an idle worker 62 times a second: 2 workers rendering a
 #: 4096^2 chaos image spent 4-6% of their CPU on these.
 QUIET_WORKERS = {
     "distributed.worker.profile.enabled": False,
