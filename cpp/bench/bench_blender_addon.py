@@ -29,6 +29,8 @@ def outside_blender():
     parser.add_argument("--blender", default="blender")
     parser.add_argument("--repeat", type=int, default=3, help="runs per case (the median is reported)")
     parser.add_argument("--no-4097", dest="big", action="store_false", help="skip the 4097^2 terrain")
+    import results  # beside this file; only outside Blender
+    results.add_argument(parser)
     args = parser.parse_args()
     out = Path(os.environ.get("TMPDIR", "/tmp")) / "ifsforge_bench_blender_addon"
     result = subprocess.run([args.blender, "-b", "--factory-startup", "--python", __file__, "--",
@@ -37,8 +39,15 @@ def outside_blender():
     lines = [line for line in result.stdout.splitlines() if line.startswith(("BENCH", "|"))]
     if not lines:
         sys.exit(f"the benchmark did not run:\n{result.stdout[-3000:]}\n{result.stderr[-3000:]}")
-    for line in lines:
-        print(line[len("BENCH "):] if line.startswith("BENCH") else line)
+    with results.Section("bench_blender_addon.py", args.results,
+                          "Blender add-on at production sizes (bench_blender_addon.py)") as section:
+        for k, line in enumerate(lines):
+            if line.startswith("BENCH"):
+                print(line[len("BENCH "):])  # the figures as JSON, for other programs
+                continue
+            if section.lines and k + 1 < len(lines) and lines[k + 1].startswith("|---"):
+                section.print()  # a blank line between two tables
+            section.print(line)
 
 
 def inside_blender(python_path, repeat, big, out):

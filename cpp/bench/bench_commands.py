@@ -19,6 +19,8 @@ import tempfile
 import time
 from pathlib import Path
 
+import results
+
 ROOT = Path(__file__).resolve().parents[2]
 SYSTEMS = ROOT / "samples" / "systems"
 ENV = dict(os.environ, PYTHONPATH=str(ROOT / "build" / "python"))
@@ -40,7 +42,7 @@ def run_child(args):
     return wall, usage.ru_maxrss / 1024.0, usage.ru_minflt + usage.ru_majflt
 
 
-def figure(label, args, target, runs):
+def figure(out, label, args, target, runs):
     """Median wall time of `runs` fresh processes (after one warm-up for the file cache)."""
     run_child(args)
     samples = [run_child(args) for _ in range(runs)]
@@ -49,7 +51,7 @@ def figure(label, args, target, runs):
     faults = statistics.median(s[2] for s in samples)
     verdict = "" if target is None else ("ok" if wall < target else "MISSED")
     target_text = "" if target is None else f"< {target:g} s"
-    print(f"| {label} | {wall:.3f} s | {peak:,.0f} MB | {faults:,.0f} | {target_text} | {verdict} |", flush=True)
+    out.print(f"| {label} | {wall:.3f} s | {peak:,.0f} MB | {faults:,.0f} | {target_text} | {verdict} |")
     return wall
 
 
@@ -103,53 +105,59 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--quick", action="store_true", help="skip the 1024^3 volume")
+    results.add_argument(parser)
     args = parser.parse_args()
+    with results.Section("bench_commands.py", args.results, "Whole commands (bench_commands.py)") as out:
+        report(args, out)
+
+
+def report(args, out):
     fern, sierpinski = SYSTEMS / "barnsley_fern.json", SYSTEMS / "sierpinski_triangle.json"
     pyramid = SYSTEMS / "volume_sierpinski_pyramid_rgb.json"
     with tempfile.TemporaryDirectory() as tmp:
-        print("| command (fresh process) | wall (median) | peak memory | page faults | target | |")
-        print("| --- | ---: | ---: | ---: | --- | --- |")
-        figure("`info sierpinski_triangle.json`", ["info", sierpinski], 0.150, args.runs)
-        figure("`render` of 1,024 points", ["render", fern, "-o", f"{tmp}/p.png", "--iterations", 1024,
-                                             "--size", 256], 0.150, args.runs)
+        out.print("| command (fresh process) | wall (median) | peak memory | page faults | target | |")
+        out.print("| --- | ---: | ---: | ---: | --- | --- |")
+        figure(out, "`info sierpinski_triangle.json`", ["info", sierpinski], 0.150, args.runs)
+        figure(out, "`render` of 1,024 points", ["render", fern, "-o", f"{tmp}/p.png", "--iterations", 1024,
+                                                  "--size", 256], 0.150, args.runs)
         for threads in (1, 2):
-            figure(f"fern 1024², 104,857,600 points, {threads} thread(s)",
+            figure(out, f"fern 1024², 104,857,600 points, {threads} thread(s)",
                    ["render", fern, "-o", f"{tmp}/f.png", "--size", 1024, "--iterations", 104857600,
                     "--threads", threads], None, args.runs)
-            figure(f"PRR Sierpinski 4096² to PNG, {threads} thread(s)",
+            figure(out, f"PRR Sierpinski 4096² to PNG, {threads} thread(s)",
                    ["render", sierpinski, "-a", "prr", "--size", 4096, "-o", f"{tmp}/s.png",
                     "--threads", threads], None, args.runs)
-            figure(f"6D pyramid 512³ to `.vdb`, {threads} thread(s)",
+            figure(out, f"6D pyramid 512³ to `.vdb`, {threads} thread(s)",
                    ["volume", pyramid, "--res", 512, "-o", f"{tmp}/v.vdb", "--threads", threads],
                    1.0 if threads == 2 else None, args.runs)
             if not args.quick:
-                figure(f"6D pyramid 1024³ to `.vdb`, {threads} thread(s)",
+                figure(out, f"6D pyramid 1024³ to `.vdb`, {threads} thread(s)",
                        ["volume", pyramid, "--res", 1024, "-o", f"{tmp}/v.vdb", "--threads", threads],
                        6.0 if threads == 2 else None, 1)
-    print()
-    print("| in process (Google Benchmark) | real time | page faults | points/s | target | |")
-    print("| --- | ---: | ---: | ---: | --- | --- |")
+    out.print()
+    out.print("| in process (Google Benchmark) | real time | page faults | points/s | target | |")
+    out.print("| --- | ---: | ---: | ---: | --- | --- |")
     for program, filter_ in (("bench_render", "PrrSierpinski4096|ChaosFern1024|ChaosTetrahedron3D"),
                              ("bench_volume", "PrrToVdb/(256|512)|TableTwo/")):
         for name, real, unit, counters in in_process(program, filter_):
             faults = f"{counters['faults']:,.0f}" if "faults" in counters else ""
             rate = f"{counters['points/s'] / 1e6:,.0f} M" if "points/s" in counters else ""
             target, verdict = in_process_verdict(name, real, unit, counters)
-            print(f"| {program} {name} | {real:.1f} {unit} | {faults} | {rate} | {target} | {verdict} |")
+            out.print(f"| {program} {name} | {real:.1f} {unit} | {faults} | {rate} | {target} | {verdict} |")
     if args.quick or not shutil.which("flam3-render"):
         return
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     from flam3_side_by_side import side_by_side
-    print()
-    print("| against flam3-render, 210 M samples at 1024² (commands) | flam3 | ifsforge | ratio | target | |")
-    print("| --- | ---: | ---: | ---: | --- | --- |")
+    out.print()
+    out.print("| against flam3-render, 210 M samples at 1024² (commands) | flam3 | ifsforge | ratio | target | |")
+    out.print("| --- | ---: | ---: | ---: | --- | --- |")
     with tempfile.TemporaryDirectory() as tmp:
         for threads, target in FLAM3_TARGETS.items():
             for name in ("fern", "sierpinski"):
                 flam3, ours = side_by_side(name, threads, args.runs, folder=tmp)
                 verdict = "ok" if flam3 / ours >= target else "MISSED"
-                print(f"| {name}, {threads} thread(s) | {flam3:.3f} s | {ours:.3f} s | {flam3 / ours:.1f}x | "
-                      f">= {target:g}x | {verdict} |", flush=True)
+                out.print(f"| {name}, {threads} thread(s) | {flam3:.3f} s | {ours:.3f} s | {flam3 / ours:.1f}x | "
+                          f">= {target:g}x | {verdict} |")
 
 
 if __name__ == "__main__":

@@ -28,6 +28,7 @@ sys.path.insert(0, str(ROOT / "build" / "python"))
 os.environ["PYTHONPATH"] = str(ROOT / "build" / "python")  # the worker processes import the same build
 
 import distributed  # noqa: E402
+import results  # noqa: E402
 
 import ifsforge  # noqa: E402
 from ifsforge import _core  # noqa: E402
@@ -145,7 +146,14 @@ def main():
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--cases", default="volume1024,volume2048,image4096,prr4096,morph240")
     parser.add_argument("--repeat", type=int, default=3, help="runs per case and worker count (the median is shown)")
+    results.add_argument(parser)
     args = parser.parse_args()
+    with results.Section("bench_distributed.py", args.results, "Scale-out on Dask (bench_distributed.py)",
+                         preformatted=True) as out:
+        report(args, out)
+
+
+def report(args, out):
     small = args.quick
     folder = tempfile.mkdtemp(prefix="ifsforge-bench-")
     cases = {
@@ -173,27 +181,27 @@ def main():
                 for name in chosen:
                     runs.setdefault((name, workers), []).append(measure(client, cases[name][1]))
                 peak[workers] = max(peak.get(workers, 0.0), peak_rss_mb(client))
-    results = {}
+    figures = {}
     for workers in (1, 2):
-        print(f"{workers} worker(s): {overhead[workers] * 1000:.1f} ms per empty task; worker peak RSS "
-              f"{peak[workers]:.0f} MB", flush=True)
+        out.print(f"{workers} worker(s): {overhead[workers] * 1000:.1f} ms per empty task; worker peak RSS "
+                  f"{peak[workers]:.0f} MB")
         for name in chosen:
             label, run = cases[name]
-            # The run of median wall time among --repeat (a shared machine's noise is ±10%).
+            # The run of median wall time among --repeat: a shared machine's runs scatter.
             ordered = sorted(runs[name, workers], key=lambda r: r[0])
             wall, cpu, driver, tasks, moved, merge = ordered[len(ordered) // 2]
-            results[name, workers] = (wall, cpu, driver)
+            figures[name, workers] = (wall, cpu, driver)
             busiest = max(cpu.values())
             spread = f" (median of {len(ordered)}: {ordered[0][0]:.2f}-{ordered[-1][0]:.2f} s)" if len(ordered) > 1 else ""
             merged = f" (the driver's merge after the last result: {merge:.2f} s)" if merge else ""
-            print(f"  {label}: {run.result}; wall {wall:.2f} s{spread}{merged}, workers' CPU {sum(cpu.values()):.2f} s "
-                  f"(busiest {busiest:.2f} s), driver CPU {driver:.2f} s, {tasks} tasks, "
-                  f"{moved / max(tasks, 1) / 1e6:.2f} MB per task", flush=True)
-    print(f"driver peak RSS {own_peak_mb():.0f} MB")
-    print("speed-up of 2 workers over 1 (wall; CPU: the busiest worker's CPU plus the driver's, 1 against 2):")
+            out.print(f"  {label}: {run.result}; wall {wall:.2f} s{spread}{merged}, workers' CPU {sum(cpu.values()):.2f} s "
+                      f"(busiest {busiest:.2f} s), driver CPU {driver:.2f} s, {tasks} tasks, "
+                      f"{moved / max(tasks, 1) / 1e6:.2f} MB per task")
+    out.print(f"driver peak RSS {own_peak_mb():.0f} MB")
+    out.print("speed-up of 2 workers over 1 (wall; CPU: the busiest worker's CPU plus the driver's, 1 against 2):")
     for name in chosen:
-        (w1, c1, d1), (w2, c2, d2) = results[name, 1], results[name, 2]
-        print(f"  {cases[name][0]}: wall {w1 / w2:.2f}x, CPU {(max(c1.values()) + d1) / (max(c2.values()) + d2):.2f}x")
+        (w1, c1, d1), (w2, c2, d2) = figures[name, 1], figures[name, 2]
+        out.print(f"  {cases[name][0]}: wall {w1 / w2:.2f}x, CPU {(max(c1.values()) + d1) / (max(c2.values()) + d2):.2f}x")
 
 
 if __name__ == "__main__":

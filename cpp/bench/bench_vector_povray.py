@@ -51,7 +51,16 @@ def main():
     parser.add_argument("--depth", type=int, default=8, help="4^depth spheres for the parse comparison")
     parser.add_argument("--bounded-depth", type=int, default=6, help="4^depth spheres for the bounded_by trace test")
     parser.add_argument("--repeat", type=int, default=3, help="runs per scene (the best is reported)")
+    import results  # beside this script
+    results.add_argument(parser)
     args = parser.parse_args()
+    with results.Section("bench_vector_povray.py", args.results,
+                         "POV-Ray parse and bounding (bench_vector_povray.py)",
+                         preformatted=True) as out:
+        report(args, out)
+
+
+def report(args, out):
     system = ifsforge.read_json(str(SAMPLE))
     with tempfile.TemporaryDirectory() as folder:
         folder = Path(folder)
@@ -62,13 +71,13 @@ def main():
         written = time.perf_counter() - start
         text = (folder / "ifsforge.pov").read_text()
         (folder / "hand.pov").write_text(hand_written(text, instances))
-        print(f"{len(instances):,} spheres; ifsforge scene written in {written:.3f} s "
-              f"({(folder / 'ifsforge.pov').stat().st_size / len(instances):.0f} bytes/sphere, hand-written "
-              f"{(folder / 'hand.pov').stat().st_size / len(instances):.0f})")
+        out.print(f"{len(instances):,} spheres; ifsforge scene written in {written:.3f} s "
+                  f"({(folder / 'ifsforge.pov').stat().st_size / len(instances):.0f} bytes/sphere, hand-written "
+                  f"{(folder / 'hand.pov').stat().st_size / len(instances):.0f})")
         for name in ("ifsforge", "hand"):
             best = min((povray(folder / f"{name}.pov", 64, 48) for _ in range(args.repeat)), key=lambda t: t["wall"])
-            print(f"  {name:9s} parse {best['parse']:6.3f} s  bounding {best['bounding']:6.3f} s  "
-                  f"wall {best['wall']:6.3f} s")
+            out.print(f"  {name:9s} parse {best['parse']:6.3f} s  bounding {best['bounding']:6.3f} s  "
+                      f"wall {best['wall']:6.3f} s")
 
         small = ifsforge.instances(system, depth=args.bounded_depth)
         for bounded in (False, True):
@@ -76,8 +85,8 @@ def main():
             ifsforge.write_pov_scene(str(scene), small, width=160, height=120, floor=False, sky=False,
                                      quality="draft", bounded_by=bounded)
             t = povray(scene, 160, 120)
-            print(f"  {len(small):,} spheres, bounded_by {'on ' if bounded else 'off'}: trace {t['trace']:7.3f} s "
-                  f"at 160x120 (parse {t['parse']:.3f} s)")
+            out.print(f"  {len(small):,} spheres, bounded_by {'on ' if bounded else 'off'}: trace {t['trace']:7.3f} s "
+                      f"at 160x120 (parse {t['parse']:.3f} s)")
 
 
 if __name__ == "__main__":

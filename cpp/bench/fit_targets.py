@@ -145,23 +145,32 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--seed", type=int, default=0)
+    import results  # beside this script; imported here, as the galleries import this module without it
+    results.add_argument(parser)
     args = parser.parse_args()
-    print(f"{'target':18} {'maps':>4} {'IoU':>6} {'Hausdorff px':>12} {'collage px':>10} {'time s':>7}")
+    with results.Section("fit_targets.py", args.results,
+                         "Fitting (fit_targets.py)",
+                         preformatted=True) as out:
+        report(args, out)
+
+
+def report(args, out):
+    out.print(f"{'target':18} {'maps':>4} {'IoU':>6} {'Hausdorff px':>12} {'collage px':>10} {'time s':>7}")
     for name, target, maps in targets():
         r = evaluate(name, target, maps, args.threads, args.seed)
-        print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['hausdorff_pixels']:12.2f} {r['collage_pixels']:10.2f} "
-              f"{r['seconds']:7.1f}" + (" (time limit)" if r["time_limited"] else ""), flush=True)
-    print(f"\n{'colour target':18} {'maps':>4} {'IoU':>6} {'colour error':>12} {'collage RMS r g b':>20} {'time s':>7}")
+        out.print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['hausdorff_pixels']:12.2f} {r['collage_pixels']:10.2f} "
+                  f"{r['seconds']:7.1f}" + (" (time limit)" if r["time_limited"] else ""))
+    out.print(f"\n{'colour target':18} {'maps':>4} {'IoU':>6} {'colour error':>12} {'collage RMS r g b':>20} {'time s':>7}")
     for name, picture, maps in colour_targets():
         r = evaluate_colour(name, picture, maps, args.threads, args.seed)
-        print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['colour_error']:12.4f} "
-              f"{' '.join(f'{e:.3f}' for e in r['collage_error']):>20} {r['seconds']:7.1f}", flush=True)
-    print(f"\n{'3D target':24} {'maps':>4} {'IoU':>6} {'fit IoU':>7} {'time s':>7}")
+        out.print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['colour_error']:12.4f} "
+                  f"{' '.join(f'{e:.3f}' for e in r['collage_error']):>20} {r['seconds']:7.1f}")
+    out.print(f"\n{'3D target':24} {'maps':>4} {'IoU':>6} {'fit IoU':>7} {'time s':>7}")
     with tempfile.TemporaryDirectory() as folder:
         for name, (file, maps, extension) in SHAPES.items():
             r = evaluate_3d(name, shape_target(file, extension, folder), maps, args.threads, args.seed)
-            print(f"{name:24} {maps:4d} {r['iou']:6.3f} {r['fit_iou']:7.3f} {r['seconds']:7.1f}"
-                  + (" (time limit)" if r["time_limited"] else ""), flush=True)
+            out.print(f"{name:24} {maps:4d} {r['iou']:6.3f} {r['fit_iou']:7.3f} {r['seconds']:7.1f}"
+                      + (" (time limit)" if r["time_limited"] else ""))
 
 
 if __name__ == "__main__":

@@ -61,18 +61,27 @@ def main():
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--quality", type=int, default=200, help="samples per pixel")
     parser.add_argument("--threads", type=int, default=1)
+    import results  # beside this script
+    results.add_argument(parser)
     args = parser.parse_args()
+    with results.Section(f"flam3_side_by_side.py --threads {args.threads}", args.results,
+                         f"Against flam3, {args.threads} thread(s) (flam3_side_by_side.py)",
+                         preformatted=True) as out:
+        report(args, out)
+
+
+def report(args, out):
     if not shutil.which("flam3-render"):
         sys.exit("flam3-render is missing: apt-get install flam3-utils")
     samples = args.quality * 1024 * 1024
-    print(f"{samples / 1e6:.0f} M samples into 1024x1024, {args.threads} thread(s), {args.runs} runs each")
+    out.print(f"{samples / 1e6:.0f} M samples into 1024x1024, {args.threads} thread(s), {args.runs} runs each")
     with tempfile.TemporaryDirectory() as tmp:
         for name, system in SYSTEMS.items():
             f, o = side_by_side(name, args.threads, args.runs, args.quality, tmp)
             r = statistics.median(render_only(system, samples, args.threads) for _ in range(args.runs))
-            print(f"{name:11s} flam3 {f:7.3f} s ({samples / f / 1e6:6.1f} M samples/s) | ifsforge command "
-                  f"{o:7.3f} s ({samples / o / 1e6:6.1f} M/s, {f / o:5.1f}x) | ifsforge render() {r:6.3f} s "
-                  f"({samples / r / 1e6:7.1f} M/s, {f / r:5.1f}x)")
+            out.print(f"{name:11s} flam3 {f:7.3f} s ({samples / f / 1e6:6.1f} M samples/s) | ifsforge command "
+                      f"{o:7.3f} s ({samples / o / 1e6:6.1f} M/s, {f / o:5.1f}x) | ifsforge render() {r:6.3f} s "
+                      f"({samples / r / 1e6:7.1f} M/s, {f / r:5.1f}x)")
 
 
 if __name__ == "__main__":

@@ -212,7 +212,15 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", default=str(ROOT / "out" / "pifs"))
     parser.add_argument("--threads", type=int, default=2)
+    import results  # beside this script; imported here, as the galleries import this module without it
+    results.add_argument(parser)
     args = parser.parse_args()
+    with results.Section("pifs_vs_jpeg.py", args.results,
+                         "Fractal compression against JPEG and JPEG 2000 (pifs_vs_jpeg.py)") as out:
+        report(args, out)
+
+
+def report(args, out):
     out_dir = Path(args.out)
     out_dir.mkdir(parents=True, exist_ok=True)
     images = {name: f() for name, f in IMAGES.items()}
@@ -223,27 +231,27 @@ def main():
     plot(rows, out_dir / "rate_distortion.png")
     (out_dir / "results.json").write_text(json.dumps({"rate_distortion": rows, "table1": t1, "superres": sr,
                                                       "times": times}, indent=1))
-    print("\n| image | target | PIFS PSNR / SSIM (ratio) | JPEG | JPEG 2000 |")
-    print("|---|---|---|---|---|")
+    out.print("\n| image | target | PIFS PSNR / SSIM (ratio) | JPEG | JPEG 2000 |")
+    out.print("|---|---|---|---|---|")
     for name in images:
         for ratio in RATIOS:
             cells = []
             for method in ("PIFS", "JPEG", "JPEG 2000"):
                 r = [x for x in rows if x["image"] == name and x["method"] == method and x["target"] == ratio]
                 cells.append(f"{r[0]['psnr']:.2f} / {r[0]['ssim']:.3f} ({r[0]['ratio']:.0f}:1)" if r else "—")
-            print(f"| {name} | {ratio}:1 | " + " | ".join(cells) + " |")
-    print("\n| image | PIFS CR | PSNR | JPEG CR | PSNR | JPEG 2000 CR | PSNR |")
-    print("|---|---|---|---|---|---|---|")
+            out.print(f"| {name} | {ratio}:1 | " + " | ".join(cells) + " |")
+    out.print("\n| image | PIFS CR | PSNR | JPEG CR | PSNR | JPEG 2000 CR | PSNR |")
+    out.print("|---|---|---|---|---|---|---|")
     for e in t1:
         cells = [f"{e[m][0]:.1f}:1 | {e[m][1]:.2f}" if m in e else "— | —" for m in ("PIFS", "JPEG", "JPEG 2000")]
-        print(f"| {e['image']} | " + " | ".join(cells) + " |")
-    print("\n| image (2x super-resolution, 20:1 of the half-size image) | PIFS decoded 2x | JPEG + bicubic | "
-          "uncompressed + bicubic |")
-    print("|---|---|---|---|")
+        out.print(f"| {e['image']} | " + " | ".join(cells) + " |")
+    out.print("\n| image (2x super-resolution, 20:1 of the half-size image) | PIFS decoded 2x | JPEG + bicubic | "
+              "uncompressed + bicubic |")
+    out.print("|---|---|---|---|")
     for r in sr:
-        print(f"| {r['image']} | {r['pifs_2x_psnr']:.2f} dB / {r['pifs_2x_ssim']:.3f} | "
-              f"{r['jpeg_bicubic_psnr']:.2f} dB / {r['jpeg_bicubic_ssim']:.3f} | {r['uncompressed_bicubic_psnr']:.2f} dB |")
-    print("\n" + json.dumps(times, indent=1))
+        out.print(f"| {r['image']} | {r['pifs_2x_psnr']:.2f} dB / {r['pifs_2x_ssim']:.3f} | "
+                  f"{r['jpeg_bicubic_psnr']:.2f} dB / {r['jpeg_bicubic_ssim']:.3f} | {r['uncompressed_bicubic_psnr']:.2f} dB |")
+    out.print("\nEncoding and decoding times (seconds):\n\n```json\n" + json.dumps(times, indent=1) + "\n```")
 
 
 if __name__ == "__main__":
