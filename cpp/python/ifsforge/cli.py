@@ -43,11 +43,20 @@ class Formatter(argparse.HelpFormatter):
 
 
 class Parser(argparse.ArgumentParser):
-    """An ArgumentParser whose help uses Formatter (the sub-commands' parsers too)."""
+    """An ArgumentParser whose help uses Formatter (the sub-commands' parsers too), and whose
+    numeric options all come from cli_common's checked types: a bare int or float would let -1,
+    2^63, NaN or infinity through to the core (a pybind11 traceback, or a wrong answer)."""
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("formatter_class", Formatter)
         super().__init__(*args, **kwargs)
+
+    def _add_action(self, action):
+        if action.type in (int, float) and not action.choices:
+            raise TypeError(f"{self.prog} {'/'.join(action.option_strings) or action.dest}: numeric options "
+                            "take cli_common.int_option / float_option (a checked domain), not a bare "
+                            f"{action.type.__name__}")
+        return super()._add_action(action)
 
 
 def build_parser(only=None):
@@ -63,7 +72,18 @@ def build_parser(only=None):
     for name in command_names():
         if only is None or name == only:
             importlib.import_module(f"ifsforge.commands.{name}").register(sub)
+    parser.commands = sub.choices
     return parser
+
+
+def parse_arguments(parser, argv):
+    """parse_args, except that words no option takes are reported with the sub-command's usage
+    (argparse reports them with the top-level one, which lists no option of the command)."""
+    args, extras = parser.parse_known_args(argv)
+    if extras:
+        command = parser.commands.get(getattr(args, "command", None), parser)
+        command.error(f"unrecognized arguments: {' '.join(extras)}")
+    return args
 
 
 def requested_command(argv):
@@ -83,28 +103,35 @@ def as_option(message, args):
     return message
 
 
+# Exit statuses of a command stopped by a signal, as a shell reports them (128 + the signal).
+STOPPED = {signal.SIGINT: (130, "interrupted"), signal.SIGTERM: (143, "terminated")}
+
+
 def on_interrupt(signum, frame):
-    """Python's own Ctrl-C handler, which also remembers the interrupt: a KeyboardInterrupt
-    raised inside an import that C code makes (numpy's, when the first array is returned) comes
-    out as an ImportError, yet the user asked to stop, not saw a failure."""
-    on_interrupt.received = True
+    """Ctrl-C and SIGTERM alike: Python's KeyboardInterrupt, which the core hears at its next
+    progress poll and unwinds through (staging files removed, nothing committed). The signal is
+    remembered: a KeyboardInterrupt raised inside an import that C code makes (numpy's, when the
+    first array is returned) comes out as an ImportError, yet the user asked to stop."""
+    on_interrupt.received = signum
     raise KeyboardInterrupt
 
 
 def main(argv=None):
     parser = build_parser(only=requested_command(argv))
-    args = parser.parse_args(argv)
-    on_interrupt.received = False
-    try:
-        signal.signal(signal.SIGINT, on_interrupt)
-    except ValueError:
-        pass  # not the main thread: the caller's handler stays
+    args = parse_arguments(parser, argv)
+    on_interrupt.received = None
+    for signum in STOPPED:
+        try:
+            signal.signal(signum, on_interrupt)
+        except ValueError:
+            pass  # not the main thread: the caller's handlers stay
     try:
         return args.run(args) or 0
     except (KeyboardInterrupt, Exception) as error:
-        if on_interrupt.received:
-            print(f"ifsforge {args.command}: interrupted", file=sys.stderr)
-            return 130
+        if on_interrupt.received is not None or isinstance(error, KeyboardInterrupt):
+            status, word = STOPPED[on_interrupt.received or signal.SIGINT]
+            print(f"ifsforge {args.command}: {word}", file=sys.stderr)
+            return status
         if isinstance(error, ifsforge.Error):
             print(f"ifsforge {args.command}: error: {as_option(str(error), args)}", file=sys.stderr)
             return 2

@@ -1,6 +1,8 @@
 """Arguments and helpers shared by the CLI sub-commands."""
 import argparse
 import contextlib
+import json
+import math
 import os
 
 import ifsforge
@@ -49,7 +51,9 @@ def ensure_output_folder(path):
 
 
 def int_option(low, high):
-    """An argparse type: a whole number in [low, high], else argparse reports the option and the range."""
+    """An argparse type: a whole number in [low, high], else argparse reports the option and the range.
+    Every integer option goes through here (Parser refuses a bare int), so no value outside what
+    the core's C++ type holds ever reaches pybind11."""
     def parse(text):
         try:
             value = int(text)
@@ -58,20 +62,78 @@ def int_option(low, high):
         if not low <= value <= high:
             raise argparse.ArgumentTypeError(f"expects {low}..{high}, got {value}")
         return value
+    parse.domain = (low, high)
     return parse
 
 
-def float_option(low, high, low_open=False):
-    """An argparse type: a number in [low, high] ((low, high] when low_open)."""
+def float_option(low=-math.inf, high=math.inf, low_open=False):
+    """An argparse type: a finite number in [low, high] ((low, high] when low_open). NaN and
+    infinities are refused whatever the range: no output of ifsforge is made of them."""
     def parse(text):
         try:
             value = float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"expects a number, got '{text}'") from None
+        if not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f"expects a finite number, got {text}")
         if not (low < value if low_open else low <= value) or not value <= high:
-            raise argparse.ArgumentTypeError(f"expects a number in {'(' if low_open else '['}{low}, {high}], got {text}")
+            raise argparse.ArgumentTypeError(f"expects a number in {'(' if low_open else '['}{low:g}, {high:g}], got {text}")
         return value
+    parse.domain = (low, high)
     return parse
+
+
+# The domains every command shares: the core's seeds are 64-bit unsigned, thread counts 0 (all
+# cores) to 1024, counts and sizes at least 1.
+SEED = int_option(0, 2**64 - 1)
+THREADS = int_option(0, 1024)
+NUMBER = float_option()
+
+
+def count_option(high):
+    """A count: 1..high."""
+    return int_option(1, high)
+
+
+class DeprecatedAlias(argparse.Action):
+    """An old spelling of an option, kept for one release: it stores into the new option's
+    destination, with a note on stderr, and is hidden from the help."""
+
+    def __init__(self, option_strings, dest, new=None, store=None, **kwargs):
+        self.new, self.store = new, store
+        super().__init__(option_strings, dest, help=argparse.SUPPRESS, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        import sys
+        print(f"{parser.prog}: note: {option_string} is deprecated; use {self.new}", file=sys.stderr)
+        setattr(namespace, self.dest, self.store if self.nargs == 0 else values)
+
+
+def add_deprecated_alias(parser, old, action):
+    """`old` (e.g. --colour-by) as a deprecated spelling of the option `action` added (the
+    American spelling, as glTF, Blender and OpenVDB write it)."""
+    flag = isinstance(action, (argparse._StoreTrueAction, argparse._StoreFalseAction))
+    parser.add_argument(old, action=DeprecatedAlias, dest=action.dest, new=action.option_strings[0],
+                        nargs=0 if flag else action.nargs, store=action.const if flag else None,
+                        type=None if flag else action.type, choices=action.choices, metavar=action.metavar)
+
+
+def finite(value):
+    """`value` with every NaN or infinity (nested in lists and dicts) replaced by None: JSON has
+    no such numbers (Python would write NaN or Infinity, which no JSON reader accepts), and a
+    quantity that is not finite is unknown, not a number."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite(v) for v in value]
+    return value
+
+
+def to_json(value, indent=2):
+    """JSON text of a command's result: finite numbers only (see finite)."""
+    return json.dumps(finite(value), indent=indent, allow_nan=False)
 
 
 def parse_parameters(items):

@@ -22,17 +22,17 @@ def register(subparsers):
                               description=__doc__.split("\n\n")[1].replace("\n", " "))
     p.add_argument("-o", "--output", required=True, help="the contact sheet (.png)")
     p.add_argument("--count", type=common.int_option(1, 4096), default=o.count, help="phenotypes")
-    p.add_argument("--seed", type=common.int_option(0, 2**63 - 1), default=o.seed)
-    p.add_argument("--maps", type=int, default=o.maps, help="maps per phenotype (2..16); 0: 2 to 4, drawn")
+    p.add_argument("--seed", type=common.SEED, default=o.seed)
+    p.add_argument("--maps", type=common.int_option(0, 16), default=o.maps, help="maps per phenotype (2..16); 0: 2 to 4, drawn")
     p.add_argument("--size", type=common.int_option(16, 4096), default=SIZE, help="pixels per phenotype")
     p.add_argument("--columns", type=common.int_option(1, 64), default=COLUMNS)
     p.add_argument("--json-dir", help="folder of the phenotypes' JSON (default: the sheet's path without .png)")
-    p.add_argument("--threads", type=int, default=0, help="0: every core (the output does not depend on it)")
+    p.add_argument("--threads", type=common.THREADS, default=0, help="0: every core (the output does not depend on it)")
     p.set_defaults(run=run)
 
 
 def tinted(raster, k):
-    """The density picture in a hue of its own (golden-ratio steps round the colour wheel):
+    """The density picture in a hue of its own (golden-ratio steps round the color wheel):
     faint regions take the hue, dense ones go towards white."""
     import numpy as np
 

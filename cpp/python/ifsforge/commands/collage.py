@@ -1,5 +1,4 @@
 """ifsforge collage: how well a system's maps tile a target picture (collage theorem, Eq. 41-42)."""
-import json
 
 import ifsforge
 from ifsforge import cli_common as common
@@ -10,7 +9,7 @@ def register(subparsers):
                                               "bound it gives on the attractor's distance (Eq. 41-42)")
     common.add_system_argument(p)
     p.add_argument("target", help="a PNG picture; its shape is the pixels unlike the border")
-    p.add_argument("--threshold", type=float, default=0.5, help="luminance splitting shape from background")
+    p.add_argument("--threshold", type=common.float_option(0, 1), default=0.5, help="luminance splitting shape from background")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(run=run)
 
@@ -23,7 +22,7 @@ def run(args):
     except ifsforge.InputError as error:
         raise ifsforge.InputError(f"{args.target}: {error}") from None
     if args.json:
-        print(json.dumps(report, indent=2))
+        print(common.to_json(report))
         return 0
     print(f"target {args.target}: {report['target_pixels']} pixels on window "
           f"{' '.join(f'{v:g}' for v in report['window'])}; collage {report['collage_pixels']} pixels")

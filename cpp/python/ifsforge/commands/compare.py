@@ -6,7 +6,6 @@ image of a 5-map IFS, the pixels covered and the agreement (intersection over un
 binary images) with the point recursive reference. Writes DIR/contact_sheet.png (labelled
 thumbnails), DIR/<algorithm>.png, DIR/comparison.md and DIR/comparison.json.
 """
-import json
 import os
 import time
 
@@ -28,8 +27,8 @@ def register(subparsers):
     p.add_argument("-o", "--output", required=True, help="folder for the contact sheet, images and table")
     p.add_argument("--size", default="512", help="N or WxH pixels (default 512)")
     p.add_argument("--algorithms", help="comma-separated subset (default: all but color-stealing)")
-    p.add_argument("--threads", type=common.int_option(0, 1024), default=0, help="0: every core")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--threads", type=common.THREADS, default=0, help="0: every core")
+    p.add_argument("--seed", type=common.SEED, default=0)
     p.add_argument("--param", action="append", default=[], metavar="[ALGORITHM.]KEY=VALUE",
                    help="a setting for one algorithm (ALGORITHM.KEY) or for every algorithm that takes KEY")
     p.set_defaults(run=run)
@@ -153,8 +152,8 @@ def run(args):
     ifsforge.write_png(os.path.join(args.output, "contact_sheet.png"), sheet)
     text = markdown(system, rows, reference, size)
     for name, content in (("comparison.md", text),
-                          ("comparison.json", json.dumps({"system": system.name, "size": list(size),
-                                                          "reference": reference, "rows": rows}, indent=2))):
+                          ("comparison.json", common.to_json({"system": system.name, "size": list(size),
+                                                                "reference": reference, "rows": rows}))):
         ifsforge.write_bytes(os.path.join(args.output, name), content)
     print(text, end="")
     print(f"{args.output}: contact_sheet.png, comparison.md, comparison.json and {len(images)} images")

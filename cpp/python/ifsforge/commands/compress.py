@@ -1,5 +1,4 @@
 """ifsforge compress: fractal (partitioned IFS) compression of a PNG image (seed 3.3.2)."""
-import json
 import sys
 
 import ifsforge
@@ -11,19 +10,19 @@ def register(subparsers):
         "compress", help="fractal-compress a PNG image to a .pifs code (decodes at any resolution)",
         description="Partitioned IFS coding (seed 3.3.2): quadtree range cells, domain cells twice their "
         "size found by nearest-neighbour search, contrast and brightness by least squares (Eq. 29), "
-        "range-coded. Colour is coded as YCbCr with half-size chroma; alpha as its own plane.")
+        "range-coded. Color is coded as YCbCr with half-size chroma; alpha as its own plane.")
     o = ifsforge.PifsEncodeOptions()
     p.add_argument("image", help="a PNG image (gray, gray+alpha, RGB or RGBA; 16-bit is reduced to 8)")
     p.add_argument("-o", "--output", required=True, help="the .pifs file to write")
     rate = p.add_mutually_exclusive_group()
-    rate.add_argument("--ratio", type=float, help="compression ratio R: the file is at most raw bytes / R")
-    rate.add_argument("--bytes", type=int, help="the file is at most N bytes")
-    rate.add_argument("--quality", type=float,
+    rate.add_argument("--ratio", type=common.float_option(1, 1e6), help="compression ratio R: the file is at most raw bytes / R")
+    rate.add_argument("--bytes", type=common.count_option(2**62), help="the file is at most N bytes")
+    rate.add_argument("--quality", type=common.float_option(0, 255),
                       help=f"collage RMS error threshold in 8-bit levels (smaller is better; default {o.quality:g})")
-    p.add_argument("--min-block", type=int, default=o.min_block, help="smallest range cell, pixels (power of two)")
-    p.add_argument("--max-block", type=int, default=o.max_block, help="largest range cell, pixels (power of two)")
+    p.add_argument("--min-block", type=common.count_option(4096), default=o.min_block, help="smallest range cell, pixels (power of two)")
+    p.add_argument("--max-block", type=common.count_option(4096), default=o.max_block, help="largest range cell, pixels (power of two)")
     p.add_argument("--no-ycbcr", action="store_true", help="code R, G, B as they are (no YCbCr 4:2:0)")
-    p.add_argument("--threads", type=int, default=o.threads, help="threads (0: all cores); the file is the same")
+    p.add_argument("--threads", type=common.THREADS, default=o.threads, help="threads (0: all cores); the file is the same")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(run=run)
 
@@ -76,7 +75,7 @@ def run(args):
     ifsforge.write_pifs(args.output, code)
     info = describe_code(code)
     if args.json:
-        print(json.dumps(info, indent=2))
+        print(common.to_json(info))
     else:
         print_description(info)
     return 0

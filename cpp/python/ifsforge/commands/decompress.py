@@ -13,15 +13,15 @@ def register(subparsers):
     p.add_argument("input", help="a .pifs file")
     p.add_argument("-o", "--output", required=True, help="the PNG to write")
     size = p.add_mutually_exclusive_group()
-    size.add_argument("--scale", type=float, default=o.scale, help="output size = image size x S (default %(default)s)")
-    size.add_argument("--size", type=int, nargs=2, metavar=("W", "H"), help="output size in pixels")
-    p.add_argument("--iterations", type=int, default=o.iterations,
+    size.add_argument("--scale", type=common.float_option(0, 1024, low_open=True), default=o.scale, help="output size = image size x S (default %(default)s)")
+    size.add_argument("--size", type=common.count_option(65535), nargs=2, metavar=("W", "H"), help="output size in pixels")
+    p.add_argument("--iterations", type=common.int_option(0, 10**6), default=o.iterations,
                    help="fixed-point iterations (coarsest level, or every level with --decoder iterative); "
                    "0: the default")
     p.add_argument("--decoder", choices=ifsforge.choices["decoder"], default=o.decoder)
     p.add_argument("--no-deblock", action="store_true", help="skip the range-block edge filter")
     p.add_argument("--bits", type=int, choices=[8, 16], default=8, help="PNG bits per sample")
-    p.add_argument("--threads", type=int, default=o.threads, help="0: every core (the image never depends on it)")
+    p.add_argument("--threads", type=common.THREADS, default=o.threads, help="0: every core (the image never depends on it)")
     p.set_defaults(run=run)
 
 

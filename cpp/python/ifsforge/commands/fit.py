@@ -4,12 +4,11 @@ A separable CMA-ES with restarts searches the maps' Eq. 5 parameters under a col
 small raster, polishes each run on the attractor, refines the best on the collage at the
 picture's resolution, then climbs the attractor's IoU there; every map stays contractive. The
 written system carries render.window and the picture's size, so `ifsforge render SYSTEM.json`
-frames it like the target. A colour picture (seed Fig. 4.3) gets layout xy+rgb: each map's colour
+frames it like the target. A color picture (seed Fig. 4.3) gets layout xy+rgb: each map's color
 rows are fitted by least squares, one collage per channel. A 3D target (.vdb density or level
 set; .obj, .ply, .stl, .off mesh, voxelised) gets an xyz system in the target's coordinates, so
 `ifsforge volume SYSTEM.json` frames it where the target lies.
 """
-import json
 import os
 
 import ifsforge
@@ -22,30 +21,32 @@ SHAPE_EXTENSIONS = (".vdb", ".obj", ".ply", ".stl", ".off")  # 3D targets
 
 
 def register(subparsers):
-    # Every default is the core's (FitOptions, Fit3dOptions, ColourFitOptions, VoxelTargetOptions), written once in C++.
-    o, o3, colour = ifsforge.FitOptions(), ifsforge.Fit3dOptions(), ifsforge.ColourFitOptions()
+    # Every default is the core's (FitOptions, Fit3dOptions, ColorFitOptions, VoxelTargetOptions), written once in C++.
+    o, o3, color = ifsforge.FitOptions(), ifsforge.Fit3dOptions(), ifsforge.ColourFitOptions()
     p = subparsers.add_parser("fit", help="fit an IFS to a target picture or 3D shape (collage theorem, CMA-ES)",
                               description=__doc__.split("\n\n")[1].replace("\n", " "))
     p.add_argument("target", help="a PNG picture (its shape is the pixels unlike the border; gray: thresholded; "
-                   "colour: fitted per channel too), or a 3D shape: " + ", ".join(SHAPE_EXTENSIONS))
+                   "color: fitted per channel too), or a 3D shape: " + ", ".join(SHAPE_EXTENSIONS))
     p.add_argument("-o", "--output", required=True, help="the system to write (.json)")
     p.add_argument("--maps", default=None, help=f"number of maps (default {o.maps}; 3D {o3.maps}), or 'auto' "
                    "(tries %s)" % ", ".join(map(str, AUTO_MAPS)))
-    p.add_argument("--time-limit", type=float, default=o.time_limit,
+    p.add_argument("--time-limit", type=common.float_option(0, 1e9), default=o.time_limit,
                    help="seconds (0: none); a search cut short depends on the machine's speed")
-    p.add_argument("--seed", type=int, default=o.seed)
-    p.add_argument("--threads", type=int, default=o.threads, help="0: every core (the result does not depend on it)")
-    p.add_argument("--restarts", type=int, default=None, help=f"CMA-ES runs per map count (default {o.restarts}; 3D {o3.restarts})")
-    p.add_argument("--raster", type=int, default=None,
+    p.add_argument("--seed", type=common.SEED, default=o.seed)
+    p.add_argument("--threads", type=common.THREADS, default=o.threads, help="0: every core (the result does not depend on it)")
+    p.add_argument("--restarts", type=common.count_option(10**4), default=None, help=f"CMA-ES runs per map count (default {o.restarts}; 3D {o3.restarts})")
+    p.add_argument("--raster", type=common.int_option(8, 4096), default=None,
                    help=f"cells along the long side during the search (default {o.raster}; 3D {o3.raster})")
-    p.add_argument("--max-contraction", type=float, default=None,
+    p.add_argument("--max-contraction", type=common.float_option(0, 1, low_open=True), default=None,
                    help=f"largest contraction factor of a map (default {o.max_contraction}; 3D {o3.max_contraction}; "
-                   f"colour maps {colour.max_contraction})")
-    p.add_argument("--threshold", type=float, default=0.5, help="gray pictures: luminance splitting shape from background")
-    p.add_argument("--no-colour", action="store_true", help="colour pictures: fit the shape only (layout xy)")
-    p.add_argument("--colour-tolerance", type=float, default=colour.tolerance,
-                   help="colour pictures: a channel difference from the border's colour above this is shape")
-    p.add_argument("--voxels", type=int, default=None,
+                   f"color maps {color.max_contraction})")
+    p.add_argument("--threshold", type=common.float_option(0, 1), default=0.5, help="gray pictures: luminance splitting shape from background")
+    no_color = p.add_argument("--no-color", action="store_true", help="color pictures: fit the shape only (layout xy)")
+    tolerance = p.add_argument("--color-tolerance", type=common.float_option(0, 1), default=color.tolerance,
+                               help="color pictures: a channel difference from the border's color above this is shape")
+    common.add_deprecated_alias(p, "--no-colour", no_color)
+    common.add_deprecated_alias(p, "--colour-tolerance", tolerance)
+    p.add_argument("--voxels", type=common.int_option(4, 4096), default=None,
                    help="3D targets: voxels along the shape's longest side (default: VoxelTargetOptions.resolution)")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(run=run)
@@ -82,10 +83,10 @@ def common_options(args, defaults):
 
 def run_picture(args, bar):
     picture = ifsforge.read_png(args.target)
-    colour = not args.no_colour and ifsforge.has_colour(picture)
-    # A colour picture's shape is what differs from the border's colour (a dark blue on black is
+    color = not args.no_color and ifsforge.has_colour(picture)
+    # A color picture's shape is what differs from the border's color (a dark blue on black is
     # shape although its luminance is below any threshold); a gray one's, what crosses the threshold.
-    shape = ifsforge.colour_foreground(picture, args.colour_tolerance) if colour else picture
+    shape = ifsforge.colour_foreground(picture, args.color_tolerance) if color else picture
     maps = args.maps or str(ifsforge.FitOptions().maps)
     result = fit_picture(shape, maps, args.threshold, time_limit=args.time_limit, progress=bar,
                          **common_options(args, ifsforge.FitOptions()))
@@ -99,12 +100,12 @@ def run_picture(args, bar):
     text = (f"{args.output}: {result['maps']} maps, attractor IoU {result['iou']:.3f}, collage distance "
             f"{collage['distance_pixels']:.2f} px (attractor within {collage['bound_pixels']:.2f} px), "
             f"s = {collage['contraction']:.3f}, {result['evaluations']} evaluations")
-    if colour:
+    if color:
         fitted = ifsforge.fit_colour(system, picture, shape, max_contraction=args.max_contraction)  # None: its default
         system = fitted["system"]
         summary["layout"] = "xy+rgb"
-        summary["colour_collage_error"] = dict(zip("rgb", fitted["collage_error"]))
-        text += ", colour collage error (RMS) " + " ".join(f"{c} {e:.3f}" for c, e in zip("rgb", fitted["collage_error"]))
+        summary["color_collage_error"] = dict(zip("rgb", fitted["collage_error"]))
+        text += ", color collage error (RMS) " + " ".join(f"{c} {e:.3f}" for c, e in zip("rgb", fitted["collage_error"]))
     return system, summary, text, result["time_limited"]
 
 
@@ -145,7 +146,7 @@ def run(args):
         raise ifsforge.InputError(f"{args.target}: {error}") from None
     ifsforge.write_json(args.output, system)
     if args.json:
-        print(json.dumps(summary, indent=2))
+        print(common.to_json(summary))
     else:
         print(text + (" (cut short by --time-limit)" if limited else ""))
     return 0

@@ -14,12 +14,12 @@ def register(subparsers):
     common.add_system_argument(p)
     p.add_argument("-o", "--output", required=True, help="folder for the frames")
     p.add_argument("--size", default=None, help="N or WxH pixels (default: the system's, else 512)")
-    p.add_argument("--cycle", type=int, default=1, help="generations of growth per frame")
-    p.add_argument("--supersample", type=int, default=1, help="pixel grid k times finer than the image")
+    p.add_argument("--cycle", type=common.count_option(4096), default=1, help="generations of growth per frame")
+    p.add_argument("--supersample", type=common.count_option(64), default=1, help="pixel grid k times finer than the image")
     p.add_argument("--mode", default="auto", choices=["auto", "binary", "density", "color"],
                    help="density shows each pixel's age in cycles; color the channel values")
     p.add_argument("--bits", type=int, default=8, choices=[8, 16])
-    p.add_argument("--threads", type=common.int_option(0, 1024), default=0)
+    p.add_argument("--threads", type=common.THREADS, default=0)
     p.set_defaults(run=run)
 
 

@@ -1,5 +1,4 @@
 """ifsforge info: the maps and what can be derived from them."""
-import json
 
 import ifsforge
 from ifsforge import cli_common as common
@@ -10,7 +9,7 @@ def register(subparsers):
                                            "transitions, super IFS members, condensation set")
     p.add_argument("system", help=common.SYSTEM_HELP + ", or a .pifs compressed image")
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.add_argument("--dimension-size", type=int, default=1024,
+    p.add_argument("--dimension-size", type=common.int_option(16, 16384), default=1024,
                    help="image size for the box-counting estimate (2D systems)")
     p.set_defaults(run=run)
 
@@ -112,7 +111,7 @@ def run(args):
     system = common.load_system(args.system)
     info = describe(system, args.dimension_size)
     if args.json:
-        print(json.dumps(info, indent=2))
+        print(common.to_json(info))
         return 0
     print(f"{info['name']}  ({info['layout']}, {len(info['maps'])} maps)")
     for i, m in enumerate(info["maps"], 1):
@@ -144,7 +143,7 @@ def pifs_info(args):
     from ifsforge.commands import compress
     info = compress.describe_code(ifsforge.read_pifs(args.system))
     if args.json:
-        print(json.dumps(info, indent=2))
+        print(common.to_json(info))
     else:
         compress.print_description(info)
     return 0

@@ -18,30 +18,32 @@ def register(subparsers):
         "instances", help="vector IFS: primitives placed by the maps (POV-Ray, SVG, glTF, numpy)",
         description="Push a vector through the maps to every address of depth L (vector recursive "
         "rendering, seed 5.8.2) and place a primitive at each leaf: position, full 3D frame, scale "
-        "(Eq. 60-62), primitive (the k channel, Eq. 99/107) and colour (the colour channels, Eq. 101).")
+        "(Eq. 60-62), primitive (the k channel, Eq. 99/107) and color (the color channels, Eq. 101).")
     common.add_system_argument(p)
     g = p.add_argument_group("the instance list")
     g.add_argument("--depth", type=common.int_option(0, 64), default=d.depth, help="recursion depth L: N^L instances (0: largest L with N^L <= 50000)")
     g.add_argument("--primitive", default=",".join(d.primitives),
                    help="primitive, or a comma list the k channel picks from: line, circle, triangle, square "
                    "(each also -outline), sphere, box, cone, cylinder, torus, mesh:PATH (default %(default)s)")
-    g.add_argument("--normalisation", choices=ifsforge.choices["normalisation"], default=d.normalisation,
-                   help="proportional: d = sf |q1 - q0| (Eq. 60); constant: d = --length for all")
-    g.add_argument("--scale-factor", type=float, default=d.scale_factor, help="sf of Eq. 60 (default %(default)s)")
-    g.add_argument("--length", type=float, default=d.length, help="constant normalisation: the vector length (0: automatic)")
-    g.add_argument("--base-point", type=float, nargs="+", metavar="X",
+    normalization = g.add_argument("--normalization", choices=ifsforge.choices["normalisation"], default=d.normalisation,
+                                   help="proportional: d = sf |q1 - q0| (Eq. 60); constant: d = --length for all")
+    common.add_deprecated_alias(g, "--normalisation", normalization)
+    g.add_argument("--scale-factor", type=common.float_option(0, 1e6, low_open=True), default=d.scale_factor, help="sf of Eq. 60 (default %(default)s)")
+    g.add_argument("--length", type=common.float_option(0, 1e9), default=d.length, help="constant normalization: the vector length (0: automatic)")
+    g.add_argument("--base-point", type=common.NUMBER, nargs="+", metavar="X",
                    help="q0 in every channel (default: the centre of the attractor's bounds)")
-    g.add_argument("--base-vector", type=float, nargs="+", metavar="X",
+    g.add_argument("--base-vector", type=common.NUMBER, nargs="+", metavar="X",
                    help="q1 - q0, spatial (default: (R, 0[, 0]), R the half-diagonal of the bounds)")
-    g.add_argument("--base-up", type=float, nargs=3, metavar="X", help="3D: the frame's second axis (default 0 1 0)")
-    g.add_argument("--min-probability", type=float, default=d.min_probability,
+    g.add_argument("--base-up", type=common.NUMBER, nargs=3, metavar="X", help="3D: the frame's second axis (default 0 1 0)")
+    g.add_argument("--min-probability", type=common.float_option(0, 1), default=d.min_probability,
                    help="pv of the TSA (5.7): a branch less probable than this stops early")
-    g.add_argument("--color-by", choices=ifsforge.choices["color_source"], default=d.color_source,
-                   help="auto: the colour channels if the layout has them, else the first map of the address")
-    g.add_argument("--color", type=float, nargs="+", metavar="V", default=list(d.color[:3]),
+    color_by = g.add_argument("--color-by", choices=ifsforge.choices["color_source"], default=d.color_source,
+                              help="auto: the color channels if the layout has them, else the first map of the address")
+    common.add_deprecated_alias(g, "--colour-by", color_by)
+    g.add_argument("--color", type=common.float_option(0, 1), nargs="+", metavar="V", default=list(d.color[:3]),
                    help="--color-by constant: R G B [A] in [0, 1]")
     g.add_argument("--colors-as-given", action="store_true",
-                   help="take the colour channels as they are (clamped to [0, 1]) instead of stretching each "
+                   help="take the color channels as they are (clamped to [0, 1]) instead of stretching each "
                    "over its range on the attractor (Eq. 101)")
     o = p.add_argument_group("outputs (any number)")
     o.add_argument("--pov", metavar="SCENE.pov", help="POV-Ray 3.7 scene (ifsforge.inc is written beside it)")
@@ -54,20 +56,20 @@ def register(subparsers):
     o.add_argument("--png", metavar="IMAGE.png", help="a picture drawn without POV-Ray (2D vector IFS; 3D preview)")
     s = p.add_argument_group("scene and pictures")
     s.add_argument("--size", default=None, help=f"WxH of the render/picture the camera is framed for (default {pov.width}x{pov.height})")
-    s.add_argument("--view", type=float, nargs=2, metavar=("YAW", "PITCH"),
+    s.add_argument("--view", type=common.NUMBER, nargs=2, metavar=("YAW", "PITCH"),
                    help="3D: degrees, as `render --view` (default: the system's, else 30 25)")
     s.add_argument("--orthographic", action="store_true", help="POV-Ray: orthographic camera (the render --view projection)")
-    s.add_argument("--fov", type=float, default=scene.fov, help="POV-Ray: horizontal field of view (degrees)")
+    s.add_argument("--fov", type=common.float_option(0, 180, low_open=True), default=scene.fov, help="POV-Ray: horizontal field of view (degrees)")
     s.add_argument("--floor", action=argparse.BooleanOptionalAction, default=None, help="POV-Ray: a floor plane (default: 3D systems)")
     s.add_argument("--sky", action=argparse.BooleanOptionalAction, default=None, help="POV-Ray: a sky sphere (default: 3D systems)")
-    s.add_argument("--background", type=float, nargs=3, metavar="V", default=list(scene.background),
-                   help="background colour without sky (default %(default)s)")
+    s.add_argument("--background", type=common.float_option(0, 1), nargs=3, metavar="V", default=list(scene.background),
+                   help="background color without sky (default %(default)s)")
     s.add_argument("--quality", choices=ifsforge.choices["quality"], default=scene.quality,
                    help="POV-Ray: draft (no shadows), normal, high (soft shadows, radiosity)")
     s.add_argument("--bounded-by", action="store_true",
                    help="POV-Ray: add bounded_by to the union (POV-Ray 3.7 then traces far slower)")
-    s.add_argument("--antialias", type=float, default=pov.antialias, help="POV-Ray's +A threshold (0: off)")
-    p.add_argument("--threads", type=common.int_option(0, 1024), default=d.threads, help="0: every core (the output never depends on it)")
+    s.add_argument("--antialias", type=common.float_option(0, 3), default=pov.antialias, help="POV-Ray's +A threshold (0: off)")
+    p.add_argument("--threads", type=common.THREADS, default=d.threads, help="0: every core (the output never depends on it)")
     p.set_defaults(run=run)
 
 
@@ -92,7 +94,7 @@ def run(args):
 
     start = time.perf_counter()
     instances = ifsforge.instances(
-        system, depth=args.depth, primitives=args.primitive, normalisation=args.normalisation,
+        system, depth=args.depth, primitives=args.primitive, normalisation=args.normalization,
         scale_factor=args.scale_factor, length=args.length, base_point=args.base_point,
         base_vector=args.base_vector, base_up=args.base_up, min_probability=args.min_probability,
         color_source=args.color_by, color=list(args.color) + [1.0] * (4 - len(args.color)),

@@ -11,12 +11,12 @@ def register(subparsers):
         "interpolate", help="fractal interpolation of data points: the IFS (JSON) or samples (CSV)",
         description="Build the maps of Eq. 94 through the points (x_i, F_i) with vertical scaling "
         "factors a22 (|a22| < 1) and write the IFS or the function's exact values.")
-    p.add_argument("--x", type=float, nargs="+", required=True, help="increasing x_0 < x_1 < ... < x_N (N >= 2)")
-    p.add_argument("--values", type=float, nargs="+", required=True, help="F_0 ... F_N")
-    p.add_argument("--a22", type=float, nargs="+", required=True, help="one factor per map (N), or one for all")
+    p.add_argument("--x", type=common.NUMBER, nargs="+", required=True, help="increasing x_0 < x_1 < ... < x_N (N >= 2)")
+    p.add_argument("--values", type=common.NUMBER, nargs="+", required=True, help="F_0 ... F_N")
+    p.add_argument("--a22", type=common.float_option(-1, 1), nargs="+", required=True, help="one factor per map (N), or one for all")
     p.add_argument("-o", "--output", action="append", required=True,
                    help=".json (the IFS, layout xy) or .csv (x, f(x) at --samples points)")
-    p.add_argument("--samples", type=int, default=1025, help="CSV rows (equally spaced from x_0 to x_N)")
+    p.add_argument("--samples", type=common.int_option(2, 10**8), default=1025, help="CSV rows (equally spaced from x_0 to x_N)")
     p.add_argument("--name", default="fractal interpolation")
     p.set_defaults(run=run)
 

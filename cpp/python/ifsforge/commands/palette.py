@@ -11,26 +11,26 @@ OUTPUTS = (".png", ".inc")
 def register(subparsers):
     p = subparsers.add_parser(
         "palette", help="a fractal palette: PNG strip/texture, POV-Ray color_map, or applied to an image",
-        description="Interpolate colour stops component by component with fractal interpolation "
+        description="Interpolate color stops component by component with fractal interpolation "
         "(Eq. 94); the a22 factors are the roughness. From a recipe (ifsforge-palette/1 JSON) or "
         "from the options.")
     p.add_argument("recipe", nargs="?", help="a palette recipe (JSON); without it give --stops")
     p.add_argument("-o", "--output", action="append", default=[],
                    help="file to write, by extension: .png (the palette, entries wide, --rows high), "
                    ".inc (a POV-Ray #declare of a color_map); repeat for several")
-    p.add_argument("--space", choices=ifsforge.choices["space"], help="colour space of the stops (default rgb)")
+    p.add_argument("--space", choices=ifsforge.choices["space"], help="color space of the stops (default rgb)")
     p.add_argument("--stops", nargs="+", metavar="A,B,C",
-                   help="colour stops, three comma-separated components each (hls/hsi: hue in degrees)")
-    p.add_argument("--positions", type=float, nargs="+", help="stop positions from 0 to 1 (default even)")
-    p.add_argument("--roughness", type=float, nargs=3, metavar=("R1", "R2", "R3"),
+                   help="color stops, three comma-separated components each (hls/hsi: hue in degrees)")
+    p.add_argument("--positions", type=common.float_option(0, 1), nargs="+", help="stop positions from 0 to 1 (default even)")
+    p.add_argument("--roughness", type=common.float_option(-1, 1), nargs=3, metavar=("R1", "R2", "R3"),
                    help="|a22| of each component (overrides the recipe's)")
     p.add_argument("--signs", choices=ifsforge.choices["signs"], default="random")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random signs")
-    p.add_argument("--entries", type=int, help="palette entries (default the recipe's, or 256)")
-    p.add_argument("--rows", type=int, default=1, help="PNG rows: 1 for a strip, more for an N x M texture")
+    p.add_argument("--seed", type=common.SEED, default=0, help="seed of the random signs")
+    p.add_argument("--entries", type=common.int_option(2, 65536), help="palette entries (default the recipe's, or 256)")
+    p.add_argument("--rows", type=common.count_option(4096), default=1, help="PNG rows: 1 for a strip, more for an N x M texture")
     p.add_argument("--bits", type=int, choices=[8, 16], default=8)
     p.add_argument("--apply", nargs=2, metavar=("GRAY.png", "OUT.png"),
-                   help="colour a gray image (a height field) through the palette")
+                   help="color a gray image (a height field) through the palette")
     p.add_argument("--name", help="name of the POV-Ray color_map, declared as IFS_Palette_<name> "
                    "(default: the recipe's name)")
     p.set_defaults(run=run)
@@ -88,6 +88,6 @@ def run(args):
             print(f"{path}: POV-Ray color_map {identifier} ({min(entries, 256)} entries)")
     if args.apply:
         source, target = args.apply
-        coloured = ifsforge.apply_palette(ifsforge.read_png(source), palette)
-        ifsforge.write_png(target, coloured, args.bits)
-        print(f"{target}: {source} coloured by the palette")
+        colored = ifsforge.apply_palette(ifsforge.read_png(source), palette)
+        ifsforge.write_png(target, colored, args.bits)
+        print(f"{target}: {source} colored by the palette")

@@ -18,18 +18,18 @@ def register(subparsers):
     p.add_argument("--size", default=None, help=f"N or WxH pixels (default {o.width})")
     p.add_argument("--iterations", type=common.int_option(0, 10**12), default=o.iterations, help="points for random iteration (0: Eq. 44/45)")
     p.add_argument("--depth", type=common.int_option(0, 64), default=o.depth, help="recursion depth (0: automatic, Eq. 59)")
-    p.add_argument("--seed", type=int, default=o.seed)
-    p.add_argument("--threads", type=common.int_option(0, 1024), default=o.threads, help="0: every core (the image never depends on it)")
+    p.add_argument("--seed", type=common.SEED, default=o.seed)
+    p.add_argument("--threads", type=common.THREADS, default=o.threads, help="0: every core (the image never depends on it)")
     p.add_argument("--mode", default=tone.mode, choices=["auto", "binary", "density", "color", "shaded"],
-                   help="binary coverage, log density, the colour channels, or a lit z-buffer (3D); "
-                   "auto: shaded for 3D, color when the layout has colour, else density")
+                   help="binary coverage, log density, the color channels, or a lit z-buffer (3D); "
+                   "auto: shaded for 3D, color when the layout has color, else density")
     p.add_argument("--gamma", type=common.float_option(0, 100, low_open=True), default=tone.gamma)
     p.add_argument("--invert", action="store_true", help="dark attractor on white")
     p.add_argument("--bits", type=int, default=8, choices=[8, 16])
     p.add_argument("--points-per-pixel", type=common.float_option(0, 1e6, low_open=True), default=o.points_per_pixel, help="PEPP of Eq. 44")
-    p.add_argument("--window", type=float, nargs=4, metavar=("XMIN", "YMIN", "XMAX", "YMAX"))
-    p.add_argument("--view", type=float, nargs=2, metavar=("YAW", "PITCH"), help="3D systems: degrees")
-    p.add_argument("--reference", help="color-stealing: the picture colours come from")
+    p.add_argument("--window", type=common.NUMBER, nargs=4, metavar=("XMIN", "YMIN", "XMAX", "YMAX"))
+    p.add_argument("--view", type=common.NUMBER, nargs=2, metavar=("YAW", "PITCH"), help="3D systems: degrees")
+    p.add_argument("--reference", help="color-stealing: the picture colors come from")
     p.add_argument("--reference-system", help="color-stealing: the system that walks the picture")
     p.add_argument("--param", action="append", default=[], metavar="KEY=VALUE",
                    help="an algorithm setting, repeatable (`ifsforge algorithms` lists them)")

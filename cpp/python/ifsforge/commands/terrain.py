@@ -24,29 +24,29 @@ def register(subparsers):
                    ".pov (POV-Ray scene; a height_field also writes <name>_height.png); repeat for several")
     g = p.add_argument_group("controls (without a recipe)")
     g.add_argument("--grid", choices=ifsforge.choices["grid"], help=f"default {t.grid}")
-    g.add_argument("--controls", type=int, nargs=2, metavar=("ROWS", "COLUMNS"),
+    g.add_argument("--controls", type=common.int_option(2, 4097), nargs=2, metavar=("ROWS", "COLUMNS"),
                    help="control lattice (default 9 9; circular: 6 circles of 12)")
-    g.add_argument("--amplitude", type=float, default=t.amplitude, help=f"random heights: {t.base} +- amplitude")
+    g.add_argument("--amplitude", type=common.float_option(0, 1e6), default=t.amplitude, help=f"random heights: {t.base} +- amplitude")
     g.add_argument("--heights-from", metavar="MAP.png", help="sample the control heights from a height map (an insert)")
-    g.add_argument("--window", type=float, nargs=4, metavar=("X0", "Y0", "X1", "Y1"), default=list(t.window),
+    g.add_argument("--window", type=common.NUMBER, nargs=4, metavar=("X0", "Y0", "X1", "Y1"), default=list(t.window),
                    help="the part of the map the terrain covers, in [0, 1] image coordinates")
-    g.add_argument("--low", type=float, default=t.low, help="height of map value 0")
-    g.add_argument("--high", type=float, default=t.high, help="height of map value 1")
-    g.add_argument("--radii", type=float, nargs="+", help="circular: leading circle radii, from 0 (default to 2)")
-    g.add_argument("--shift", type=float, help="irregular/circular: random displacement amplitude (< 0.5 spacing)")
-    g.add_argument("--size", type=float, nargs=2, metavar=("X", "Y"),
+    g.add_argument("--low", type=common.NUMBER, default=t.low, help="height of map value 0")
+    g.add_argument("--high", type=common.NUMBER, default=t.high, help="height of map value 1")
+    g.add_argument("--radii", type=common.float_option(0, 1e6), nargs="+", help="circular: leading circle radii, from 0 (default to 2)")
+    g.add_argument("--shift", type=common.float_option(0, 0.5), help="irregular/circular: random displacement amplitude (< 0.5 spacing)")
+    g.add_argument("--size", type=common.float_option(0, 1e9, low_open=True), nargs=2, metavar=("X", "Y"),
                    help="horizontal extent (default 4 4, for heights around 0..1)")
     r = p.add_argument_group("roughness (overrides the recipe's)")
-    r.add_argument("--roughness", type=float, nargs="+", metavar="A22",
+    r.add_argument("--roughness", type=common.float_option(-1, 1), nargs="+", metavar="A22",
                    help="|a22| along the leading vectors, then across them (one value: both)")
     r.add_argument("--signs", choices=ifsforge.choices["signs"], default=t.signs,
                    help="signs of the a22 factors (default random)")
-    r.add_argument("--seed", type=int, default=0, help="seed of random controls, shifts and signs")
+    r.add_argument("--seed", type=common.SEED, default=0, help="seed of random controls, shifts and signs")
     o = p.add_argument_group("output")
     o.add_argument("--res", help="samples: N or WxH along x/y (circular: the height image's side; "
                    "default the recipe's or 1025)")
     o.add_argument("--palette", metavar="PALETTE.json", help="palette recipe (default: the recipe's)")
-    o.add_argument("--preview", metavar="IMAGE.png", help="also write the height image coloured by the palette")
+    o.add_argument("--preview", metavar="IMAGE.png", help="also write the height image colored by the palette")
     o.add_argument("--solid", action="store_true", help="meshes: close with walls and a floor (watertight)")
     common.add_up_argument(o)
     o.add_argument("--pov-shape", choices=["height_field", "mesh2"], default=pov.shape)
@@ -54,7 +54,7 @@ def register(subparsers):
     o.add_argument("--pov-flat", action="store_true", help="POV-Ray: no lights, the palette unshaded")
     o.add_argument("--povray-render", metavar="IMAGE.png", help="render the .pov output with POV-Ray")
     o.add_argument("--povray-size", default=f"{render.width}x{render.height}", help="WxH of the POV-Ray render")
-    o.add_argument("--threads", type=common.int_option(0, 1024), default=0, help="0: every core (the result never depends on it)")
+    o.add_argument("--threads", type=common.THREADS, default=0, help="0: every core (the result never depends on it)")
     p.set_defaults(run=run)
 
 
@@ -155,7 +155,7 @@ def run(args):
         elif ext in MESHES:
             ifsforge.write_terrain_mesh(path, terrain, palette=palette, solid=args.solid, up=args.up,
                                         threads=args.threads)
-            textured = " with the palette as base-colour texture" if ext == ".glb" and palette else ""
+            textured = " with the palette as base-color texture" if ext == ".glb" and palette else ""
             print(f"{path}: {'solid ' if args.solid else ''}mesh{textured}")
         else:
             w, h = common.parse_size(args.povray_size)
@@ -166,9 +166,9 @@ def run(args):
             print(f"{path}: POV-Ray {args.pov_shape} scene" + (f" (+ {written[1]})" if len(written) > 1 else ""))
     if args.preview:
         image = image if image is not None else terrain.height_image(width, height, args.threads)
-        coloured = ifsforge.apply_palette(image, palette, args.threads) if palette else image
-        ifsforge.write_png(args.preview, coloured, 8)
-        print(f"{args.preview}: height image coloured by the palette" if palette else
+        colored = ifsforge.apply_palette(image, palette, args.threads) if palette else image
+        ifsforge.write_png(args.preview, colored, 8)
+        print(f"{args.preview}: height image colored by the palette" if palette else
               f"{args.preview}: height image (no palette)")
     if args.povray_render:
         w, h = common.parse_size(args.povray_size)

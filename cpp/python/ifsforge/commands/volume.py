@@ -24,9 +24,9 @@ def register(subparsers):
     p.add_argument("--mesh", help="also write the iso-surface as .ply, .obj or .glb")
     p.add_argument("--df3", help="also write the density as a POV-Ray density file (.df3, for media)")
     p.add_argument("--df3-bits", type=int, default=8, choices=[8, 16, 32], help="bits per .df3 voxel (default 8)")
-    p.add_argument("--res", type=int, default=o.resolution,
+    p.add_argument("--res", type=common.count_option(16384), default=o.resolution,
                    help="voxels along the longest side of the grid (default %(default)s)")
-    p.add_argument("--bounds", type=float, nargs=6, metavar=("XMIN", "YMIN", "ZMIN", "XMAX", "YMAX", "ZMAX"),
+    p.add_argument("--bounds", type=common.NUMBER, nargs=6, metavar=("XMIN", "YMIN", "ZMIN", "XMAX", "YMAX", "ZMAX"),
                    help="the grid's world box (default: around the attractor, its box corners on voxel centres)")
     p.add_argument("--algorithm", "-a", default="prr",
                    help="prr (point recursive, default), ria (random iteration), dia (deterministic "
@@ -36,18 +36,18 @@ def register(subparsers):
     p.add_argument("--depth", type=common.int_option(0, 64), default=o.depth,
                    help="prr: recursion depth; dia: rewriting levels (0: until occupancy stops changing)")
     p.add_argument("--iterations", type=common.int_option(0, 10**12), default=o.iterations, help="ria: points (0: until occupancy stops changing)")
-    p.add_argument("--escape-bound", type=int, default=o.escape_bound, help="eta: steps a voxel must survive (0: from --res)")
+    p.add_argument("--escape-bound", type=common.int_option(0, 10**6), default=o.escape_bound, help="eta: steps a voxel must survive (0: from --res)")
     p.add_argument("--escape-norm", default=o.escape_norm, choices=ifsforge.choices["escape_norm"], help="eta: Eq. 55 delta")
     p.add_argument("--escape-max", action="store_true", help="eta: try the largest delta first (Eq. 56)")
-    p.add_argument("--seed", type=int, default=o.seed, help="ria: random seed")
-    p.add_argument("--threads", type=common.int_option(0, 1024), default=o.threads, help="0: every core (the volume never depends on it)")
+    p.add_argument("--seed", type=common.SEED, default=o.seed, help="ria: random seed")
+    p.add_argument("--threads", type=common.THREADS, default=o.threads, help="0: every core (the volume never depends on it)")
     p.add_argument("--color-scale", default=vdb.color_scale, choices=ifsforge.choices["color_scale"],
                    help="channels to [0, 1]: auto keeps values already in [0, 1], else range (Eq. 101)")
     p.add_argument("--full-precision", action="store_true",
-                   help="store colour grids as 32-bit floats (default: 16-bit halves, error <= 2^-11)")
+                   help="store color grids as 32-bit floats (default: 16-bit halves, error <= 2^-11)")
     p.add_argument("--compress", action="store_true", help="Blosc-compress the .vdb (about a third smaller, slower)")
-    p.add_argument("--iso", type=float, default=iso.iso, help="mesh: iso level of the occupancy (default %(default)s)")
-    p.add_argument("--adaptivity", type=float, default=iso.adaptivity, help="mesh: 0 (every voxel) .. 1 (merge flat areas)")
+    p.add_argument("--iso", type=common.float_option(0, 1, low_open=True), default=iso.iso, help="mesh: iso level of the occupancy (default %(default)s)")
+    p.add_argument("--adaptivity", type=common.float_option(0, 1), default=iso.adaptivity, help="mesh: 0 (every voxel) .. 1 (merge flat areas)")
     common.add_up_argument(p)
     distributed.add_cluster_arguments(p)
     p.set_defaults(run=run)

@@ -1,7 +1,7 @@
 """ifsforge warp: a picture carried from one attractor onto another by fractal tops (seed 3.3.5).
 
 The picture is laid on F's frame (its render.window, else its attractor's); every pixel of G's
-attractor takes the colour at phi_F(tau_G(pixel)), the fractal homeomorphism between attractors
+attractor takes the color at phi_F(tau_G(pixel)), the fractal homeomorphism between attractors
 with the same code space (Fig. 3.16). With --frames K, G moves from F to G (continuity theorem:
 the morph's parameters interpolated) and DIR/frame_0000.png ... are written (Fig. 3.15).
 """
@@ -19,8 +19,8 @@ def register(subparsers):
     p.add_argument("--to", dest="target", required=True, help="system G, with as many maps as F")
     p.add_argument("-o", "--output", required=True, help="OUT.png, or a folder with --frames")
     p.add_argument("--size", default="512", help="N or WxH pixels of the output (default 512)")
-    p.add_argument("--frames", type=int, default=0, help="K frames of F moving to G into the folder -o")
-    p.add_argument("--seed", type=int, default=ifsforge.TopsOptions().seed)
+    p.add_argument("--frames", type=common.int_option(0, 100000), default=0, help="K frames of F moving to G into the folder -o")
+    p.add_argument("--seed", type=common.SEED, default=ifsforge.TopsOptions().seed)
     p.set_defaults(run=run)
 
 
