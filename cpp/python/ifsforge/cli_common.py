@@ -4,6 +4,8 @@ import contextlib
 import json
 import math
 import os
+import shutil
+import tempfile
 
 import ifsforge
 
@@ -168,6 +170,28 @@ def all_or_none(targets):
         _remove(staged.values())
         raise
 
+
+
+@contextlib.contextmanager
+def scene_folder(scene):
+    """Yields where to write the POV-Ray scene `scene`: its own name in a private folder beside
+    it, where the files the scene reads by name (ifsforge.inc, height images, .df3) are written
+    too and POV-Ray renders it. When the block succeeds every file of the folder moves beside
+    `scene` (replacing its namesake); when it fails or is interrupted the folder goes with all of
+    them, so a failed render leaves none. None yields None."""
+    if scene is None:
+        yield None
+        return
+    target = os.path.dirname(os.path.abspath(scene))
+    folder = tempfile.mkdtemp(prefix=".ifsforge-scene-", dir=target)
+    try:
+        yield os.path.join(folder, os.path.basename(scene))
+        for name in sorted(os.listdir(folder), key=lambda n: n == os.path.basename(scene)):  # the scene last
+            os.replace(os.path.join(folder, name), os.path.join(target, name))
+    except (ifsforge.Error, OSError) as error:
+        raise type(error)(str(error).replace(folder, target)) from None  # the user's folder, not the private one
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
 
 def _remove(paths):
     for path in paths:

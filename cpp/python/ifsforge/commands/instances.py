@@ -103,17 +103,18 @@ def run(args):
     print(f"{system.name}: {len(instances)} instances of {names}, depth {instances.addresses.depth}, "
           f"{time.perf_counter() - start:.2f} s")
 
-    # Several files: all of them or none (a failure or Ctrl-C on the last keeps no other).
-    with common.all_or_none(outputs) as staged:
+    # Several files: all of them or none (a failure or Ctrl-C on the last keeps no other), and
+    # the scene with ifsforge.inc beside it, rendered where it is written.
+    with common.all_or_none([f for f in outputs if f != args.pov]) as staged, common.scene_folder(args.pov) as scene:
         if args.pov:
             ifsforge.write_pov_scene(
-                staged[args.pov], instances, width=width, height=height, view=view, orthographic=args.orthographic,
+                scene, instances, width=width, height=height, view=view, orthographic=args.orthographic,
                 fov=args.fov, floor=args.floor, sky=args.sky, background=args.background, quality=args.quality,
                 bounded_by=args.bounded_by, threads=args.threads, progress=ProgressBar("POV-Ray scene"))
             print(f"{args.pov}: POV-Ray 3.7 scene framed for {width}x{height} (+ ifsforge.inc)")
         if args.render:
             start = time.perf_counter()
-            ifsforge.render_povray(staged[args.pov], staged[args.render], width, height, antialias=args.antialias)
+            ifsforge.render_povray(scene, staged[args.render], width, height, antialias=args.antialias)
             print(f"{args.render}: rendered by POV-Ray in {time.perf_counter() - start:.1f} s")
         if args.svg:
             ifsforge.write_svg(staged[args.svg], instances, width=width,

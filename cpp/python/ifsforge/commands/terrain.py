@@ -1,4 +1,5 @@
 """ifsforge terrain: a 2.5D IFS terrain (seed 6.1.3.4) as a height PNG, a mesh or a POV-Ray scene."""
+import contextlib
 import math
 import os
 
@@ -145,32 +146,37 @@ def run(args):
     image = None
     if grid == "regular":
         width, height = terrain.columns, terrain.rows
-    for path in args.output:
-        ext = os.path.splitext(path)[1].lower()
-        if ext == ".png":
+    # Every output or none: a failed write or POV-Ray render leaves no file of this command
+    # (a scene's height image included).
+    others = [p for p in args.output if p not in scenes] + list(filter(None, [args.preview, args.povray_render]))
+    with common.all_or_none(others) as staged, contextlib.ExitStack() as stack:
+        into = {**staged, **{p: stack.enter_context(common.scene_folder(p)) for p in scenes}}
+        for path in args.output:
+            ext = os.path.splitext(path)[1].lower()
+            if ext == ".png":
+                image = image if image is not None else terrain.height_image(width, height, args.threads)
+                ifsforge.write_png(into[path], image, 16)
+                print(f"{path}: 16-bit height field {width}x{height} "
+                      f"(0 = {terrain.min_height:.6g}, 65535 = {terrain.max_height:.6g})")
+            elif ext in MESHES:
+                ifsforge.write_terrain_mesh(into[path], terrain, palette=palette, solid=args.solid, up=args.up,
+                                            threads=args.threads)
+                textured = " with the palette as base-color texture" if ext == ".glb" and palette else ""
+                print(f"{path}: {'solid ' if args.solid else ''}mesh{textured}")
+            else:
+                w, h = common.parse_size(args.povray_size)
+                written = ifsforge.write_terrain_pov(into[path], terrain, palette, shape=args.pov_shape,
+                                                     camera=args.pov_camera, flat=args.pov_flat, aspect=w / h,
+                                                     threads=args.threads, title=f"ifsforge terrain: {name}",
+                                                     palette_name=palette_name)
+                print(f"{path}: POV-Ray {args.pov_shape} scene" + (f" (+ {os.path.basename(written[1])})" if len(written) > 1 else ""))
+        if args.preview:
             image = image if image is not None else terrain.height_image(width, height, args.threads)
-            ifsforge.write_png(path, image, 16)
-            print(f"{path}: 16-bit height field {width}x{height} "
-                  f"(0 = {terrain.min_height:.6g}, 65535 = {terrain.max_height:.6g})")
-        elif ext in MESHES:
-            ifsforge.write_terrain_mesh(path, terrain, palette=palette, solid=args.solid, up=args.up,
-                                        threads=args.threads)
-            textured = " with the palette as base-color texture" if ext == ".glb" and palette else ""
-            print(f"{path}: {'solid ' if args.solid else ''}mesh{textured}")
-        else:
+            colored = ifsforge.apply_palette(image, palette, args.threads) if palette else image
+            ifsforge.write_png(into[args.preview], colored, 8)
+            print(f"{args.preview}: height image colored by the palette" if palette else
+                  f"{args.preview}: height image (no palette)")
+        if args.povray_render:
             w, h = common.parse_size(args.povray_size)
-            written = ifsforge.write_terrain_pov(path, terrain, palette, shape=args.pov_shape,
-                                                 camera=args.pov_camera, flat=args.pov_flat, aspect=w / h,
-                                                 threads=args.threads, title=f"ifsforge terrain: {name}",
-                                                 palette_name=palette_name)
-            print(f"{path}: POV-Ray {args.pov_shape} scene" + (f" (+ {written[1]})" if len(written) > 1 else ""))
-    if args.preview:
-        image = image if image is not None else terrain.height_image(width, height, args.threads)
-        colored = ifsforge.apply_palette(image, palette, args.threads) if palette else image
-        ifsforge.write_png(args.preview, colored, 8)
-        print(f"{args.preview}: height image colored by the palette" if palette else
-              f"{args.preview}: height image (no palette)")
-    if args.povray_render:
-        w, h = common.parse_size(args.povray_size)
-        ifsforge.render_povray(scenes[0], args.povray_render, w, h)
-        print(f"{args.povray_render}: POV-Ray render {w}x{h} of {scenes[0]}")
+            ifsforge.render_povray(into[scenes[0]], into[args.povray_render], w, h)
+            print(f"{args.povray_render}: POV-Ray render {w}x{h} of {scenes[0]}")
