@@ -280,13 +280,15 @@ void bind_io(py::module_& m) {
         "materials hold the display colours as linear baseColorFactor; up: 'y' (None: glTF's) or 'z'.");
 
   m.def("write_df3",
-        [](const std::string& path, const Volume& volume, int bits) {
+        [](const std::string& path, const Volume& volume, int bits, const std::string& content) {
+          const Df3Content what = parse_name<Df3Content>(content);
           py::gil_scoped_release release;
-          write_df3(path, volume, bits);
+          write_df3(path, volume, bits, what);
         },
-        py::arg("path"), py::arg("volume"), py::arg("bits") = 8,
-        "Write the volume's density as a POV-Ray .df3 (atomically): big-endian uint16 sizes x, y, z, then "
-        "8/16/32-bit big-endian voxels, x fastest, density / max density scaled to the full range.");
+        py::arg("path"), py::arg("volume"), py::arg("bits") = 8, py::arg("content") = "density",
+        "Write one grid of the volume as a POV-Ray .df3 (atomically): big-endian uint16 sizes x, y, z, then "
+        "8/16/32-bit big-endian voxels, x fastest, scaled to the full range. content: 'density' (density / max "
+        "density) or 'red', 'green', 'blue' (a channel of the linear colour, srgb_to_linear of the display one).");
 }
 
 }  // namespace ifsforge::python

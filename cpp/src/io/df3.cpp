@@ -5,12 +5,13 @@
 #include <cstdint>
 #include <vector>
 
+#include "ifsforge/core/color.h"
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/atomic_file.h"
 
 namespace ifsforge {
 
-void write_df3(const std::string& path, const Volume& volume, int bits) {
+void write_df3(const std::string& path, const Volume& volume, int bits, Df3Content content) {
   if (bits != 8 && bits != 16 && bits != 32)
     throw InputError("df3 '" + path + "': bits is 8, 16 or 32 (not " + std::to_string(bits) + ")");
   const auto& dims = volume.grid.dims;
@@ -24,12 +25,25 @@ void write_df3(const std::string& path, const Volume& volume, int bits) {
     data[2 * a] = static_cast<unsigned char>(dims[a] >> 8);
     data[2 * a + 1] = static_cast<unsigned char>(dims[a] & 0xFF);
   }
+  // The level of each voxel in [0, 1]: density over the largest, or a linear colour channel.
+  std::vector<float> color;
+  int channel = 0;
   float top = 0.0f;
-  for (float d : volume.density) top = std::max(top, d);
+  if (content == Df3Content::Density) {
+    for (float d : volume.density) top = std::max(top, d);
+  } else {
+    for (VolumeAttribute& a : volume_attributes(volume))
+      if (a.name == "color") color = std::move(a.values);
+    if (color.empty())
+      throw InputError("df3 '" + path + "': the volume has no colour (its layout has no colour channels)");
+    channel = content == Df3Content::Red ? 0 : content == Df3Content::Green ? 1 : 2;
+    top = 1.0f;
+  }
   const double full = bits == 32 ? 4294967295.0 : double((std::uint64_t(1) << bits) - 1);
   for (std::size_t v = 0; v < volume.size(); ++v) {
     const auto c = VoxelGrid::coord(volume.keys[v]);
-    const double level = top > 0 ? std::clamp(double(volume.density[v]) / top, 0.0, 1.0) : 0.0;
+    const double raw = color.empty() ? double(volume.density[v]) : srgb_to_linear(double(color[v * 3 + channel]));
+    const double level = top > 0 ? std::clamp(raw / top, 0.0, 1.0) : 0.0;
     std::uint64_t value = static_cast<std::uint64_t>(std::llround(level * full));
     const std::size_t cell = (std::size_t(c[2]) * ny + std::size_t(c[1])) * nx + std::size_t(c[0]);  // x fastest
     unsigned char* out = data.data() + 6 + cell * bytes;

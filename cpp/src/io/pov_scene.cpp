@@ -92,7 +92,7 @@ std::string pov_preamble(const std::string& title, const std::string& extra_comm
     s += "IFS_Sky()\n";
   } else {
     const auto& b = environment.background;
-    s += "background { rgb " + vector_text({b[0], b[1], b[2]}) + " }\n";
+    s += "background { srgb " + vector_text({b[0], b[1], b[2]}) + " }\n";  // display colour, as every colour given
   }
   if (environment.floor) s += "IFS_Floor(" + number_text(framing.floor_height) + ", " + number_text(0.25 * framing.radius) + ")\n";
   return s;

@@ -4,11 +4,11 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <vector>
@@ -29,6 +29,46 @@ std::string absolute(const std::string& path) {
   char cwd[4096];
   if (!getcwd(cwd, sizeof cwd)) throw FileError(std::string("cannot resolve '") + path + "': " + std::strerror(errno));
   return std::string(cwd) + "/" + path;
+}
+
+/// A new empty file of a random name `prefix` XXXXXX `suffix` in `folder` (O_EXCL, so never
+/// one planted there); returns its name within the folder.
+std::string new_file(const std::string& folder, const std::string& prefix, const std::string& suffix) {
+  std::string path = folder + "/" + prefix + "XXXXXX" + suffix;
+  const int fd = mkstemps(path.data(), static_cast<int>(suffix.size()));
+  if (fd < 0) throw FileError("cannot create a file in '" + folder + "': " + std::strerror(errno));
+  close(fd);
+  return path.substr(folder.size() + 1);
+}
+
+/// The scene under a name of letters and digits beside it: a symbolic link to it, or a copy
+/// where the file system has no links.
+void alias_scene(const std::string& folder, const std::string& scene, const std::string& alias) {
+  const std::string path = folder + "/" + alias;
+  std::remove(path.c_str());  // made by new_file: symlink() will not replace it, nor anything planted since
+  if (symlink(file_name_of(scene).c_str(), path.c_str()) == 0) return;
+  std::FILE* in = std::fopen(scene.c_str(), "rb");
+  if (!in) throw FileError("cannot read scene '" + scene + "': " + std::strerror(errno));
+  const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW, 0600);
+  std::FILE* out = fd < 0 ? nullptr : fdopen(fd, "wb");
+  bool ok = out != nullptr;
+  char buffer[1 << 16];
+  std::size_t got;
+  while (ok && (got = std::fread(buffer, 1, sizeof buffer, in)) > 0) ok = std::fwrite(buffer, 1, got, out) == got;
+  ok = ok && !std::ferror(in);
+  std::fclose(in);
+  if (out) ok = std::fclose(out) == 0 && ok;
+  else if (fd >= 0) close(fd);
+  if (!ok) {
+    std::remove(path.c_str());
+    throw FileError("cannot copy scene '" + scene + "' for POV-Ray into '" + folder + "'");
+  }
+}
+
+/// Every occurrence of `from` in `text` replaced by `to`.
+std::string replace_all(std::string text, const std::string& from, const std::string& to) {
+  for (std::size_t at = 0; (at = text.find(from, at)) != std::string::npos; at += to.size()) text.replace(at, from.size(), to);
+  return text;
 }
 
 /// The last `lines` non-empty lines of POV-Ray's output, for error messages.
@@ -59,15 +99,29 @@ void render_povray(const std::string& scene, const std::string& image, const Pov
   check_writable(image);
   const std::string folder = absolute(folder_of(scene));
   const std::string target = absolute(image);
-  static std::atomic<int> counter{0};
-  const std::string temporary_name =
-      ".ifsforge-render-" + std::to_string(getpid()) + "-" + std::to_string(counter++) + ".png";
-  const std::string temporary = folder + "/" + temporary_name;
   if (access(folder.c_str(), W_OK) != 0)
     throw FileError("cannot render '" + scene + "': POV-Ray writes its image in the scene's folder '" + folder +
                     "', which is not writable");
+  // POV-Ray splits its command line at spaces and reads words starting with + or - as options,
+  // whatever the argument list: scene and image reach it by random names of letters and digits.
+  const std::string temporary_name = new_file(folder, ".ifsforge-render-", ".png");
+  const std::string temporary = folder + "/" + temporary_name;
+  std::string alias_name;
+  try {
+    alias_name = new_file(folder, ".ifsforge-scene-", ".pov");
+    alias_scene(folder, scene, alias_name);
+  } catch (...) {
+    std::remove(temporary.c_str());
+    if (!alias_name.empty()) std::remove((folder + "/" + alias_name).c_str());
+    throw;
+  }
+  const std::string alias = folder + "/" + alias_name;
+  struct Cleanup {
+    std::string path;
+    ~Cleanup() { std::remove(path.c_str()); }
+  } remove_alias{alias};
 
-  std::vector<std::string> args = {"povray", "+I" + file_name_of(scene), "+O" + temporary_name,
+  std::vector<std::string> args = {"povray", "+I" + alias_name, "+O" + temporary_name,
                                    "+W" + std::to_string(options.width), "+H" + std::to_string(options.height),
                                    "-D", "+FN", "-P", "-V"};
   if (options.antialias > 0.0) {
@@ -83,9 +137,17 @@ void render_povray(const std::string& scene, const std::string& image, const Pov
   argv.push_back(nullptr);
 
   int pipe_fds[2];
-  if (pipe(pipe_fds) != 0) throw FileError(std::string("cannot start povray: ") + std::strerror(errno));
+  if (pipe(pipe_fds) != 0) {
+    std::remove(temporary.c_str());
+    throw FileError(std::string("cannot start povray: ") + std::strerror(errno));
+  }
   const pid_t pid = fork();
-  if (pid < 0) throw FileError(std::string("cannot start povray: ") + std::strerror(errno));
+  if (pid < 0) {
+    std::remove(temporary.c_str());
+    close(pipe_fds[0]);
+    close(pipe_fds[1]);
+    throw FileError(std::string("cannot start povray: ") + std::strerror(errno));
+  }
   if (pid == 0) {
     // Child: only async-signal-safe calls until exec.
     dup2(pipe_fds[1], 1);
@@ -136,12 +198,14 @@ void render_povray(const std::string& scene, const std::string& image, const Pov
     std::remove(temporary.c_str());
     throw Cancelled();
   }
-  const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && access(temporary.c_str(), R_OK) == 0;
+  struct stat written {};
+  const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && stat(temporary.c_str(), &written) == 0 &&
+                  written.st_size > 0;
   if (!ok) {
     std::remove(temporary.c_str());
     if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
       throw FileError("cannot run povray: it is not on PATH (Debian: apt-get install povray)");
-    throw FileError("POV-Ray failed to render '" + scene + "':" + tail(output, 8));
+    throw FileError("POV-Ray failed to render '" + scene + "':" + replace_all(tail(output, 8), alias_name, file_name_of(scene)));
   }
   if (std::rename(temporary.c_str(), target.c_str()) != 0) {
     // Another file system: copy through an atomic write, then drop the temporary.

@@ -17,9 +17,11 @@ struct PovRenderOptions {
 };
 
 /// @brief Renders `scene` with the real POV-Ray 3.7 (`povray` on PATH) into the PNG `image`,
-/// headless (+I +O +W +H -D +FN [+A]). POV-Ray runs in the scene's folder (its file-I/O
-/// restrictions allow the working directory) and renders to a temporary name there; the image
-/// appears atomically. FileError when povray is missing, or with POV-Ray's last messages when it
+/// headless (+I +O +W +H -D +FN [+A]), run from an argument list (no shell). POV-Ray runs in the
+/// scene's folder (its file-I/O restrictions allow the working directory); it reads the scene
+/// through a link of a random name of letters and digits beside it and renders to another such
+/// name (POV-Ray re-splits its options at spaces, so the user's names never reach it: any name
+/// is data); the image appears atomically and the link goes. FileError when povray is missing, or with POV-Ray's last messages when it
 /// fails; Cancelled when the progress callback says stop.
 void render_povray(const std::string& scene, const std::string& image, const PovRenderOptions& options = {});
 
