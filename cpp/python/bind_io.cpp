@@ -280,15 +280,16 @@ void bind_io(py::module_& m) {
         "materials hold the display colours as linear baseColorFactor; up: 'y' (None: glTF's) or 'z'.");
 
   m.def("write_df3",
-        [](const std::string& path, const Volume& volume, int bits, const std::string& content) {
+        [](const std::string& path, const Volume& volume, int bits, const std::string& content, bool border) {
           const Df3Content what = parse_name<Df3Content>(content);
           py::gil_scoped_release release;
-          write_df3(path, volume, bits, what);
+          write_df3(path, volume, bits, what, border);
         },
-        py::arg("path"), py::arg("volume"), py::arg("bits") = 8, py::arg("content") = "density",
+        py::arg("path"), py::arg("volume"), py::arg("bits") = 8, py::arg("content") = "density", py::arg("border") = false,
         "Write one grid of the volume as a POV-Ray .df3 (atomically): big-endian uint16 sizes x, y, z, then "
         "8/16/32-bit big-endian voxels, x fastest, scaled to the full range. content: 'density' (density / max "
-        "density) or 'red', 'green', 'blue' (a channel of the linear colour, srgb_to_linear of the display one).");
+        "density) or 'red', 'green', 'blue' (a channel of the linear colour, srgb_to_linear of the display one). border: one empty voxel around "
+        "the grid (POV-Ray's interpolation wraps round at the unit cube's faces).");
 }
 
 }  // namespace ifsforge::python

@@ -1,6 +1,7 @@
 #include "ifsforge/io/df3.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -11,12 +12,13 @@
 
 namespace ifsforge {
 
-void write_df3(const std::string& path, const Volume& volume, int bits, Df3Content content) {
+void write_df3(const std::string& path, const Volume& volume, int bits, Df3Content content, bool border) {
   if (bits != 8 && bits != 16 && bits != 32)
     throw InputError("df3 '" + path + "': bits is 8, 16 or 32 (not " + std::to_string(bits) + ")");
-  const auto& dims = volume.grid.dims;
+  const int pad = border ? 1 : 0;
+  const std::array<int, 3> dims{volume.grid.dims[0] + 2 * pad, volume.grid.dims[1] + 2 * pad, volume.grid.dims[2] + 2 * pad};
   for (int a = 0; a < 3; ++a)
-    if (dims[a] < 1 || dims[a] > 65535)
+    if (dims[a] - 2 * pad < 1 || dims[a] > 65535)
       throw InputError("df3 '" + path + "': " + std::to_string(dims[a]) + " voxels along an axis (1 to 65535)");
   const std::size_t bytes = std::size_t(bits / 8);
   const std::size_t nx = dims[0], ny = dims[1], nz = dims[2];
@@ -45,7 +47,7 @@ void write_df3(const std::string& path, const Volume& volume, int bits, Df3Conte
     const double raw = color.empty() ? double(volume.density[v]) : srgb_to_linear(double(color[v * 3 + channel]));
     const double level = top > 0 ? std::clamp(raw / top, 0.0, 1.0) : 0.0;
     std::uint64_t value = static_cast<std::uint64_t>(std::llround(level * full));
-    const std::size_t cell = (std::size_t(c[2]) * ny + std::size_t(c[1])) * nx + std::size_t(c[0]);  // x fastest
+    const std::size_t cell = (std::size_t(c[2] + pad) * ny + std::size_t(c[1] + pad)) * nx + std::size_t(c[0] + pad);  // x fastest
     unsigned char* out = data.data() + 6 + cell * bytes;
     for (std::size_t b = bytes; b-- > 0; value >>= 8) out[b] = static_cast<unsigned char>(value & 0xFF);
   }

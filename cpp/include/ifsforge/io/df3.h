@@ -24,7 +24,10 @@ struct EnumNames<Df3Content> {
 /// one. Red, green, blue: the channel of the voxel's display colour ("color" of
 /// volume_attributes) made linear (srgb_to_linear), in [0, 1]. InputError for other bits, a side
 /// longer than 65535 voxels or a colour asked of a volume without one; FileError when it cannot
-/// write.
-void write_df3(const std::string& path, const Volume& volume, int bits = 8, Df3Content content = Df3Content::Density);
+/// write. With `border`, one empty voxel surrounds the grid (each side 2 longer): POV-Ray's
+/// interpolation puts voxel i at i / n of the unit cube and wraps round from the last voxel to
+/// the first, so a bordered grid fades to nothing at its faces as a .vdb does in Blender.
+void write_df3(const std::string& path, const Volume& volume, int bits = 8, Df3Content content = Df3Content::Density,
+               bool border = false);
 
 }  // namespace ifsforge
