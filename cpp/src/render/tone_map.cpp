@@ -49,7 +49,7 @@ Image density_image(const Raster& raster, const ToneOptions& options, bool binar
     }
   const double mean = covered ? sum / covered : 1.0;
   const double top = std::log1p(peak / mean);
-  // A log and a power per covered pixel: 8 ms of a 1024^2 fern on one core, in row bands on
+  // A log and a power per covered pixel, enough to show in a large render: in row bands on
   // every core (each pixel on its own: the bytes do not depend on the split).
   constexpr std::size_t kBand = 1 << 16;
   parallel_jobs((n + kBand - 1) / kBand, 0, [&](std::size_t band, int) {
