@@ -1,7 +1,7 @@
 #pragma once
 // PLY (binary) and OBJ written by ifsforge itself (src/io only): OpenMesh's writers copied the
-// mesh into its own kernel and formatted one number at a time (24 s for an OBJ of 3 M vertices)
-// and could not be stopped.
+// mesh into its own kernel and formatted one number at a time on one core, and could not be
+// stopped.
 #include <cstdio>
 #include <string>
 
