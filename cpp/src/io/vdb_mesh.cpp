@@ -1,5 +1,5 @@
 // The iso-surface of a volume. OpenVDB's volumeToMesh runs its stages as TBB loops that nothing
-// can stop (15 to 40 s at 400^3); here the same stages (VolumeToMesh::operator() for a grid
+// can stop (a large volume's mesh runs for many seconds); here the same stages (VolumeToMesh::operator() for a grid
 // without reference grid, surface mask or adaptivity grid) run job by job in parallel_jobs, which
 // hears a cancel between jobs of 64 leaves and gives the same mesh for any thread count.
 #include "ifsforge/io/vdb.h"
