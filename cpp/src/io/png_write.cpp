@@ -136,7 +136,7 @@ std::vector<unsigned char> deflate_strip(const LargeVector<unsigned char>& filte
     deflateSetDictionary(&z, filtered.data() + from, static_cast<uInt>(begin - from));
   }
   // Room for the worst case, left uninitialised: deflate writes only the first fifth or so of
-  // it, and only those pages are ever touched (zeroing it all faulted in 1 MB per 1024^2 image).
+  // it, and only those pages are ever touched (zeroing it all would fault in every page).
   const std::size_t room = deflateBound(&z, end - begin) + 16;
   const std::unique_ptr<unsigned char[]> out(new unsigned char[room]);
   z.next_in = const_cast<unsigned char*>(filtered.data() + begin);
