@@ -67,10 +67,10 @@ void release_pages(void* data, std::size_t bytes) noexcept {
 
 void populate_pages(void* data, std::size_t bytes, const ProgressCallback& poll) {
 #if defined(__linux__) && defined(MADV_POPULATE_WRITE)
-  // The kernel zeroes each fresh page on the thread that first writes it: a serial fill of
-  // 512 MB spent 1.7 s there. Faulted in ahead on every core, in 4 MB pieces (fixed, so the
-  // split does not depend on the thread count; it changes no byte anyway), from 8 MB: a 1024^3
-  // volume's 63 MB of densities, filled serially, cost its merge a fifth of its time.
+  // The kernel zeroes each fresh page on the thread that first writes it, so a serial fill of a
+  // large buffer pays for every page on one core. Faulted in ahead on every core, in 4 MB pieces
+  // (fixed, so the split does not depend on the thread count; it changes no byte anyway), from
+  // 8 MB: below that the threads cost more than the faults.
   constexpr std::uintptr_t kPage = 4096, kPiece = std::uintptr_t(4) << 20;
   if (bytes < 2 * kPiece) return;
   const auto begin = reinterpret_cast<std::uintptr_t>(data);
