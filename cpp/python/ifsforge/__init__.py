@@ -83,7 +83,7 @@ from ifsforge.errors import (  # noqa: F401
 __version__ = "0.1.0"
 
 # OpenVDB files and iso-surfaces live in their own extension, imported on first use: loading
-# libopenvdb takes ~60 ms, which every command that writes no .vdb would otherwise pay.
+# libopenvdb is slow, and every command that writes no .vdb would otherwise pay for it.
 _VDB_NAMES = ("IsoSurfaceOptions", "VdbWriteOptions", "VoxelTargetOptions", "read_vdb_info", "read_voxel_target",
               "render_volume_to_vdb", "volume_to_mesh", "write_vdb")
 
