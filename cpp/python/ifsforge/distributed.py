@@ -19,24 +19,23 @@ import os
 import ifsforge
 from ifsforge import _core
 
-#: Seconds to reach a scheduler before giving up (the CLI then fails within 10 s in all).
+#: Seconds to reach a scheduler before giving up (so an unreachable one fails promptly).
 CONNECT_TIMEOUT = 5.0
 #: Seconds a local cluster's worker processes may take to start and register.
 LOCAL_START_TIMEOUT = 60.0
 #: Tasks per worker thread a volume is cut into (load balance against per-task overhead).
 TASKS_PER_THREAD = 4
-#: Tasks per worker thread an image is cut into: each task of a chaos image fills and encodes
-#: counters for every pixel, ~90 ms at 4096^2 against ~12 ms for each of its 512 jobs (a
-#: tenth of a task of 4 per thread; with 2, the 2-worker speed-up went from 1.65x to 1.75x).
+#: Tasks per worker thread an image is cut into: fewer than for volumes, because each task of a
+#: chaos image fills and encodes counters for every pixel, a cost per task that several times
+#: its jobs' own work would not repay.
 IMAGE_TASKS_PER_THREAD = 2
-#: Tasks per worker thread an animation's frames are cut into: one task per frame cost the
-#: driver ~4 ms each, a fifth of a 512^2 frame's render on this machine's two cores.
+#: Tasks per worker thread an animation's frames are cut into: several frames per task, as the
+#: driver's cost per task is a sizeable part of one small frame's render.
 FRAME_TASKS_PER_THREAD = 8
 #: Dask settings for the worker processes of a local cluster (dask-worker reads the same from
-#: DASK_DISTRIBUTED__... variables, see the README). The statistical profiler sampled a busy
-#: worker's stack every 10 ms (without a dashboard to show it), and the event-loop tick and the
-#: memory and system monitors woke an idle worker 62 times a second: 2 workers rendering a
-#: 4096^2 chaos image spent 4-6% of their CPU on these.
+#: DASK_DISTRIBUTED__... variables, see docs/scale-out.md). Dask's statistical profiler samples a
+#: busy worker's stack for a dashboard nobody opens, and its event-loop tick and memory and system
+#: monitors wake an idle worker many times a second: CPU the render's workers need.
 QUIET_WORKERS = {
     "distributed.worker.profile.enabled": False,
     "distributed.admin.tick.interval": "1s",
@@ -56,7 +55,7 @@ class ClusterError(ifsforge.Error, ConnectionError):
 
 def build_digest():
     """The digest of this process's compiled core (what every worker must match)."""
-    import hashlib  # here: loading OpenSSL costs every command 5 ms, and only clusters need it
+    import hashlib  # here: loading OpenSSL slows every command's start, and only clusters need it
     with open(_core.__file__, "rb") as f:
         return hashlib.sha256(f.read()).hexdigest()
 
