@@ -51,8 +51,8 @@ void add_choices(py::module_& m, const char* key) {
 ProgressCallback wrap_progress(const py::object& callback);
 
 /// @brief The core's job runner (images and volumes) around distribute(first, last) -> list of
-/// bytes of each range's job results: the bytes are read in place (a 1024^3 volume's results
-/// are ~180 MB: no copy), held until the next call or the end of the render (whose binding
+/// bytes of each range's job results: the bytes are read in place (a large volume's results
+/// run to hundreds of MB: no copy), held until the next call or the end of the render (whose binding
 /// holds the GIL again before the runner goes). An image's runner passes distribute a third
 /// argument, the depth, when a point-recursive render fell back to a fixed one.
 class BytesRunner {
