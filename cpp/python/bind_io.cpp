@@ -1,6 +1,6 @@
 // Every reader and writer: ifsforge/1 JSON, Fractint .ifs, PNG, meshes (PLY/OBJ/GLB, OpenMesh
 // readers), POV-Ray scenes, SVG, glTF instances and DF3 volumes. OpenVDB is in bind_io_vdb.cpp, a
-// module of its own (ifsforge._vdb) loaded on first use: libopenvdb alone takes ~60 ms to load.
+// module of its own (ifsforge._vdb) loaded on first use: libopenvdb is slow to load.
 #include "bindings.h"
 
 #include <cstring>
