@@ -1,6 +1,6 @@
 // OpenVDB files and iso-surfaces: the io area's OpenVDB part, built as its own extension module
 // (ifsforge._vdb) that the package imports on first use, so a command that writes no .vdb does
-// not pay the ~60 ms libopenvdb takes to load.
+// not pay for loading libopenvdb, which is slow.
 #include "bindings.h"
 
 #include <cstring>
