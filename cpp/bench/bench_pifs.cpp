@@ -1,4 +1,4 @@
-// The speed targets of fractal compression (issue 13), both cores: encoding 512² gray < 1 s,
+// The speed targets of fractal compression, both cores: encoding 512² gray < 1 s,
 // 512² colour < 2 s; decoding 512² < 10 ms; 4× super-resolution of 512² (2048² out) < 100 ms.
 // The image is a PNG named by IFSFORGE_PIFS_IMAGE (e.g. skimage's camera saved as PNG), else a
 // synthetic photograph-like texture (several octaves of sines plus hashed noise).
