@@ -1,4 +1,4 @@
-// The speed targets of fractal interpolation, palettes and terrains (issue 5):
+// The speed targets of fractal interpolation, palettes and terrains:
 //   a 1000 x 1000 regular terrain < 30 ms and a 4096 x 4096 one < 0.5 s (both cores),
 //   a 4096-entry palette < 1 ms, a 1024^2 terrain mesh written as .glb < 0.5 s.
 // Run: build/cpp/bench/bench_terrain [--benchmark_filter=...]
