@@ -1,4 +1,4 @@
-// Vector IFS benchmarks for the targets: 1 M instances generated (< 0.2 s), a 1 M-
+// Vector IFS benchmarks against their targets: 1 M instances generated (< 0.2 s), a 1 M-
 // instance POV-Ray scene written (< 1 s), plus the TSA, the glTF and the SVG writers. The
 // POV-Ray parse comparison with a hand-written union is cpp/bench/bench_vector_povray.py.
 // Run: build/cpp/bench/bench_vector
