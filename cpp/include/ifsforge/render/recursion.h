@@ -71,8 +71,8 @@ std::vector<std::uint32_t> job_address(const Ifs& ifs, const RecursionPlan& plan
 /// @brief Cuts the tree into jobs by their work, `weight(M)` for the piece M(B) (its area in
 /// pixels, say): the heaviest piece is split into its N children until none holds more than
 /// 1/256 of the root's weight (at least 64 jobs, at most 2^14). A uniform prefix cannot balance
-/// a system with one dominant map: the fern's address prefix 111 held 38% of its pixels and
-/// one thread walked it alone for 34 s at 6000^2. The cut depends on the system and the
+/// a system with one dominant map: one prefix of the fern (111) holds over a third of its
+/// pixels, and one thread would walk it alone while the others wait. The cut depends on the system and the
 /// weight only, never on the thread count.
 void balance_jobs(const Ifs& ifs, RecursionPlan& plan, const std::function<double(const AffineMap&)>& weight);
 
