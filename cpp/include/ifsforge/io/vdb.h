@@ -26,7 +26,7 @@ struct VdbWriteOptions {
   /// halves: relative error <= 2^-11, far below an 8-bit colour step, and half the bytes.
   /// Hits and measure densities stay 32-bit floats.
   bool half = true;
-  /// Blosc-compress the leaf buffers: about a third smaller, at about 1.5x the writing time.
+  /// Blosc-compress the leaf buffers: smaller files, slower to write.
   bool compress = false;
   /// Reports the fraction written; false cancels (Cancelled, and no file is left).
   ProgressCallback progress;
