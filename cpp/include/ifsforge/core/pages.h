@@ -1,7 +1,7 @@
 #pragma once
 /// @file Large buffers with few page faults. A fresh buffer's first write faults every page in;
-/// with 4 KB pages a 64 MB raster takes 16,384 faults (about 0.3 s of kernel time on a busy
-/// virtual machine), with transparent huge pages 32. The kernel gives huge pages only to ranges
+/// with 4 KB pages a 64 MB raster takes 16,384 faults, each costly on a virtual machine, with
+/// transparent huge pages 32. The kernel gives huge pages only to ranges
 /// advised MADV_HUGEPAGE (the usual "madvise" setting), before their first touch.
 #include <cstddef>
 #include <iterator>
@@ -22,8 +22,8 @@ void populate_pages(void* data, std::size_t bytes, const ProgressCallback& poll 
 
 /// @brief Storage for `bytes` bytes: from 1 MB up, a 2 MB-aligned private mapping advised
 /// huge pages, so that its first touch takes one fault per 2 MB rather than one per 4 KB even
-/// at its ends (a malloc'd buffer's unaligned ends fault 4 KB at a time: up to 512 faults, about
-/// 6 ms here, for each of a 1024^2 render's rasters); smaller ones from operator new.
+/// at its ends (a malloc'd buffer's unaligned ends fault 4 KB at a time: up to 512 faults for
+/// each of a render's rasters); smaller ones from operator new.
 void* allocate_pages(std::size_t bytes);
 /// @brief Returns what allocate_pages(bytes) gave.
 void release_pages(void* data, std::size_t bytes) noexcept;
