@@ -20,7 +20,7 @@ struct PovSceneOptions {
   PovEnvironment environment;
   /// Add `bounded_by { box {...} }` to the union. POV-Ray 3.7 then keeps the union whole and
   /// tests every member for every ray that enters the box, instead of splitting it into its
-  /// automatic bounding hierarchy: tracing gets slower by orders of magnitude (see README), so
+  /// automatic bounding hierarchy: tracing gets slower by orders of magnitude (docs/povray.md), so
   /// this is off by default; the bounds are always declared as IFS_Bounds_Min / IFS_Bounds_Max.
   bool bounded_by = false;
   int threads = 0;                ///< formatting threads (0: every core); the bytes never depend on it
