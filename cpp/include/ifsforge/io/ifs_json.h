@@ -1,5 +1,5 @@
 #pragma once
-/// @file The `ifsforge/1` JSON format for one system (documented in README.md).
+/// @file The `ifsforge/1` JSON format for one system (documented in docs/formats.md).
 #include <string>
 
 #include "ifsforge/model/ifs.h"
