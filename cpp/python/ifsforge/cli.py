@@ -12,7 +12,7 @@ import ifsforge.commands
 
 def command_names():
     """The sub-command modules, listed without importing them (from the folder: pkgutil would
-    import inspect, 7 ms of every command's start)."""
+    import inspect, a noticeable part of every command's start)."""
     folder = ifsforge.commands.__path__[0]
     return sorted(name[:-3] for name in os.listdir(folder) if name.endswith(".py") and not name.startswith("_"))
 
@@ -36,7 +36,7 @@ def terminal_width():
 
 class Formatter(argparse.HelpFormatter):
     """argparse's formatter with the width read once: argparse builds one for every option it
-    adds, each importing shutil (and bz2, lzma) and asking the terminal, 5-8 ms of a command."""
+    adds, each importing shutil (and bz2, lzma) and asking the terminal again."""
 
     def __init__(self, prog, indent_increment=2, max_help_position=24, width=None):
         super().__init__(prog, indent_increment, max_help_position, terminal_width() if width is None else width)
@@ -144,8 +144,7 @@ def main(argv=None):
 def run():
     """The command's entry point: main(), then leave without the interpreter's teardown. Every
     output is written and closed by then (files are committed by rename); the teardown frees
-    every object of every module one by one, 5-8 ms of each command (more than some commands'
-    work)."""
+    every object of every module one by one, which takes longer than some commands' work."""
     status = main()
     sys.stdout.flush()
     sys.stderr.flush()
