@@ -1,4 +1,4 @@
-"""Issue 11's axes and colour rules, end to end: the CLI writes the files, real Blender imports
+"""The axes and colour rules of docs/formats.md, end to end: the CLI writes the files, real Blender imports
 them with its importers' default settings (tests/blender/mesh_axes_import.py)."""
 import json
 import re
