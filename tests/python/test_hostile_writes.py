@@ -1,4 +1,4 @@
-"""Writes that cannot lie (issue 18): a full disk fails with exit 2 and leaves no file,
+"""Writes that cannot lie: a full disk fails with exit 2 and leaves no file,
 multi-file commands commit all or none, the same volume gives the same .vdb bytes."""
 import os
 import subprocess
