@@ -97,7 +97,7 @@ def test_extra_channels_get_grids(tmp_path, samples, name, grids):
 
 
 def test_read_vdb_info_refuses_truncated_and_foreign_files(tmp_path):
-    """A truncated .vdb used to be read on with uninitialised sizes inside OpenVDB."""
+    """OpenVDB reads on through a truncated .vdb with uninitialised sizes: ifsforge refuses it first."""
     volume = ifsforge.render_volume(constant_color_tetrahedron((0.2, 0.6, 0.9)), "prr", 8)
     path, cut = tmp_path / "whole.vdb", tmp_path / "cut.vdb"
     ifsforge.write_vdb(str(path), volume)
