@@ -1,4 +1,4 @@
-// Error messages stay printable and whole whatever bytes the input held (issue 18).
+// Error messages stay printable and whole whatever bytes the input held.
 #include <gtest/gtest.h>
 
 #include "ifsforge/core/error.h"
