@@ -306,9 +306,9 @@ TEST(VolumeVdb, UnwritablePathIsAFileErrorAndLeavesNothing) {
   EXPECT_THROW(read_vdb_info("/nonexistent-folder/x.vdb"), FileError);
 }
 
-// OpenVDB does not check its reads: a truncated file used to be read on with uninitialised
-// sizes (or accepted as a file without grids). Every prefix is now a FileError, as is a text
-// file; the whole file still reads, again and again.
+// OpenVDB does not check its reads: it would read on through a truncated file with
+// uninitialised sizes (or accept it as a file without grids). Every prefix is a FileError, as is
+// a text file; the whole file still reads, again and again.
 TEST(VolumeVdb, TruncatedOrForeignFilesAreFileErrors) {
   const Volume v = render_volume(tetrahedron(true), "prr", options(8));
   const std::string path = temporary("whole.vdb"), cut = temporary("cut.vdb");
