@@ -168,7 +168,7 @@ WITHOUT_NUMPY = ("import sys\n"
 
 
 def test_render_writes_its_png_without_importing_numpy(tmp_path):
-    # numpy's import (~0.13 s) would be most of a small render's time: the CLI tone-maps and
+    # numpy's import would be most of a small render's time: the CLI tone-maps and
     # writes the raster in the core. The same bytes as the numpy path of the Python API.
     system = write(tmp_path / "t.json", TRIANGLE)
     out = tmp_path / "t.png"
