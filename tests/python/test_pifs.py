@@ -151,5 +151,5 @@ def test_camera_beats_jpeg_budget_at_100_to_1():
     camera = data.camera()
     code = ifsforge.pifs_encode(camera, ratio=100)
     assert len(code.to_bytes()) <= camera.size // 100
-    # JPEG (Pillow, optimised) reaches 24.4 dB at these bytes; see cpp/bench/pifs_vs_jpeg.py.
+    # Above what JPEG (Pillow, optimised) reaches at these bytes (cpp/bench/pifs_vs_jpeg.py).
     assert psnr(camera / 255.0, code.decode()) > 25.5
