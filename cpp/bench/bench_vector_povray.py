@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""POV-Ray parse benchmark for the vector issue: an ifsforge scene of N spheres against a
+"""POV-Ray parse benchmark of vector IFS scenes: an ifsforge scene of N spheres against a
 hand-written union of the same spheres (same camera and lights), both parsed and bounded by the
 real POV-Ray 3.7 at a tiny size; then what a manual bounded_by costs when tracing.
 
