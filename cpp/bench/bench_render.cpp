@@ -1,4 +1,4 @@
-// Render benchmarks for the targets: random iteration of the Barnsley fern into a
+// Render benchmarks against their targets: random iteration of the Barnsley fern into a
 // 1024^2 density histogram (points/s on 1 and 2 threads), and point recursive rendering of
 // the Sierpinski triangle at 4096^2, and the PNG writer (parallel strips). Counters: page faults and the process's CPU milliseconds
 // (all threads) per iteration. Run: build/cpp/bench/bench_render
