@@ -1,4 +1,4 @@
-"""The CLI imports only the sub-command it runs (start-up time: issue of whole-command speed)."""
+"""The CLI imports only the sub-command it runs, so a small command's time is its work, not its start-up."""
 import os
 import subprocess
 
