@@ -20,8 +20,8 @@ constexpr double kSplitAbove = 1.0;
 /// Pieces below this many voxels stop as soon as every voxel their box meets is occupied
 /// (the check costs more than it saves on pieces larger than this; the voxels are the same).
 constexpr double kCheckBelow = 3.0;
-/// A straddling piece below this many voxels is not split further. 1/4 finds 98% of the voxels
-/// the attractor meets at 2/3 of the cost of 1/16 (6D pyramid at 256^3: 668,216 of 682,836).
+/// A straddling piece below this many voxels is not split further: finer limits find the last
+/// few voxels the attractor meets at a cost out of proportion to them.
 constexpr double kFinest = 1.0 / 4.0;
 
 /// The address tree below a node, `levels` deep, relative to the node and computed once: sub-node
