@@ -128,9 +128,8 @@ struct Walker {
   std::uint32_t address[64];
   std::uint32_t visits = 0;
   std::vector<AffineMap> maps;  // maps[k]: the composition of the first k maps of `address`
-  // The walk's own copy of the probabilities, read at every node: the system's array sat
-  // beside memory another thread was writing (false sharing: 18% of a 2-thread walk, 3.5% of
-  // a 1-thread one).
+  // The walk's own copy of the probabilities, read at every node: the system's array may sit
+  // beside memory another thread is writing (false sharing).
   const std::vector<double> probability = ifs.probabilities();
 
   /// Sets maps[length + 1] = maps[length] o w_i (reserved: references to it stay valid).
