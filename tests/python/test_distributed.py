@@ -232,7 +232,7 @@ def test_cluster_option_is_checked():
 
 
 def test_a_local_cluster_starts_quiet_workers():
-    # Their stack profiler and monitors cost 2 busy workers 4-6% of their CPU (a dashboard's).
+    # Their stack profiler and monitors take CPU the render needs, for a dashboard nobody opens.
     with distributed.connect(cluster="local:1") as client:
         settings = client.run(lambda: {key: __import__("dask").config.get(key) for key in distributed.QUIET_WORKERS})
     assert list(settings.values()) == [distributed.QUIET_WORKERS]
