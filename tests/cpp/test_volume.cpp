@@ -117,8 +117,8 @@ TEST(VolumeRenderers, TableTwoPyramidAgrees) {
 }
 
 // Random iteration's automatic stop (Chao1's unseen voxels at most 0.8% of those found) on
-// Table 2's pyramid at 100^3: at least 99.5% of PRR's voxels, with at most 24 M points where
-// the earlier occupancy-growth rule spent 28.3 M; the same points with one thread or two.
+// Table 2's pyramid at 100^3: at least 99.5% of PRR's voxels, within a bounded point count; the
+// same points with one thread or two.
 TEST(VolumeRenderers, RandomIterationStopsWhenTheVoxelsAreFound) {
   const Ifs ifs = pyramid_rgb();
   const Volume prr = render_volume(ifs, "prr", options(100));
