@@ -282,7 +282,8 @@ TEST(Renderers, FixedDepthOverTenToTheTwelveLeavesIsRefusedByName) {
 }
 
 TEST(Recursion, BalancedJobsAreACompletePrefixCodeInAddressOrder) {
-  // The fern's map 1 holds most of its area: a uniform prefix gave one job 38% of the pixels.
+  // The fern's map 1 holds most of its area: a uniform prefix would give one job over a third of
+  // the pixels.
   const Ifs f = fern();
   RecursionPlan plan = plan_recursion(f, 0, 20);
   const Frame frame = Frame::fit(f, 1024, 1024, {}, {});
