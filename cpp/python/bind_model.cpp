@@ -7,6 +7,7 @@
 #include "ifsforge/model/condensation.h"
 #include "ifsforge/model/map_params.h"
 #include "ifsforge/model/polar_map.h"
+#include "ifsforge/model/capabilities.h"
 #include "ifsforge/model/recurrent.h"
 #include "ifsforge/model/super_ifs.h"
 
@@ -192,6 +193,12 @@ void bind_polar_maps(py::module_& m, py::class_<Ifs>& ifs) {
 
 }  // namespace
 
+py::dict capability_dict(const Capabilities& c) {
+  py::dict out;
+  for (const auto& [name, value] : capability_flags(c)) out[py::str(name)] = value;
+  return out;
+}
+
 void bind_model(py::module_& m) {
   add_choices<Classification>(m, "classification");
   py::class_<AffineMap>(m, "AffineMap", "An affine map x' = A x + b on R^n (n = 1..8).")
@@ -358,6 +365,7 @@ void bind_model(py::module_& m) {
            }, py::arg("samples") = 1u << 20, "(lo, hi) per channel")
       .def("sample_points", [](const Ifs& s, std::size_t count, std::uint64_t seed) {
              if (count > (std::size_t(1) << 28)) throw InputError("at most 2^28 sample points");
+             require_sampler_handles("sample_points", s);
              py::array_t<double> out({static_cast<py::ssize_t>(count), static_cast<py::ssize_t>(s.dim())});
              double* data = out.mutable_data();
              {
@@ -371,6 +379,19 @@ void bind_model(py::module_& m) {
            }, py::arg("count") = 200000, py::arg("seed") = 0,
            "count points of a seeded random iteration on the attractor, shape (count, dim): previews, "
            "scatter plots, instancing")
+      .def("features", [](const Ifs& s) {
+             const SystemFeatures f = system_features(s);
+             py::dict out;
+             out["recurrent"] = f.recurrent;
+             out["polar"] = f.polar;
+             out["average_contractive"] = f.average_contractive;
+             out["overlapping"] = f.overlapping;
+             out["condensation"] = f.condensation;
+             out["spatial_dims"] = f.spatial_dims;
+             out["determinant_sum"] = f.determinant_sum;
+             return out;
+           }, "what the system asks of an algorithm (model/capabilities.h): recurrent, polar, average_contractive "
+              "(a map expands), overlapping (sum of |det| of the spatial blocks above 1), condensation, spatial_dims")
       .def_property_readonly("render_defaults", [](const Ifs& s) {
         const RenderDefaults& d = s.render_defaults();
         py::dict out;
@@ -391,6 +412,11 @@ void bind_model(py::module_& m) {
   m.def("contraction_factor_2d", &contraction_factor_2d, "Eq. 8-9.");
   bind_model_extensions(m, ifs);
   bind_polar_maps(m, ifs);
+  m.def("sampler_capabilities", [] {
+    py::dict out;
+    for (const auto& [name, caps] : sampler_capabilities()) out[py::str(name)] = capability_dict(caps);
+    return out;
+  }, "{sampler: {capability: bool}} for sample_points and preview_cloud (model/capabilities.h)");
 }
 
 }  // namespace ifsforge::python

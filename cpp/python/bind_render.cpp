@@ -13,6 +13,8 @@
 
 namespace ifsforge::python {
 
+py::dict capability_dict(const Capabilities& c);  // bind_model.cpp
+
 RenderOptions render_options(const py::dict& given) {
   RenderOptions o = options_from<RenderOptions>("render", given);
   if (!given.contains("height") || given["height"].is_none()) o.height = o.width;  // square by default
@@ -127,6 +129,12 @@ void bind_render(py::module_& m) {
     for (const Renderer* r : renderers()) out.emplace_back(r->name(), r->description());
     return out;
   }, "(name, description) of every algorithm");
+  m.def("renderer_capabilities", [] {
+    py::dict out;
+    for (const auto& [name, caps] : renderer_capabilities()) out[py::str(name)] = capability_dict(caps);
+    return out;
+  }, "{algorithm: {capability: bool}}: the systems each renderer draws (recurrent, polar, average_contractive, "
+     "overlapping, condensation, 2d, 3d); render() refuses others, naming the algorithms that draw them");
   m.def("seed_reference", [](const std::string& name) {
     const SeedReference s = seed_reference(name);
     return py::make_tuple(s.section, s.operations > 0 ? py::object(py::float_(s.operations)) : py::object(py::none()));

@@ -8,6 +8,9 @@
 #include "ifsforge/volume/volume_renderer.h"
 
 namespace ifsforge::python {
+
+py::dict capability_dict(const Capabilities& c);  // bind_model.cpp
+
 namespace {
 
 const char* color_model_name(ColorModel m) {
@@ -158,6 +161,12 @@ void bind_volume(py::module_& m) {
     for (const VolumeRenderer* r : volume_renderers()) out.emplace_back(r->name(), r->description());
     return out;
   }, "(name, description) of every volumetric renderer");
+  m.def("volume_renderer_capabilities", [] {
+    py::dict out;
+    for (const auto& [name, caps] : volume_renderer_capabilities()) out[py::str(name)] = capability_dict(caps);
+    return out;
+  }, "{algorithm: {capability: bool}}: the systems each volumetric renderer draws; render_volume() refuses "
+     "others, naming the volume algorithms that draw them");
 }
 
 }  // namespace ifsforge::python

@@ -7,8 +7,9 @@
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
+#include "ifsforge/model/capabilities.h"
 #include "ifsforge/core/random.h"
-#include "ifsforge/model/map_sampler.h"
+#include "ifsforge/model/orbit.h"
 #include "ifsforge/render/tone_map.h"
 
 namespace ifsforge {
@@ -47,9 +48,9 @@ void box_edges(int spatial, std::vector<std::pair<int, int>>& edges) {
 
 
 // What every job shares: the system, its sampler, the start point, the seed, the size.
-struct Orbit {
+struct PreviewOrbit {
   const Ifs& ifs;
-  MapSampler sampler;
+  MapChain chain;  // the one walker's choice of maps (a recurrent system's transitions)
   Point start;
   std::uint64_t seed;
   std::size_t count;
@@ -67,7 +68,7 @@ struct Sink {
 /// application unrolls): stream `job` of the seed, kWarmUp steps onto the attractor, then
 /// points [job * kJobPoints, ...) with their piece and the job's bounds.
 template <int N>
-void iterate(const Orbit& orbit, int spatial, std::size_t job, const Sink& sink) {
+void iterate(const PreviewOrbit& orbit, int spatial, std::size_t job, const Sink& sink) {
   const Ifs& ifs = orbit.ifs;
   const std::size_t maps = ifs.size();
   std::vector<double> a(maps * N * N), b(maps * N);
@@ -88,15 +89,15 @@ void iterate(const Orbit& orbit, int spatial, std::size_t job, const Sink& sink)
     }
     std::copy_n(q, N, p);
   };
-  for (int k = 0; k < kWarmUp; ++k) step(orbit.sampler(rng.next()));
+  std::uint32_t i = orbit.chain.start(rng);
+  for (int k = 0; k < kWarmUp; ++k) step(i = orbit.chain.next(i, rng.next()));
   double lo[N], hi[N];
   std::fill_n(lo, N, std::numeric_limits<double>::infinity());
   std::fill_n(hi, N, -std::numeric_limits<double>::infinity());
   const int extra = N - spatial;
   const std::size_t end = std::min(orbit.count, (job + 1) * kJobPoints);
   for (std::size_t k = job * kJobPoints; k < end; ++k) {
-    const std::uint32_t i = orbit.sampler(rng.next());
-    step(i);
+    step(i = orbit.chain.next(i, rng.next()));
     double sum = 0.0;
     for (int c = 0; c < N; ++c) sum += p[c];
     if (sum - sum != 0.0)  // an infinite or NaN coordinate
@@ -137,7 +138,7 @@ void piece_color(std::size_t index, bool dim, float* rgba) {
 }
 
 PreviewCloud preview_cloud(const Ifs& ifs, const PreviewOptions& options) {
-  ifs.require_affine("the preview cloud");
+  require_sampler_handles("preview_cloud", ifs);
   ifs.require_attractor();
   if (options.count == 0) throw InputError("a preview needs at least one point");
   const int n = ifs.dim(), spatial = ifs.spatial_dims(), extra = n - spatial;
@@ -154,7 +155,7 @@ PreviewCloud preview_cloud(const Ifs& ifs, const PreviewOptions& options) {
   std::vector<float> channels(count * extra);
   const std::size_t jobs = (count + kJobPoints - 1) / kJobPoints;
   std::vector<Bounds> job_bounds(jobs);
-  const Orbit orbit{ifs, MapSampler(ifs.probabilities()), ifs.start_point(), options.seed, count};
+  const PreviewOrbit orbit{ifs, MapChain(ifs), ifs.start_point(), options.seed, count};
   parallel_jobs(jobs, options.threads, [&](std::size_t job, int) {
     Sink sink{cloud.positions.data(), channels.data(), cloud.pieces.data(), &job_bounds[job]};
     switch (n) {

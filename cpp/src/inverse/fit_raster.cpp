@@ -4,7 +4,7 @@
 
 #include "fit_shared.h"
 #include "ifsforge/core/random.h"
-#include "ifsforge/model/map_sampler.h"
+#include "ifsforge/model/orbit.h"
 #include "ifsforge/render/renderer.h"
 
 namespace ifsforge {
@@ -74,7 +74,7 @@ double chaos_iou(const std::vector<PixelMap>& maps, const std::vector<double>& p
                  std::uint64_t seed, CollageProxy::Scratch& s) {
   const int w = target.width, h = target.height;
   s.hits.assign(std::size_t(w) * h, 0);
-  const MapSampler sampler(probabilities);
+  const MapChain chain(probabilities);  // the one walker (a fitted system has no transitions)
   // Start at map 0's fixed point (on the attractor) when it has one.
   const PixelMap& m0 = maps[0];
   const double det = (1 - m0[0]) * (1 - m0[4]) - m0[1] * m0[3];
@@ -85,9 +85,10 @@ double chaos_iou(const std::vector<PixelMap>& maps, const std::vector<double>& p
   }
   const std::uint64_t points = default_iterations(w, h, true, 0);
   Rng rng(seed, 0x10F);
+  std::uint32_t state = chain.start(rng);
   std::uint64_t out = 0;
   for (std::uint64_t k = 0; k < points + 64; ++k) {
-    const PixelMap& m = maps[sampler(rng.next())];
+    const PixelMap& m = maps[state = chain.next(state, rng.next())];
     const double nx = m[0] * x + m[1] * y + m[2];
     y = m[3] * x + m[4] * y + m[5];
     x = nx;

@@ -5,7 +5,7 @@
 
 #include "fit_shared.h"
 #include "ifsforge/core/random.h"
-#include "ifsforge/model/map_sampler.h"
+#include "ifsforge/model/orbit.h"
 
 namespace ifsforge {
 
@@ -113,15 +113,16 @@ double chaos_iou_3d(const std::vector<VoxelMap>& maps, const std::vector<double>
                     std::uint64_t seed, VoxelCollageProxy::Scratch& s) {
   const auto& d = target.grid.dims;
   s.hits.assign(target.cells.size(), 0);
-  const MapSampler sampler(probabilities);
+  const MapChain chain(probabilities);  // the one walker (a fitted system has no transitions)
   // 32 points per target voxel: the attractor, if it matches, is covered about that densely
   // (Eq. 44's points per pixel, per voxel).
   const std::uint64_t points = 32 * std::max<std::size_t>(target.count(), 256);
   Rng rng(seed, 0x10F);
+  std::uint32_t state = chain.start(rng);
   double p[3] = {0.5 * d[0], 0.5 * d[1], 0.5 * d[2]};
   std::uint64_t out = 0;
   for (std::uint64_t n = 0; n < points + 64; ++n) {
-    const VoxelMap& m = maps[sampler(rng.next())];
+    const VoxelMap& m = maps[state = chain.next(state, rng.next())];
     double q[3];
     for (int r = 0; r < 3; ++r) q[r] = m[r * 4] * p[0] + m[r * 4 + 1] * p[1] + m[r * 4 + 2] * p[2] + m[r * 4 + 3];
     std::copy(q, q + 3, p);

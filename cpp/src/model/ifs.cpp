@@ -8,6 +8,7 @@
 #include "ifsforge/core/random.h"
 #include "ifsforge/model/attractor_points.h"
 #include "ifsforge/model/map_sampler.h"
+#include "ifsforge/model/orbit.h"
 
 namespace ifsforge {
 
@@ -86,17 +87,20 @@ double Ifs::average_log_contraction() const {
 
 double Ifs::lyapunov_exponent(std::size_t steps, std::uint64_t seed) const {
   // Furstenberg-Kesten: (1/n) log |A_k(n) ... A_k(1) v| for a random unit vector v.
+  // The products follow the maps' chain (a recurrent system's transitions).
   Rng rng(seed, 0);
-  const MapSampler sampler(probabilities_);
+  const MapChain chain(*this);
   const int n = dim();
   Point v{}, w{};
   auto reset = [&] {
     for (int i = 0; i < n; ++i) v[i] = rng.uniform() - 0.5;
   };
   reset();
+  std::uint32_t state = chain.start(rng);
   double sum = 0.0;
   for (std::size_t step = 0; step < steps; ++step) {
-    const AffineMap& m = maps_[sampler(rng.next())];
+    state = chain.next(state, rng.next());
+    const AffineMap& m = maps_[state];
     double norm = 0.0;
     for (int r = 0; r < n; ++r) {
       double x = 0.0;
@@ -162,24 +166,21 @@ Point Ifs::start_point() const {
   if (best < maps_.size()) return *maps_[best].fixed_point();
   // No contractive map: walk to the attractor from the origin.
   Rng rng(0x5eed, 0);
-  const MapSampler sampler(probabilities_);
-  for (int i = 0; i < 1000; ++i) p = maps_[sampler(rng.next())](p);
+  const MapChain chain(*this);
+  std::uint32_t state = chain.start(rng);
+  for (int i = 0; i < 1000; ++i) p = maps_[state = chain.next(state, rng.next())](p);
   return p;
 }
 
 void sample_attractor(const Ifs& ifs, std::size_t count, std::uint64_t seed,
                       const std::function<void(const Point&)>& visit) {
-  Rng rng(seed, 0);
-  const MapSampler sampler(ifs.probabilities());
-  Point p = ifs.start_point();
-  for (int i = 0; i < 100; ++i) p = ifs.apply(sampler(rng.next()), p);
-  const int n = ifs.dim();
+  const MapChain chain(ifs);
+  Orbit orbit(ifs, chain, seed, 0);
+  orbit.skip(100);
   for (std::size_t s = 0; s < count; ++s) {
-    p = ifs.apply(sampler(rng.next()), p);
-    for (int c = 0; c < n; ++c)
-      if (!std::isfinite(p[c]))
-        throw DivergentSystemError("system '" + ifs.name() + "' escapes to infinity under iteration");
-    visit(p);
+    orbit.step();
+    orbit.require_finite();
+    visit(orbit.point());
   }
 }
 

@@ -7,6 +7,7 @@
 #include "ifsforge/core/random.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/model/map_sampler.h"
+#include "ifsforge/model/orbit.h"
 
 namespace ifsforge {
 namespace {
@@ -120,15 +121,14 @@ TransitionMatrix effective_transitions(const Ifs& ifs) {
 std::vector<Point> piece_points(const Ifs& ifs) {
   const TransitionMatrix p = effective_transitions(ifs);
   const std::size_t n = ifs.size();
-  std::vector<MapSampler> rows;
-  for (std::size_t i = 0; i < n; ++i) rows.emplace_back(p.row(i));
+  const MapChain chain(ifs);
   std::vector<Point> points(n);
   std::vector<bool> found(n, false);
   Rng rng(0x91ECE5, 0);
   Point x = ifs.start_point();
   std::uint32_t state = MapSampler(ifs.probabilities())(rng.next());
   for (int step = 0; step < 4000; ++step) {
-    state = rows[state](rng.next());
+    state = chain.next(state, rng.next());
     x = ifs.map(state)(x);
     if (step >= 100) {
       points[state] = x;

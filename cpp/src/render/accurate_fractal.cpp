@@ -7,6 +7,7 @@
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/render/leaf_plotter.h"
 #include "ifsforge/render/parameters.h"
+#include "ifsforge/render/piece_work.h"
 #include "ifsforge/render/pixel_space.h"
 
 namespace ifsforge {
@@ -42,12 +43,16 @@ std::vector<double> solve(std::vector<double> a, std::vector<double> b, int n) {
 
 }  // namespace
 
-Raster AccurateFractal::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities AccurateFractal::capabilities() const {
+  // Tiles split until they fit a pixel: a map that expands never gets there; overlapping
+  // tiles are bounded by the estimate in draw().
+  using C = Capabilities;
+  return {C::Overlapping | C::Plane};
+}
+
+Raster AccurateFractal::draw(const Ifs& ifs, const RenderOptions& options) const {
   check_parameters(*this, options);
   ifs.require_attractor();
-  refuse_recurrent(ifs, name());
-  refuse_condensation(ifs, name());
   if (ifs.spatial_dims() != 2)
     throw InputError("accurate fractal rendering works on plane tiles; system '" + ifs.name() + "' is not 2D in space");
   const int n = ifs.dim(), ch = n - 2;
@@ -67,6 +72,7 @@ Raster AccurateFractal::render(const Ifs& ifs, const RenderOptions& options) con
                        ifs.name() + "' does not shrink both sides");
   }
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
+  check_piece_work(ifs, frame, 0.25, 0.0, name());  // tiles split to a quarter pixel, depth first
   const std::vector<double>& p = ifs.probabilities();
 
   // The parent block Q: the fixed point of the box map (exact for rectangle-preserving maps).
@@ -209,6 +215,7 @@ Raster AccurateFractal::render(const Ifs& ifs, const RenderOptions& options) con
     std::vector<Tile> stack{jobs[job]};
     std::uint64_t visited = 0;
     while (!stack.empty()) {
+      if ((visited & 0xFFFF) < count && stop_requested()) throw Cancelled();
       const Tile t = stack.back();
       stack.pop_back();
       for (std::size_t k = 0; k < count; ++k) {

@@ -15,7 +15,7 @@
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/random.h"
 #include "ifsforge/model/fixed_maps.h"
-#include "ifsforge/model/map_sampler.h"
+#include "ifsforge/model/orbit.h"
 #include "ifsforge/render/accumulator.h"
 #include "polar_render.h"
 
@@ -37,12 +37,11 @@ JobPlan plan_jobs(std::uint64_t total, std::uint64_t lanes) {
 
 /// The general nD path: double precision, any layout, channels carried. The dimension is a
 /// template parameter so the map and the projection unroll (3-4x faster than a runtime loop).
-/// A recurrent system (3.3.1) draws each map from the row of the map before it (`rows`, one
-/// sampler per map); an ordinary one from `sampler` (rows is null).
+/// The maps come from the walker's chain (model/orbit.h): a recurrent system (3.3.1) draws
+/// each from the row of the map before it.
 template <int N>
-void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapSampler& sampler,
-                     const std::vector<MapSampler>* rows, std::uint64_t points, std::uint64_t skip,
-                     std::uint64_t seed, std::uint64_t job, Accumulator& acc) {
+void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapChain& chain, std::uint64_t points,
+                     std::uint64_t skip, std::uint64_t seed, std::uint64_t job, Accumulator& acc) {
   constexpr int kSpatialMax = N < 3 ? N : 3;
   const auto maps = fixed_maps<N>(ifs);
   // Pixel coordinates straight from the spatial coordinates: px = U . x + u0, py = V . x + v0.
@@ -60,10 +59,10 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapSampler& sampl
   const Point start = ifs.start_point();
   double p[N], q[N];
   for (int c = 0; c < N; ++c) p[c] = start[c];
-  std::uint32_t state = rows ? sampler(rng.next()) : 0;  // recurrent: the previous map
+  std::uint32_t state = chain.start(rng);  // recurrent: the previous map
   auto step = [&] {
-    if (rows) state = (*rows)[state](rng.next());
-    const auto& m = maps[rows ? state : sampler(rng.next())];
+    state = chain.next(state, rng.next());
+    const auto& m = maps[state];
     for (int r = 0; r < N; ++r) {
       double value = m.b[r];
       for (int c = 0; c < N; ++c) value += m.a[r][c] * p[c];
@@ -89,8 +88,8 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapSampler& sampl
   }
 }
 
-using ChaosJob = void (*)(const Ifs&, const Frame&, const MapSampler&, const std::vector<MapSampler>*,
-                          std::uint64_t, std::uint64_t, std::uint64_t, std::uint64_t, Accumulator&);
+using ChaosJob = void (*)(const Ifs&, const Frame&, const MapChain&, std::uint64_t, std::uint64_t, std::uint64_t,
+                          std::uint64_t, Accumulator&);
 
 ChaosJob chaos_job_for(int dim) {
   static constexpr ChaosJob kJobs[] = {chaos_job_fixed<2>, chaos_job_fixed<3>, chaos_job_fixed<4>, chaos_job_fixed<5>,
@@ -281,9 +280,6 @@ struct ChaosSetup {
 };
 
 ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads) {
-  if (!ifs.condensation().empty())
-    throw InputError("random iteration does not draw condensation sets: render '" + ifs.name() +
-                     "' with dia, mpa or self-congruent");
   ifs.require_attractor();
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
   const std::uint64_t total = options.iterations ? options.iterations
@@ -330,9 +326,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   // into one accumulator per worker.
   std::vector<Accumulator> acc;
   for (int t = 0; t < (setup.simd ? 1 : threads); ++t) acc.push_back(empty_accumulator(ifs, setup));
-  const MapSampler sampler(ifs.probabilities());
-  std::vector<MapSampler> rows;
-  for (std::size_t i = 0; i < ifs.size() && ifs.recurrent(); ++i) rows.emplace_back(ifs.transitions().row(i));
+  const MapChain chain(ifs);
   // Polar maps (3.3.3) take their own simple path: the affine kernels stay specialised.
   const ChaosJob scalar_job = ifs.polar() ? polar::chaos_job : chaos_job_for(ifs.dim());
 
@@ -395,8 +389,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
           return;
         }
 #endif
-        scalar_job(ifs, frame, sampler, rows.empty() ? nullptr : &rows, plan.points_per_job, options.skip,
-                   options.seed, job, acc[worker]);
+        scalar_job(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, acc[worker]);
       },
       options.progress);
 
@@ -418,7 +411,14 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
 
 }  // namespace
 
-Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
+Capabilities ChaosGame::capabilities() const {
+  // Random iteration follows the walker (transitions), applies polar maps and converges for
+  // average-contractive systems; a condensation set it does not draw.
+  using C = Capabilities;
+  return {C::Recurrent | C::Polar | C::AverageContractive | C::Overlapping | C::Plane | C::Space};
+}
+
+Raster ChaosGame::draw(const Ifs& ifs, const RenderOptions& options) const {
   const int threads = options.distribute ? 1 : resolve_threads(options.threads);
   const ChaosSetup setup = chaos_setup(ifs, options, threads);
   // One accumulator either way (an 8 MB one at 1024^2: building a spare cost its page faults).
@@ -434,7 +434,7 @@ Raster ChaosGame::render(const Ifs& ifs, const RenderOptions& options) const {
   return raster;
 }
 
-std::string ChaosGame::run_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
+std::string ChaosGame::draw_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
                                 std::uint64_t last) const {
   const int threads = resolve_threads(options.threads);
   const ChaosSetup setup = chaos_setup(ifs, options, threads);

@@ -7,7 +7,7 @@
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/random.h"
-#include "ifsforge/model/map_sampler.h"
+#include "ifsforge/model/orbit.h"
 #include "ifsforge/render/accumulator.h"
 #include "ifsforge/render/pixel_space.h"
 
@@ -27,8 +27,13 @@ Ifs grid_reference_system(std::size_t n) {
 
 double grid_reference_height(std::size_t n) { return n > 1 ? 1.0 / std::sqrt(static_cast<double>(n)) : 0.5; }
 
-Raster ColorStealing::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities ColorStealing::capabilities() const {
+  // The chaos game of 5.1.1 with the walker's maps; the reference system has no polar twin.
+  using C = Capabilities;
+  return {C::Recurrent | C::AverageContractive | C::Overlapping | C::Plane | C::Space};
+}
+
+Raster ColorStealing::draw(const Ifs& ifs, const RenderOptions& options) const {
   if (!options.reference_image || options.reference_image->width < 1)
     throw InputError("colour stealing needs a reference image");
   const Image& picture = *options.reference_image;
@@ -54,7 +59,9 @@ Raster ColorStealing::render(const Ifs& ifs, const RenderOptions& options) const
   for (int t = 0; t < threads; ++t)
     acc.emplace_back(frame.width(), frame.height(), false, std::vector<double>{0, 0, 0},
                      std::vector<double>{1, 1, 1});
-  const MapSampler sampler(ifs.probabilities());
+  // The system's walk (its transitions, when recurrent) picks the maps; the reference applies
+  // the same index, so the picture is walked by the paired maps.
+  const MapChain chain(ifs);
   const std::uint64_t per_job = 1u << 20;
   const std::uint64_t jobs = (total + per_job - 1) / per_job;
   const std::size_t trash = std::size_t(frame.width()) * frame.height();
@@ -63,11 +70,12 @@ Raster ColorStealing::render(const Ifs& ifs, const RenderOptions& options) const
       [&](std::size_t job, int worker) {
         Rng rng(options.seed, job);
         Point q = ifs.start_point(), r = reference.start_point(), t;
+        std::uint32_t k = chain.start(rng);
         const std::uint64_t count = std::min(per_job, total - job * per_job);
         float color[4] = {0, 0, 0, 0};
         double rgb[kMaxDim] = {};  // sized for any channel count, silencing GCC
         for (std::uint64_t i = 0; i < count + options.skip; ++i) {
-          const std::uint32_t k = sampler(rng.next());
+          k = chain.next(k, rng.next());
           ifs.map(k).apply(q.data(), t.data());
           q = t;
           reference.map(k).apply(r.data(), t.data());

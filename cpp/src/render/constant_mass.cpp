@@ -9,10 +9,14 @@
 
 namespace ifsforge {
 
-Raster ConstantMass::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities ConstantMass::capabilities() const {
+  // The Markov operator on pixels: the measure of any system that has one.
+  using C = Capabilities;
+  return {C::Condensation | C::AverageContractive | C::Overlapping | C::Plane};
+}
+
+Raster ConstantMass::draw(const Ifs& ifs, const RenderOptions& options) const {
   const ParameterValues params(*this, options);
-  refuse_recurrent(ifs, name());
   const int supersample = static_cast<int>(params.integer("supersample", 1, 8));
   const PixelSpace space = make_pixel_space(ifs, options, name(), supersample);
   TransportPlan plan;

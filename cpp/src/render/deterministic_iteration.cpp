@@ -24,10 +24,14 @@ double channel_change(const PixelSpace& space, const PixelSet& a, const PixelSet
 
 }  // namespace
 
-Raster DeterministicIteration::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities DeterministicIteration::capabilities() const {
+  // The Hutchinson operator on pixel sets: any pieces, C drawn; no transitions.
+  using C = Capabilities;
+  return {C::Condensation | C::AverageContractive | C::Overlapping | C::Plane};
+}
+
+Raster DeterministicIteration::draw(const Ifs& ifs, const RenderOptions& options) const {
   const ParameterValues params(*this, options);
-  refuse_recurrent(ifs, name());
   const int supersample = static_cast<int>(params.integer("supersample", 1, 8));
   const PixelSpace space = make_pixel_space(ifs, options, name(), supersample);
   const long long max_iterations = params.integer("iterations", 1, 1000000);

@@ -149,11 +149,14 @@ struct Node {
 
 }  // namespace
 
-Raster EscapeTime::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities EscapeTime::capabilities() const {
+  // Inverse maps on pixels; C would need its own escape test.
+  using C = Capabilities;
+  return {C::AverageContractive | C::Overlapping | C::Plane};
+}
+
+Raster EscapeTime::draw(const Ifs& ifs, const RenderOptions& options) const {
   const ParameterValues params(*this, options);
-  refuse_recurrent(ifs, name());
-  refuse_condensation(ifs, name());
   const PixelSpace space = make_pixel_space(ifs, options, name());
   if (space.spatial_reads_channels)
     throw InputError("escape time inverts the spatial maps, so their rows must not read the colour channels (system '" +

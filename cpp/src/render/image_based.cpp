@@ -70,10 +70,14 @@ inline float bilinear1(const float* image, int w, int h, double x, double y) {
 
 }  // namespace
 
-Raster ImageBased::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities ImageBased::capabilities() const {
+  // Textures shrunk by every map.
+  using C = Capabilities;
+  return {C::Condensation | C::Overlapping | C::Plane};
+}
+
+Raster ImageBased::draw(const Ifs& ifs, const RenderOptions& options) const {
   const ParameterValues params(*this, options);
-  refuse_recurrent(ifs, name());
   const int supersample = static_cast<int>(params.integer("supersample", 1, 8));
   const PixelSpace space = make_pixel_space(ifs, options, name(), supersample);
   if (space.channels && space.spatial_reads_channels)

@@ -21,10 +21,14 @@ double proximity_bound(const Ifs& ifs, const Frame& frame) {
   return delta / (1.0 - s);
 }
 
-Raster MinimalPlotting::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities MinimalPlotting::capabilities() const {
+  // Theorem 5 needs every map to contract.
+  using C = Capabilities;
+  return {C::Condensation | C::Overlapping | C::Plane};
+}
+
+Raster MinimalPlotting::draw(const Ifs& ifs, const RenderOptions& options) const {
   const ParameterValues params(*this, options);
-  refuse_recurrent(ifs, name());
   const int supersample = static_cast<int>(params.integer("supersample", 1, 8));
   const PixelSpace space = make_pixel_space(ifs, options, name(), supersample);
   proximity_bound(ifs, space.frame);  // refuses non-hyperbolic systems

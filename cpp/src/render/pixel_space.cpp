@@ -146,24 +146,6 @@ long long PixelSpace::map_pixel(std::size_t i, std::uint32_t pixel, const float*
   return pixel_at(q[0], q[1]);
 }
 
-void refuse_recurrent(const Ifs& ifs, const std::string& algorithm) {
-  if (ifs.recurrent())
-    throw InputError("algorithm '" + algorithm + "' does not follow transitions, and system '" + ifs.name() +
-                     "' is a recurrent IFS; use chaos, recurrent-photocopy or probabilistic-domain");
-}
-
-void refuse_condensation(const Ifs& ifs, const std::string& algorithm) {
-  if (!ifs.condensation().empty())
-    throw InputError("algorithm '" + algorithm + "' cannot draw the condensation set of system '" + ifs.name() +
-                     "'; use dia, dia-s, mpa, cma, ibr or self-congruent");
-}
-
-void refuse_polar(const Ifs& ifs, const std::string& algorithm) {
-  if (ifs.polar())
-    throw InputError("algorithm " + algorithm + " does not render polar maps (system '" + ifs.name() +
-                     "'); use chaos or prr");
-}
-
 void report_progress(const RenderOptions& options, double fraction) {
   if (options.progress && !options.progress(std::clamp(fraction, 0.0, 1.0))) throw Cancelled();
 }

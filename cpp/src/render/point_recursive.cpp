@@ -54,13 +54,8 @@ struct PrrImage {
 
   PrrImage(const Ifs& system, const RenderOptions& options, const Renderer& renderer)
       : ifs(system), frame(Frame::fit(system, options.width, options.height, options.window, options.view)) {
-    // The address tree knows neither the transitions' forbidden words nor the set C of w_0.
-    if (ifs.recurrent())
-      throw InputError("point recursive rendering does not follow transitions: render recurrent system '" +
-                       ifs.name() + "' with chaos, probabilistic-domain or photocopy");
-    if (!ifs.condensation().empty())
-      throw InputError("point recursive rendering has no condensation set: render '" + ifs.name() +
-                       "' with dia, mpa or self-congruent");
+    // The address tree knows neither the transitions' forbidden words nor the set C of w_0:
+    // capabilities() leaves them out, so render() refuses them before this.
     ifs.require_attractor();
     eq59 = default_depth(ifs.size(), frame.width(), frame.height());
     plan = plan_recursion(ifs, options.depth, eq59);
@@ -304,7 +299,13 @@ struct PrrImage {
 
 }  // namespace
 
-Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) const {
+Capabilities PointRecursive::capabilities() const {
+  // Pieces cut at the pixel under node budgets (its own fallback); polar maps by their own rule.
+  using C = Capabilities;
+  return {C::Polar | C::AverageContractive | C::Overlapping | C::Plane | C::Space};
+}
+
+Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const {
   if (ifs.polar()) return polar::point_recursive(ifs, options, *this);  // non-linear maps: their own rule
   const PrrImage setup(ifs, options, *this);
   const Frame& frame = setup.frame;
@@ -362,7 +363,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
     fixed.depth = ifs.size() < 2 ? setup.eq59
                                  : std::max(setup.eq59, static_cast<int>(std::ceil(std::log(leaves) /
                                                                                    std::log(double(ifs.size())))));
-    return render(ifs, fixed);
+    return draw(ifs, fixed);
   };
   NodeCounts counts = setup.node_counts();
   if (options.distribute) {
@@ -423,7 +424,7 @@ Raster PointRecursive::render(const Ifs& ifs, const RenderOptions& options) cons
   return raster;
 }
 
-std::string PointRecursive::run_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
+std::string PointRecursive::draw_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
                                      std::uint64_t last) const {
   if (ifs.polar()) return polar::point_recursive_jobs(ifs, options, *this, first, last);
   const PrrImage setup(ifs, options, *this);

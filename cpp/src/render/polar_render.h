@@ -5,17 +5,16 @@
 #include <string>
 #include <vector>
 
-#include "ifsforge/model/map_sampler.h"
+#include "ifsforge/model/orbit.h"
 #include "ifsforge/render/accumulator.h"
 #include "ifsforge/render/renderer.h"
 
 namespace ifsforge::polar {
 
 /// One chaos-game job (5.1.1) of `points` points after `skip`, from the stream (seed, job) as
-/// the affine jobs draw theirs; the signature of chaos_game.cpp's jobs (`rows` is unused: a
-/// polar system is never recurrent).
-void chaos_job(const Ifs& ifs, const Frame& frame, const MapSampler& sampler, const std::vector<MapSampler>* rows,
-               std::uint64_t points, std::uint64_t skip, std::uint64_t seed, std::uint64_t job, Accumulator& acc);
+/// the affine jobs draw theirs; the signature of chaos_game.cpp's jobs.
+void chaos_job(const Ifs& ifs, const Frame& frame, const MapChain& chain, std::uint64_t points, std::uint64_t skip,
+               std::uint64_t seed, std::uint64_t job, Accumulator& acc);
 
 /// Point recursive rendering (5.8.1) of a polar system; `renderer` supplies its parameters.
 Raster point_recursive(const Ifs& ifs, const RenderOptions& options, const Renderer& renderer);

@@ -5,10 +5,11 @@
 
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/random.h"
-#include "ifsforge/model/map_sampler.h"
+#include "ifsforge/model/orbit.h"
 #include "ifsforge/model/recurrent.h"
 #include "ifsforge/render/leaf_plotter.h"
 #include "ifsforge/render/parameters.h"
+#include "ifsforge/render/piece_work.h"
 #include "ifsforge/render/pixel_space.h"
 
 namespace ifsforge {
@@ -41,8 +42,7 @@ struct Nodes {
 std::vector<std::vector<Point>> piece_spreads(const Ifs& ifs) {
   const std::size_t n = ifs.size();
   const TransitionMatrix p = effective_transitions(ifs);
-  std::vector<MapSampler> rows;
-  for (std::size_t i = 0; i < n; ++i) rows.emplace_back(p.row(i));
+  const MapChain chain(ifs);
   const std::vector<Point> points = piece_points(ifs);
   const int k = ifs.spatial_dims();
   std::vector<std::vector<Point>> spreads(n);
@@ -51,7 +51,7 @@ std::vector<std::vector<Point>> piece_spreads(const Ifs& ifs) {
   Point x = points[0];
   std::uint32_t state = 0;
   for (int step = 0; step < (1 << 15); ++step) {
-    state = rows[state](rng.next());
+    state = chain.next(state, rng.next());
     x = ifs.map(state)(x);
     if (step < 100) continue;
     auto& e = spreads[state];
@@ -70,10 +70,15 @@ std::vector<std::vector<Point>> piece_spreads(const Ifs& ifs) {
 
 }  // namespace
 
-Raster ProbabilisticDomain::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities ProbabilisticDomain::capabilities() const {
+  // One address tree per piece down to the pixel: a map that expands never gets there;
+  // overlapping pieces are bounded by the estimate in draw().
+  using C = Capabilities;
+  return {C::Recurrent | C::Overlapping | C::Plane | C::Space};
+}
+
+Raster ProbabilisticDomain::draw(const Ifs& ifs, const RenderOptions& options) const {
   const ParameterValues params(*this, options);
-  refuse_condensation(ifs, name());
   ifs.require_attractor();
   const std::size_t n = ifs.size();
   const int component = params.automatic("component") ? -1 : static_cast<int>(params.integer("component", 0, n - 1));
@@ -89,6 +94,7 @@ Raster ProbabilisticDomain::render(const Ifs& ifs, const RenderOptions& options)
   const int dim = ifs.dim(), stride = composed::size(dim);
   const PieceBoxes boxes(ifs, frame);
   const int fixed = options.depth > 0 ? std::min(options.depth, 64) : 0;
+  if (!fixed) check_piece_work(ifs, frame, 1.0, 0.0, name());  // depth first: a small stack per job
   LeafPlotter plotter(ifs, frame);
   // Visits the children M o w_s (A_i) of a node (its map `map`): leaves are plotted into
   // `batch`, the others pushed onto `keep`.
@@ -138,7 +144,8 @@ Raster ProbabilisticDomain::render(const Ifs& ifs, const RenderOptions& options)
     Nodes stack;
     stack.push(level.nodes[job], &level.maps[job * stride], stride);
     double map[composed::size(kMaxDim)];
-    while (!stack.nodes.empty()) {
+    for (std::uint64_t popped = 1; !stack.nodes.empty(); ++popped) {
+      if ((popped & 0xFFFF) == 0 && stop_requested()) throw Cancelled();
       const Node node = stack.nodes.back();
       std::copy(stack.maps.end() - stride, stack.maps.end(), map);
       stack.pop(stride);

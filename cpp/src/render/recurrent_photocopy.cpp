@@ -10,10 +10,14 @@
 
 namespace ifsforge {
 
-Raster RecurrentPhotocopy::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities RecurrentPhotocopy::capabilities() const {
+  // One image per map, moved along the transitions.
+  using C = Capabilities;
+  return {C::Recurrent | C::AverageContractive | C::Overlapping | C::Plane};
+}
+
+Raster RecurrentPhotocopy::draw(const Ifs& ifs, const RenderOptions& options) const {
   const ParameterValues params(*this, options);
-  refuse_condensation(ifs, name());
   const int supersample = static_cast<int>(params.integer("supersample", 1, 8));
   const PixelSpace space = make_pixel_space(ifs, options, name(), supersample);
   const int n = static_cast<int>(ifs.size());

@@ -57,8 +57,32 @@ const std::vector<Entry>& registry() {
 
 }  // namespace
 
-std::string Renderer::run_jobs(const Ifs&, const RenderOptions&, std::uint64_t, std::uint64_t) const {
+std::string Renderer::draw_jobs(const Ifs&, const RenderOptions&, std::uint64_t, std::uint64_t) const {
   throw InputError("the " + name() + " renderer does not split into independent jobs: distribute chaos or prr");
+}
+
+const std::vector<std::pair<std::string, Capabilities>>& renderer_capabilities() {
+  static const std::vector<std::pair<std::string, Capabilities>> all = [] {
+    std::vector<std::pair<std::string, Capabilities>> out;
+    for (const auto& entry : registry()) out.emplace_back(entry.renderer->name(), entry.renderer->capabilities());
+    return out;
+  }();
+  return all;
+}
+
+void Renderer::require_handles(const Ifs& ifs) const {
+  ifsforge::require_handles("algorithm", name(), capabilities(), ifs, renderer_capabilities());
+}
+
+Raster Renderer::render(const Ifs& ifs, const RenderOptions& options) const {
+  require_handles(ifs);
+  return draw(ifs, options);
+}
+
+std::string Renderer::run_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
+                               std::uint64_t last) const {
+  require_handles(ifs);
+  return draw_jobs(ifs, options, first, last);
 }
 
 const Renderer& renderer(const std::string& name) { return find_named(registry(), name, "algorithm"); }

@@ -22,8 +22,6 @@ struct Growth {
 };
 
 Growth grow(const Ifs& ifs, const RenderOptions& options, const ParameterValues& params, const std::string& name) {
-  refuse_recurrent(ifs, name);
-  refuse_polar(ifs, name);
   Growth g;
   g.supersample = static_cast<int>(params.integer("supersample", 1, 8));
   g.space = make_pixel_space(ifs, options, name, g.supersample);
@@ -98,7 +96,13 @@ Raster frame_raster(const Ifs& ifs, const Growth& g, int frame) {
 
 }  // namespace
 
-Raster SelfCongruent::render(const Ifs& ifs, const RenderOptions& options) const {
+Capabilities SelfCongruent::capabilities() const {
+  // Growth from the initiator on pixel sets.
+  using C = Capabilities;
+  return {C::Condensation | C::AverageContractive | C::Overlapping | C::Plane};
+}
+
+Raster SelfCongruent::draw(const Ifs& ifs, const RenderOptions& options) const {
   const ParameterValues params(*this, options);
   const Growth g = grow(ifs, options, params, name());
   const int last = last_frame(g);
@@ -108,6 +112,7 @@ Raster SelfCongruent::render(const Ifs& ifs, const RenderOptions& options) const
 
 std::vector<Raster> growth_frames(const Ifs& ifs, const RenderOptions& options) {
   const SelfCongruent renderer;
+  renderer.require_handles(ifs);  // the frames come from grow(), not through render()
   const ParameterValues params(renderer, options);
   const Growth g = grow(ifs, options, params, renderer.name());
   const int last = last_frame(g);

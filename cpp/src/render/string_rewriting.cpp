@@ -8,6 +8,7 @@
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/render/leaf_plotter.h"
 #include "ifsforge/render/parameters.h"
+#include "ifsforge/render/piece_work.h"
 #include "ifsforge/render/pixel_space.h"
 
 namespace ifsforge {
@@ -38,11 +39,15 @@ struct Strings {
 
 }  // namespace
 
-Raster StringRewriting::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities StringRewriting::capabilities() const {
+  // Address strings down to the pixel: a map that expands never gets there (the work has no
+  // bound); overlapping pieces are bounded by the estimate in draw().
+  using C = Capabilities;
+  return {C::Overlapping | C::Plane | C::Space};
+}
+
+Raster StringRewriting::draw(const Ifs& ifs, const RenderOptions& options) const {
   check_parameters(*this, options);
-  refuse_recurrent(ifs, name());
-  refuse_condensation(ifs, name());
   ifs.require_attractor();
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
   const int n = ifs.dim(), stride = composed::size(n);
@@ -56,6 +61,10 @@ Raster StringRewriting::render(const Ifs& ifs, const RenderOptions& options) con
   if (fixed > 1)
     check_memory(std::pow(double(maps), fixed - 1) * (stride + 1) * 8.0 * 2.0,
                  "string rewriting to depth " + std::to_string(fixed) + " with " + std::to_string(maps) + " maps");
+  // Automatic depth: strings are rewritten until they fit a pixel; how many that makes is
+  // estimated first (each job holds its strings' widest level twice, jobs >= 256).
+  if (!fixed)
+    check_piece_work(ifs, frame, 1.0, (stride + 1) * 8.0 * 2.0 * resolve_threads(options.threads) / 256.0, name());
   LeafPlotter plotter(ifs, frame);
   // Rewrites every string of `a` into its N successors STR w_k: finished strings are plotted
   // into `batch`, the others appended to `b`.
@@ -103,6 +112,7 @@ Raster StringRewriting::render(const Ifs& ifs, const RenderOptions& options) con
     mine.mass = {a.mass[job]};
     mine.length = a.length;
     while (!mine.mass.empty()) {
+      if (stop_requested()) throw Cancelled();
       rewrite(mine, next, batch, written[job]);
       std::swap(mine, next);
     }

@@ -12,10 +12,14 @@
 
 namespace ifsforge {
 
-Raster Superfractal::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities Superfractal::capabilities() const {
+  // Deterministic iteration on V buffers: as dia.
+  using C = Capabilities;
+  return {C::Condensation | C::AverageContractive | C::Overlapping | C::Plane};
+}
+
+Raster Superfractal::draw(const Ifs& ifs, const RenderOptions& options) const {
   const ParameterValues params(*this, options);
-  refuse_recurrent(ifs, name());
   const int supersample = static_cast<int>(params.integer("supersample", 1, 8));
   const PixelSpace space = make_pixel_space(ifs, options, name(), supersample);
   const SuperIfs& parts = ifs.super_ifs();

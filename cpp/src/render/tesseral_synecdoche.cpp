@@ -12,11 +12,14 @@
 
 namespace ifsforge {
 
-Raster TesseralSynecdoche::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities TesseralSynecdoche::capabilities() const {
+  // Branches stop below a probability, whatever the pieces' sizes.
+  using C = Capabilities;
+  return {C::Overlapping | C::Plane | C::Space};
+}
+
+Raster TesseralSynecdoche::draw(const Ifs& ifs, const RenderOptions& options) const {
   const ParameterValues params(*this, options);
-  refuse_recurrent(ifs, name());
-  refuse_condensation(ifs, name());
   ifs.require_attractor();
   const double pv = params.number("threshold", 0.0, 1.0);
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);

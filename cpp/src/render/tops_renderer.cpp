@@ -7,8 +7,13 @@
 
 namespace ifsforge {
 
-Raster TopsRenderer::render(const Ifs& ifs, const RenderOptions& options) const {
-  refuse_polar(ifs, name());
+Capabilities TopsRenderer::capabilities() const {
+  // Top addresses over the pixels.
+  using C = Capabilities;
+  return {C::AverageContractive | C::Overlapping | C::Plane};
+}
+
+Raster TopsRenderer::draw(const Ifs& ifs, const RenderOptions& options) const {
   if (!options.reference_image || options.reference_image->width < 1)
     throw InputError("the tops renderer needs a reference image (--reference)");
   const Image& picture = *options.reference_image;

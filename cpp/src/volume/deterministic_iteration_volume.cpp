@@ -36,7 +36,13 @@ void pack(const double* u, std::uint64_t* slots) {
 
 }  // namespace
 
-Volume DeterministicIterationVolume::render(const Ifs& ifs, const VolumeOptions& options) const {
+Capabilities DeterministicIterationVolume::capabilities() const {
+  // The Markov operator on voxel sets: one set for all maps, so no transitions.
+  using C = Capabilities;
+  return {C::AverageContractive | C::Overlapping | C::Space};
+}
+
+Volume DeterministicIterationVolume::draw(const Ifs& ifs, const VolumeOptions& options) const {
   if (options.distribute) run_jobs(ifs, options, 0, 0);  // InputError: no independent jobs
   const VolumeSetup setup = prepare_volume(ifs, options);
   const VoxelGrid& grid = setup.grid;

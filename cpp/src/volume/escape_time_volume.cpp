@@ -124,7 +124,13 @@ struct VoxelSearch {
 
 }  // namespace
 
-Volume EscapeTimeVolume::render(const Ifs& ifs, const VolumeOptions& options) const {
+Capabilities EscapeTimeVolume::capabilities() const {
+  // Inverse maps from every voxel: any map may precede any other.
+  using C = Capabilities;
+  return {C::AverageContractive | C::Overlapping | C::Space};
+}
+
+Volume EscapeTimeVolume::draw(const Ifs& ifs, const VolumeOptions& options) const {
   if (options.distribute) run_jobs(ifs, options, 0, 0);  // InputError: no independent jobs
   const VolumeSetup setup = prepare_volume(ifs, options);
   if (options.density == VolumeDensity::Measure)

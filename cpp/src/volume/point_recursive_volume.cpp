@@ -236,7 +236,13 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
 
 }  // namespace
 
-Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options) const {
+Capabilities PointRecursiveVolume::capabilities() const {
+  // Pieces cut at the voxel: the address tree knows no forbidden words.
+  using C = Capabilities;
+  return {C::Overlapping | C::AverageContractive | C::Space};
+}
+
+Volume PointRecursiveVolume::draw(const Ifs& ifs, const VolumeOptions& options) const {
   // Here or on a cluster, the jobs' voxels end as job bytes merged slab by slab, so that only
   // the volume is ever built whole.
   const bool here = !options.distribute;
@@ -273,8 +279,8 @@ Volume PointRecursiveVolume::render(const Ifs& ifs, const VolumeOptions& options
   return header;
 }
 
-std::string PointRecursiveVolume::run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                                           std::uint64_t last) const {
+std::string PointRecursiveVolume::draw_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                                         std::uint64_t last) const {
   PrrJobs run = point_recursive_jobs(ifs, options, first, last, options.progress, false);
   int depth = 0;
   std::uint64_t points = 0;

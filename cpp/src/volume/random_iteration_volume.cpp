@@ -8,7 +8,7 @@
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/random.h"
 #include "ifsforge/model/fixed_maps.h"
-#include "ifsforge/model/map_sampler.h"
+#include "ifsforge/model/orbit.h"
 #include "ifsforge/volume/volume_jobs.h"
 #include "voxel_table.h"
 
@@ -19,9 +19,10 @@ constexpr std::uint64_t kPointsPerJob = std::uint64_t(1) << 20;
 constexpr std::uint64_t kSkip = 100;  // min_no_of_iterations of 5.1.1
 constexpr std::uint64_t kMaxAutoPoints = std::uint64_t(1) << 34;
 
-/// One job of the chaos game in N dimensions (a template parameter, so the map unrolls).
+/// One job of the chaos game in N dimensions (a template parameter, so the map unrolls); the
+/// maps come from the walker's chain (model/orbit.h), a recurrent system's transitions followed.
 template <int N>
-void chaos_job(const Ifs& ifs, const MapSampler& sampler, const VoxelGrid& grid,
+void chaos_job(const Ifs& ifs, const MapChain& chain, const VoxelGrid& grid,
                const ChannelQuantizer& quantizer, std::uint64_t points, std::uint64_t seed,
                std::uint64_t job, VoxelTable& table) {
   const auto maps = fixed_maps<N>(ifs);
@@ -29,8 +30,10 @@ void chaos_job(const Ifs& ifs, const MapSampler& sampler, const VoxelGrid& grid,
   const Point start = ifs.start_point();
   double p[N], q[N];
   for (int c = 0; c < N; ++c) p[c] = start[c];
+  std::uint32_t state = chain.start(rng);
   auto step = [&] {
-    const auto& m = maps[sampler(rng.next())];
+    state = chain.next(state, rng.next());
+    const auto& m = maps[state];
     for (int r = 0; r < N; ++r) {
       double value = m.b[r];
       for (int c = 0; c < N; ++c) value += m.a[r][c] * p[c];
@@ -102,7 +105,7 @@ VoxelList take_all(std::vector<VoxelTable>& tables, int threads) {
   return merge_voxel_lists(lists, threads);
 }
 
-using ChaosJob = void (*)(const Ifs&, const MapSampler&, const VoxelGrid&, const ChannelQuantizer&,
+using ChaosJob = void (*)(const Ifs&, const MapChain&, const VoxelGrid&, const ChannelQuantizer&,
                           std::uint64_t, std::uint64_t, std::uint64_t, VoxelTable&);
 
 ChaosJob chaos_job_for(int dim) {
@@ -113,7 +116,13 @@ ChaosJob chaos_job_for(int dim) {
 
 }  // namespace
 
-Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& options) const {
+Capabilities RandomIterationVolume::capabilities() const {
+  // Random iteration follows the walker (transitions).
+  using C = Capabilities;
+  return {C::Recurrent | C::AverageContractive | C::Overlapping | C::Space};
+}
+
+Volume RandomIterationVolume::draw(const Ifs& ifs, const VolumeOptions& options) const {
   const VolumeSetup setup = prepare_volume(ifs, options);
   const int channels = ifs.dim() - 3;
   // Each thread's table (at most half full) may meet every voxel; then the running total, the
@@ -123,7 +132,7 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
       4.0 * channels;
   check_memory(expected_voxels(ifs, options, setup, per_voxel, 0.0) * per_voxel,
                "random iteration into a " + std::to_string(options.resolution) + "^3 volume");
-  const MapSampler sampler(ifs.probabilities());
+  const MapChain chain(ifs);
   const ChaosJob run = chaos_job_for(ifs.dim());
   std::vector<VoxelTable> tables(setup.threads, VoxelTable(channels));
   VoxelList total(channels);  // with `distribute`; otherwise the tables hold the points until the end
@@ -145,7 +154,7 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
       parallel_jobs(last - first, setup.threads, [&](std::size_t k, int worker) {
         const std::uint64_t job = first + k;
         const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
-        run(ifs, sampler, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
+        run(ifs, chain, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
       }, progress);
     }
     points = std::min(limit, last * kPointsPerJob);
@@ -193,11 +202,11 @@ Volume RandomIterationVolume::render(const Ifs& ifs, const VolumeOptions& option
   return volume;
 }
 
-std::string RandomIterationVolume::run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                                            std::uint64_t last) const {
+std::string RandomIterationVolume::draw_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                                         std::uint64_t last) const {
   const VolumeSetup setup = prepare_volume(ifs, options);
   const int channels = ifs.dim() - 3;
-  const MapSampler sampler(ifs.probabilities());
+  const MapChain chain(ifs);
   const ChaosJob run = chaos_job_for(ifs.dim());
   // render()'s point cap: the requested count, or whole jobs while doubling.
   const std::uint64_t limit = options.iterations > 0 ? options.iterations : last * kPointsPerJob;
@@ -209,7 +218,7 @@ std::string RandomIterationVolume::run_jobs(const Ifs& ifs, const VolumeOptions&
     parallel_jobs(last - first, threads, [&](std::size_t k, int worker) {
       const std::uint64_t job = first + k;
       const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
-      run(ifs, sampler, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
+      run(ifs, chain, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
     }, options.progress);
   out.voxels = take_all(tables, setup.threads);
   for (std::uint64_t job = first; job < last; ++job) out.points += std::min(kPointsPerJob, limit - job * kPointsPerJob);

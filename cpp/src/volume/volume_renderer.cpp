@@ -47,8 +47,32 @@ std::vector<const VolumeRenderer*> volume_renderers() {
   return out;
 }
 
-std::string VolumeRenderer::run_jobs(const Ifs&, const VolumeOptions&, std::uint64_t, std::uint64_t) const {
+std::string VolumeRenderer::draw_jobs(const Ifs&, const VolumeOptions&, std::uint64_t, std::uint64_t) const {
   throw InputError("the " + name() + " volume renderer does not split into independent jobs: distribute prr or ria");
+}
+
+const std::vector<std::pair<std::string, Capabilities>>& volume_renderer_capabilities() {
+  static const std::vector<std::pair<std::string, Capabilities>> all = [] {
+    std::vector<std::pair<std::string, Capabilities>> out;
+    for (const auto& entry : registry()) out.emplace_back(entry.renderer->name(), entry.renderer->capabilities());
+    return out;
+  }();
+  return all;
+}
+
+void VolumeRenderer::require_handles(const Ifs& ifs) const {
+  ifsforge::require_handles("volume algorithm", name(), capabilities(), ifs, volume_renderer_capabilities());
+}
+
+Volume VolumeRenderer::render(const Ifs& ifs, const VolumeOptions& options) const {
+  require_handles(ifs);
+  return draw(ifs, options);
+}
+
+std::string VolumeRenderer::run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                                     std::uint64_t last) const {
+  require_handles(ifs);
+  return draw_jobs(ifs, options, first, last);
 }
 
 Volume VolumeRenderer::render_bands(const Ifs& ifs, VolumeOptions options, const VolumeBandSink& sink) const {

@@ -136,8 +136,9 @@ class Ifs {
   std::vector<std::optional<PolarMap>> polar_;
 };
 
-/// @brief Calls `visit` with `count` points of a seeded random iteration (5.1.1) that starts
-/// on the attractor and skips 100 points; throws DivergentSystemError if the orbit escapes.
+/// @brief Calls `visit` with `count` points of a seeded random iteration (5.1.1, the walk of
+/// model/orbit.h: a recurrent system's transitions followed) that starts on the attractor and
+/// skips 100 points; throws DivergentSystemError if the orbit escapes.
 void sample_attractor(const Ifs& ifs, std::size_t count, std::uint64_t seed,
                       const std::function<void(const Point&)>& visit);
 

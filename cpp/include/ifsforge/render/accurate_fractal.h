@@ -28,7 +28,10 @@ class AccurateFractal : public Renderer {
   std::string description() const override {
     return "accurate fractal rendering (5.10): exact tile integrals (Eq. 68-69) for rectangle-preserving maps";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 }  // namespace ifsforge

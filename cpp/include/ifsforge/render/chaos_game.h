@@ -16,11 +16,14 @@ class ChaosGame : public Renderer {
   std::string description() const override {
     return "random iteration algorithm (5.1.1): density histogram of the chaos game";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
-  /// Jobs' histograms as sparse tiles of integer sums (Accumulator::encode).
-  std::string run_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
-                       std::uint64_t last) const override;
+  Capabilities capabilities() const override;
   bool distributable() const override { return true; }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
+  /// Jobs' histograms as sparse tiles of integer sums (Accumulator::encode).
+  std::string draw_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
+                        std::uint64_t last) const override;
 };
 
 }  // namespace ifsforge

@@ -14,7 +14,10 @@ class ColorStealing : public Renderer {
   std::string description() const override {
     return "color-stealing random iteration (5.1.2): colours taken from a reference image";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 /// @brief The default reference system, contractive for any map count: its attractor is the

@@ -23,13 +23,16 @@ class ConstantMass : public Renderer {
   std::string description() const override {
     return "constant mass (5.4): mass moved by the maps with their probabilities until it settles (the measure)";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override {
     return {{"threshold", "0.001", "stop when the L1 change of the normalised mass falls below this"},
             {"iterations", "1000", "most iterations"},
             spread_parameter(),
             supersample_parameter()};
   }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 }  // namespace ifsforge

@@ -18,11 +18,14 @@ class DeterministicIteration : public Renderer {
   std::string description() const override {
     return "deterministic iteration (5.2.1): the Hutchinson operator on a pixel buffer until it stops changing";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override {
     return {{"iterations", "100", "most buffer rewrites (the loop ends earlier at a fixed point; Barnsley suggests 100)"},
             supersample_parameter()};
   }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 }  // namespace ifsforge

@@ -28,13 +28,16 @@ class EscapeTime : public Renderer {
   std::string description() const override {
     return "escape time (5.5): pixels iterated by the inverse maps until they leave the attractor's box";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override {
     return {{"norm", "euclidean", "delta norm of Eq. 55: euclidean or linear"},
             {"rule", "min", "Eq. 56: try the map with the min or the max delta first"},
             {"iterations", "100", "max_no_of_iterations: deepest level (a pixel still undecided there counts as covered)"},
             {"output", "attractor", "attractor (covered pixels) or escape-time (the escape time of every pixel)"}};
   }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 }  // namespace ifsforge

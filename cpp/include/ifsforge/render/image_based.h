@@ -26,13 +26,16 @@ class ImageBased : public Renderer {
   std::string description() const override {
     return "image-based rendering (5.9): the image texture-mapped by every map, bilinear, Eq. 63-65";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override {
     return {{"weights", "attractor", "attractor (sc_i = 1) or measure (sc_i = p_i / D_i, Eq. 64)"},
             {"iterations", "", "texture passes (default: Eq. 65 for diameters, see the description)"},
             {"threshold", "0.003", "attractor weights: a pixel is covered when q reaches this"},
             supersample_parameter()};
   }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 /// @brief The number of IBR passes after which the largest copy of an image of

@@ -20,8 +20,11 @@ class MinimalPlotting : public Renderer {
   std::string description() const override {
     return "minimal plotting (5.3): a queue of pixels, each mapped once; within delta/(1-s) of the attractor (Eq. 53)";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override { return {supersample_parameter()}; }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 /// @brief Eq. 53: delta / (1 - s), delta half the pixel diagonal of `frame` and s the largest

@@ -60,14 +60,6 @@ RendererParameter supersample_parameter();
 /// weighted by density when summing. Returns `fine` itself when k is 1.
 Raster reduce_supersampled(Raster fine, int k, bool sum);
 
-/// @brief InputError naming `algorithm` when `ifs` is recurrent: the algorithms that follow
-/// transitions are chaos, recurrent-photocopy and probabilistic-domain.
-void refuse_recurrent(const Ifs& ifs, const std::string& algorithm);
-/// @brief InputError naming `algorithm` when `ifs` has a condensation set it cannot draw.
-void refuse_condensation(const Ifs& ifs, const std::string& algorithm);
-/// @brief InputError naming `algorithm` when `ifs` has polar maps (3.3.3): only chaos and prr
-/// apply them; the others would draw their affine shadows.
-void refuse_polar(const Ifs& ifs, const std::string& algorithm);
 
 /// @brief Quantises channel values to integers (2^20 steps of [lo, hi], clamped) so that
 /// parallel sums are exact and order-independent.

@@ -22,10 +22,7 @@ class PointRecursive : public Renderer {
   std::string description() const override {
     return "point recursive rendering (5.8.1): deterministic, measure per pixel";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
-  /// Jobs' leaves in address order (render() applies them in that order: exact float sums).
-  std::string run_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
-                       std::uint64_t last) const override;
+  Capabilities capabilities() const override;
   bool distributable() const override { return true; }
   std::vector<RendererParameter> parameters() const override {
     return {{"cut", "",
@@ -33,6 +30,12 @@ class PointRecursive : public Renderer {
              "spread over its sub-pieces; automatic: 1 for the measure (1/8 brings it within about 0.02 "
              "in L1 of a long chaos game, for several times the work), 1/2 for coverage (binary)"}};
   }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
+  /// Jobs' leaves in address order (render() applies them in that order: exact float sums).
+  std::string draw_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
+                        std::uint64_t last) const override;
 };
 
 }  // namespace ifsforge

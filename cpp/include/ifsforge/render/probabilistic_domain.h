@@ -21,10 +21,13 @@ class ProbabilisticDomain : public Renderer {
   std::string description() const override {
     return "vector recurrent probabilistic domain (5.12.2): one weighted address tree per piece of a recurrent IFS";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override {
     return {{"component", "", "render only tree j (image I_j, 0-based); default: every tree"}};
   }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 }  // namespace ifsforge

@@ -19,7 +19,7 @@ class RecurrentPhotocopy : public Renderer {
   std::string description() const override {
     return "vector recurrent photo-copy (5.12.1): the vector Markov operator on one image per map";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override {
     return {{"component", "", "show only image I_j of map j (0-based); default: every component superimposed"},
             {"threshold", "0.001", "stop when the L1 change of the normalised images falls below this"},
@@ -27,6 +27,9 @@ class RecurrentPhotocopy : public Renderer {
             spread_parameter(),
             supersample_parameter()};
   }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 }  // namespace ifsforge

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ifsforge/core/progress.h"
+#include "ifsforge/model/capabilities.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/render/frame.h"
 #include "ifsforge/core/image.h"
@@ -62,17 +63,27 @@ class Renderer {
   virtual ~Renderer() = default;
   virtual std::string name() const = 0;
   virtual std::string description() const = 0;
+  /// @brief The systems it draws: render and run_jobs refuse any other before any work, with an
+  /// InputError naming the renderers that do draw it.
+  virtual Capabilities capabilities() const = 0;
   /// @brief Renders `ifs` (which must have an attractor) into a raster.
-  virtual Raster render(const Ifs& ifs, const RenderOptions& options) const = 0;
+  Raster render(const Ifs& ifs, const RenderOptions& options) const;
   /// @brief The settings this algorithm reads from RenderOptions::parameters.
   virtual std::vector<RendererParameter> parameters() const { return {}; }
   /// @brief Jobs [first, last) of the render `options` describe, as bytes that render() merges
   /// exactly when `options.distribute` returns them: what a cluster's worker runs. InputError
   /// for a renderer whose work does not split into independent jobs.
-  virtual std::string run_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
-                               std::uint64_t last) const;
+  std::string run_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first, std::uint64_t last) const;
   /// @brief Whether run_jobs and RenderOptions::distribute work for this renderer.
   virtual bool distributable() const { return false; }
+  /// @brief InputError unless capabilities() covers `ifs` (what render and run_jobs check).
+  void require_handles(const Ifs& ifs) const;
+
+ protected:
+  /// @brief render() and run_jobs() once the system is known to be handled.
+  virtual Raster draw(const Ifs& ifs, const RenderOptions& options) const = 0;
+  virtual std::string draw_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
+                                std::uint64_t last) const;
 };
 
 /// @brief The renderer called `name` (or one of its aliases); InputError lists the choices.
@@ -87,6 +98,8 @@ struct SeedReference {
 SeedReference seed_reference(const std::string& name);
 /// @brief Every renderer, in the order of the seed's chapter 5.
 std::vector<const Renderer*> renderers();
+/// @brief Every renderer's name and capabilities, in that order.
+const std::vector<std::pair<std::string, Capabilities>>& renderer_capabilities();
 
 /// @brief Eq. 44 (density: H V 8 PEPP) or Eq. 45 (binary: H V ln(mu H V), mu = e^gamma).
 std::uint64_t default_iterations(int width, int height, bool binary, double points_per_pixel);

@@ -23,13 +23,16 @@ class SelfCongruent : public Renderer {
   std::string description() const override {
     return "self-congruent growth (5.11): the initiator transformed cycle by cycle; frame k after k cycles";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override {
     return {{"frame", "", "the frame to show (cycles grown; default: the last, when growth stops)"},
             {"cycle", "1", "generations of growth per cycle (frame)"},
             {"generations", "100000", "stop growing after this many generations"},
             supersample_parameter()};
   }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 /// @brief Every frame of the growth, frame 0 (the initiator) to the last (same parameters as

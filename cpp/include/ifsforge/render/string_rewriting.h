@@ -28,7 +28,10 @@ class StringRewriting : public Renderer {
   std::string description() const override {
     return "string rewriting (5.6): address strings rewritten breadth first and applied to the start point";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 /// @brief The seed's string rewriting (5.6) over any spelling of the maps: String_A starts as

@@ -20,13 +20,16 @@ class Superfractal : public Renderer {
   std::string description() const override {
     return "deterministic iteration for superfractals (5.2.2): V-variable fractals from seeded random choices";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override {
     return {{"variability", "", "V, the number of buffers (default: the system's variability, else 2)"},
             {"iterations", "", "buffer rewrites (default: until the largest copy of the image is below half a pixel)"},
             {"buffer", "0", "which of the V buffers to show"},
             supersample_parameter()};
   }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 }  // namespace ifsforge

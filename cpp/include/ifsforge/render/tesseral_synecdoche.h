@@ -19,10 +19,13 @@ class TesseralSynecdoche : public Renderer {
   std::string description() const override {
     return "tesseral synecdoche (5.7): recursion on tesseral addresses, pruned below a probability";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override {
     return {{"threshold", "1e-7", "pv: branches whose probability falls below this stop (0: none do)"}};
   }
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 }  // namespace ifsforge

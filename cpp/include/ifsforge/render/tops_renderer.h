@@ -14,7 +14,10 @@ class TopsRenderer : public Renderer {
   std::string description() const override {
     return "fractal tops (3.3.5): colours of a reference image at the top address of each pixel";
   }
-  Raster render(const Ifs& ifs, const RenderOptions& options) const override;
+  Capabilities capabilities() const override;
+
+ protected:
+  Raster draw(const Ifs& ifs, const RenderOptions& options) const override;
 };
 
 }  // namespace ifsforge

@@ -19,7 +19,10 @@ class DeterministicIterationVolume : public VolumeRenderer {
   std::string description() const override {
     return "deterministic iteration algorithm (5.2.1): volume rewriting by the Markov operator";
   }
-  Volume render(const Ifs& ifs, const VolumeOptions& options) const override;
+  Capabilities capabilities() const override;
+
+ protected:
+  Volume draw(const Ifs& ifs, const VolumeOptions& options) const override;
 };
 
 }  // namespace ifsforge

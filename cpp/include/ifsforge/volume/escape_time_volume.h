@@ -19,7 +19,10 @@ class EscapeTimeVolume : public VolumeRenderer {
   std::string description() const override {
     return "escape-time algorithm (5.5): inverse maps from every voxel, delta-norm choice";
   }
-  Volume render(const Ifs& ifs, const VolumeOptions& options) const override;
+  Capabilities capabilities() const override;
+
+ protected:
+  Volume draw(const Ifs& ifs, const VolumeOptions& options) const override;
 };
 
 }  // namespace ifsforge

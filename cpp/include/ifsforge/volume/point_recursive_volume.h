@@ -24,9 +24,12 @@ class PointRecursiveVolume : public VolumeRenderer {
   std::string description() const override {
     return "point recursive rendering (5.8.1): deterministic, parallel over address prefixes";
   }
-  Volume render(const Ifs& ifs, const VolumeOptions& options) const override;
-  std::string run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                       std::uint64_t last) const override;
+  Capabilities capabilities() const override;
+
+ protected:
+  Volume draw(const Ifs& ifs, const VolumeOptions& options) const override;
+  std::string draw_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                        std::uint64_t last) const override;
 };
 
 }  // namespace ifsforge

@@ -15,9 +15,12 @@ class RandomIterationVolume : public VolumeRenderer {
   std::string description() const override {
     return "random iteration algorithm (5.1.1): hits per voxel of the chaos game";
   }
-  Volume render(const Ifs& ifs, const VolumeOptions& options) const override;
-  std::string run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                       std::uint64_t last) const override;
+  Capabilities capabilities() const override;
+
+ protected:
+  Volume draw(const Ifs& ifs, const VolumeOptions& options) const override;
+  std::string draw_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                        std::uint64_t last) const override;
 };
 
 }  // namespace ifsforge

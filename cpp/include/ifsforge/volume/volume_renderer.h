@@ -10,6 +10,7 @@
 
 #include "ifsforge/core/names.h"
 #include "ifsforge/core/progress.h"
+#include "ifsforge/model/capabilities.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/volume/volume.h"
 #include "ifsforge/volume/voxel_list.h"
@@ -71,16 +72,26 @@ class VolumeRenderer {
   virtual ~VolumeRenderer() = default;
   virtual std::string name() const = 0;
   virtual std::string description() const = 0;
+  /// @brief The systems it draws: render and run_jobs refuse any other before any work, with an
+  /// InputError naming the volume renderers that do draw it.
+  virtual Capabilities capabilities() const = 0;
+  /// @brief InputError unless capabilities() covers `ifs`.
+  void require_handles(const Ifs& ifs) const;
   /// @brief Renders `ifs` (xyz layouts with any extra channels; it must have an attractor).
-  virtual Volume render(const Ifs& ifs, const VolumeOptions& options) const = 0;
+  Volume render(const Ifs& ifs, const VolumeOptions& options) const;
   /// @brief The volume given to `sink` band by band (VolumeOptions::bands where the renderer
   /// takes it, else the whole rendered volume's bands); returns it without its voxels.
   Volume render_bands(const Ifs& ifs, VolumeOptions options, const VolumeBandSink& sink) const;
   /// @brief Runs jobs [first, last) of the render `options` describe (on `options.threads`
   /// threads), merged into one result as the bytes of encode_volume_jobs: what a cluster's
   /// worker does. InputError for a renderer whose work does not split into independent jobs.
-  virtual std::string run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                               std::uint64_t last) const;
+  std::string run_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first, std::uint64_t last) const;
+
+ protected:
+  /// @brief render() and run_jobs() once the system is known to be handled.
+  virtual Volume draw(const Ifs& ifs, const VolumeOptions& options) const = 0;
+  virtual std::string draw_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
+                                std::uint64_t last) const;
 };
 
 /// @brief The volumetric renderer called `name` ("prr", "ria", "dia", "eta" or an alias);
@@ -88,6 +99,8 @@ class VolumeRenderer {
 const VolumeRenderer& volume_renderer(const std::string& name);
 /// @brief Every volumetric renderer, in the order of Table 2's discussion (PRR first).
 std::vector<const VolumeRenderer*> volume_renderers();
+/// @brief Every volumetric renderer's name and capabilities, in that order.
+const std::vector<std::pair<std::string, Capabilities>>& volume_renderer_capabilities();
 /// @brief volume_renderer(algorithm).render(ifs, options).
 Volume render_volume(const Ifs& ifs, const std::string& algorithm, const VolumeOptions& options);
 
