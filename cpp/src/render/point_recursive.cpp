@@ -66,8 +66,8 @@ struct PrrImage {
     // mass, see below). The measure's share of each pixel sharpens as the cut shrinks (1/8: L1
     // about 0.02 from a long chaos game, for several times the work). For coverage a 1-pixel
     // piece over a pixel corner often reaches only some of the four pixels its spread points
-    // land in: at 1/2 the tree's set agrees with a 2 x 10^8-point chaos game at IoU 0.974, at 1
-    // only 0.934; pruning covered pixels (JobCoverage) pays for the extra level.
+    // land in, so coverage cuts at 1/2 pixel, where the tree's set agrees closely with a long
+    // chaos game; pruning covered pixels (JobCoverage) pays for the extra level.
     const ParameterValues values(renderer, options);
     cut = values.automatic("cut") ? (options.binary ? 0.5 : 1.0) : values.number("cut", 1.0 / 64.0, 1.0);
     channels = ifs.dim() - ifs.spatial_dims();
@@ -355,7 +355,7 @@ Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const 
     if (!setup.fit_pixels) throw InputError("image job result: over budget at a fixed depth (another render or build)");
     // The pixel-size stop would split for ever (or nearly): a fixed depth ends every branch,
     // whatever the system. Eq. 59's N^L >= H V leaves, one per pixel on average, leaves most
-    // of a thin attractor's pixels empty (the maple leaf kept 52% of them): the depth whose
+    // of a thin attractor's pixels empty (the maple leaf's, for one): the depth whose
     // N^L leaves match random iteration's count for coverage (Eq. 45) covers as it does. The
     // leaves carry exact masses, so the measure needs no more of them.
     RenderOptions fixed = options;
