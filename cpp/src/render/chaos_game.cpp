@@ -36,7 +36,7 @@ JobPlan plan_jobs(std::uint64_t total, std::uint64_t lanes) {
 }
 
 /// The general nD path: double precision, any layout, channels carried. The dimension is a
-/// template parameter so the map and the projection unroll (3-4x faster than a runtime loop).
+/// template parameter so the map and the projection unroll (a runtime loop cannot).
 /// The maps come from the walker's chain (model/orbit.h): a recurrent system (3.3.1) draws
 /// each from the row of the map before it.
 template <int N>
