@@ -211,8 +211,8 @@ std::vector<std::uint32_t> condensation_pixels(const Ifs& ifs, const Frame& fram
 
 PixelScatter::PixelScatter(std::size_t pixels, int values, int workers, const ProgressCallback& poll)
     : values_(values), workers_(workers), merged_((pixels + 63) / 64, 0) {
-  // At 16000^2 each worker's buffers hold 1.25 GB: they are faulted in on every core, within
-  // reach of Ctrl-C (a fill without a check kept it waiting for up to 1.7 s), then zeroed.
+  // A huge image's worker buffers run to gigabytes: they are faulted in on every core, within
+  // reach of Ctrl-C (a fill without a check would keep it waiting), then zeroed.
   for (Worker& w : workers_) {
     resize_large(w.flag, pixels, poll);
     resize_large(w.touched, pixels + 1, poll);
@@ -237,8 +237,8 @@ void PixelScatter::merge(std::vector<std::uint64_t>& sums, std::vector<std::uint
   const std::size_t pixels = workers_.empty() ? 0 : workers_[0].flag.size();
   if (workers_.size() > 1 && count > pixels / 16) {
     // Most pixels touched (the first passes of DIA map every pixel): the workers' flags read
-    // in runs of pixels on every core beat a walk of their lists in random order (1.7 s of
-    // one core at 6000^2). Runs in order give the list increasing, as below.
+    // in runs of pixels on every core beat a walk of their lists in random order (one core,
+    // cache misses). Runs in order give the list increasing, as below.
     constexpr std::size_t kRun = std::size_t(1) << 16;
     std::vector<std::vector<std::uint32_t>> runs((pixels + kRun - 1) / kRun);
     parallel_jobs(runs.size(), static_cast<int>(workers_.size()), [&](std::size_t run, int) {
