@@ -8,8 +8,7 @@ namespace ifsforge::polar {
 void chaos_job(const Ifs& ifs, const Frame& frame, const MapChain& chain, std::uint64_t points, std::uint64_t skip,
                std::uint64_t seed, std::uint64_t job, Accumulator& acc) {
   // Four orbits interleaved, each from its own stream (seed, 4 job + c): one orbit is a chain
-  // of dependent exp and sincos (Eq. 32); independent ones overlap in the core (12.7 -> 14.8 M
-  // points per second on one core for polar_spirals).
+  // of dependent exp and sincos (Eq. 32); independent ones overlap in the core's pipelines.
   constexpr int kChains = 4;
   const int n = ifs.dim();
   const auto& maps = ifs.maps();
