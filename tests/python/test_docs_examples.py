@@ -8,13 +8,14 @@ the blocks after it, so the format's documented example is read by the real read
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 import textwrap
 
 import pytest
 
-from conftest import BUILD_PYTHON, ROOT, ifsforge_command
+from conftest import BUILD_PYTHON, ROOT
 
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 SHIPPED = ("samples", "tests", "povray", "cpp", "blender_addon")
@@ -66,7 +67,11 @@ def scratch_folder(tmp_path):
     bin_dir = tmp_path / ".bin"
     bin_dir.mkdir()
     shim = bin_dir / "ifsforge"
-    shim.write_text("#!/bin/sh\nexec " + " ".join(f"'{part}'" for part in ifsforge_command()) + ' "$@"\n')
+    # The installed command (the set-up puts it on PATH), on the build tree's module; before any
+    # install, the module run as a program.
+    installed = shutil.which("ifsforge", path="/usr/local/bin" + os.pathsep + os.environ.get("PATH", ""))
+    command = [installed] if installed else [sys.executable, "-m", "ifsforge"]
+    shim.write_text("#!/bin/sh\nexec " + " ".join(f"'{part}'" for part in command) + ' "$@"\n')
     shim.chmod(0o755)
     env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON), PATH=f"{bin_dir}{os.pathsep}{os.environ.get('PATH', '')}")
     return env
