@@ -11,7 +11,8 @@ packages=(build-essential cmake pkg-config libgtest-dev libbenchmark-dev
   blender povray libopenvdb-dev libboost-iostreams-dev python3-openvdb libopenvdb-tools
   libopenmesh-dev libtinygltf-dev pybind11-dev nlohmann-json3-dev libpng-dev
   python3-numpy python3-pytest python3-tqdm python3-imath xvfb xauth
-  python3-skimage python3-pil python3-matplotlib python3-distributed clang libclang-rt-14-dev)
+  python3-skimage python3-pil python3-matplotlib python3-distributed clang libclang-rt-14-dev
+  python3-pip python3-venv python3-setuptools python3-wheel)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -27,7 +28,9 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_INTERPROCEDURAL_OPTIMIZATION=OFF >/dev/null
+# Debian's interpreter: the python3 first on PATH may be another one, without the python3-* packages.
+cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_INTERPROCEDURAL_OPTIMIZATION=OFF \
+  -DPython_EXECUTABLE=/usr/bin/python3 >/dev/null
 cmake --build "$build" -j "$(nproc)"
 if [ "${IFSFORGE_NO_INSTALL:-0}" != 1 ]; then
   sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
