@@ -113,8 +113,9 @@ def frame_switch(name, collection, start, count):
 
 
 class IFSFORGE_OT_bake_animation(bpy.types.Operator):
-    """Write the frames of the scene's animated ifsforge objects to files Blender reads natively (.vdb
-    sequences, Alembic caches), so the scene renders without the add-on"""
+    """Write the frames of the scene's animated ifsforge objects as data Blender plays by itself (.vdb
+    sequences for volumes, one mesh per frame in the .blend for the others), so the scene renders
+    without the add-on"""
     bl_idname = "ifsforge.bake_animation"
     bl_label = "Bake Animation"
     bl_options = {'REGISTER', 'UNDO'}

@@ -11,9 +11,8 @@ from bpy.types import Operator, Panel, PropertyGroup
 import ifsforge
 
 from . import outputs
+from .outputs import CODE_KEY, SIZE_KEY
 from .panels import SidebarPanel
-
-CODE_KEY = "ifsforge_pifs"  # custom property of the decoded image: the stored .pifs path
 
 
 class IFSFORGE_PG_fractal_texture(PropertyGroup):
@@ -51,13 +50,27 @@ def decode_to_png(scene, stem, code, size):
     return path
 
 
-def show(image, path):
-    """Points `image` at `path`, reloads it, and removes the file it showed before if unused."""
-    previous = bpy.path.abspath(image.filepath) if image.filepath else ""
+def show(image, path, size):
+    """Points `image` at `path` (decoded at `size`) and reloads it. The file it showed before stays:
+    an undo step may name it (files.py deletes what nothing can name)."""
     image.filepath = outputs.stored(path)
+    image[SIZE_KEY] = list(size)
     image.reload()
-    if previous and previous != path:
-        outputs.remove_unused(previous)
+
+
+def decode_again(image):
+    """Decodes a fractal texture's stored code again into the file it names (that file is gone);
+    returns an error message or ''."""
+    try:
+        code = ifsforge.read_pifs(bpy.path.abspath(image[CODE_KEY]))
+        size = tuple(image.get(SIZE_KEY, (code.width, code.height)))
+        path = bpy.path.abspath(image.filepath)
+        ifsforge.write_png(path, code.decode(size=size))
+        outputs.note(path)
+    except (ifsforge.Error, OSError) as error:
+        return f"{image.name}: {error}"
+    image.reload()
+    return ""
 
 
 class IFSFORGE_OT_fractal_texture(Operator):
@@ -88,6 +101,7 @@ class IFSFORGE_OT_fractal_texture(Operator):
         image.use_fake_user = True  # no material uses it yet: keep it when the .blend is saved
         image.filepath = outputs.stored(png)
         image[CODE_KEY] = outputs.stored(code_path)
+        image[SIZE_KEY] = list(image.size)
         settings.result = image
         self.report({'INFO'}, f"{image.name}: {len(data)} bytes ({pixels.size / len(data):.0f}:1), "
                               f"{image.size[0]}x{image.size[1]}")
@@ -110,11 +124,12 @@ class IFSFORGE_OT_fractal_texture_decode(Operator):
         try:
             code = ifsforge.read_pifs(path)
             stem = f"{image.name}-{hashlib.sha1(code.to_bytes()).hexdigest()[:12]}"
-            png = decode_to_png(context.scene, stem, code, decoded_size(settings, code))
+            size = decoded_size(settings, code)
+            png = decode_to_png(context.scene, stem, code, size)
         except (ifsforge.Error, OSError) as error:
             self.report({'ERROR'}, f"Fractal texture: {error}")
             return {'CANCELLED'}
-        show(image, png)
+        show(image, png, size)
         return {'FINISHED'}
 
 

@@ -3,6 +3,7 @@ primitive per leaf; Blender shows them as instances of the primitive meshes on t
 one object, driven by a geometry-node tree that reads each point's frame, scale, primitive
 and colour. Materials read the colour with an Attribute node (type Instancer, "ifs_color")."""
 import bpy
+import numpy as np
 
 import ifsforge
 
@@ -19,6 +20,7 @@ class InstancesGenerator(Generator):
 
     needs = ("instances", "srgb_to_linear")
     feature = "vector IFS"
+    default_sample = "vector_csg_pyramid.json"
 
     def draw(self, layout, settings, system):
         layout.prop(settings, "instance_depth")
@@ -32,7 +34,11 @@ class InstancesGenerator(Generator):
                                        scale_factor=settings["instance_scale"],
                                        color_source=settings["instance_color_by"], progress=progress)
         names = [p.name for p in instances.primitives]
-        return {"path": None, "instances": instances, "meshes": [p.mesh(SEGMENTS) for p in instances.primitives],
+        reach = np.asarray(instances.scales, np.float64)[:, None]  # a primitive fills about its scale
+        positions = np.asarray(instances.positions, np.float64)
+        origin = mesh_data.centre((positions - reach).min(axis=0), (positions + reach).max(axis=0)) \
+            if len(positions) else (0.0,) * 3
+        return {"path": None, "instances": instances, "origin": origin, "meshes": [p.mesh(SEGMENTS) for p in instances.primitives],
                 "names": names, "summary": f"{len(instances):,} instances of {', '.join(names)}, "
                                            f"depth {instances.addresses.depth}"}
 
@@ -47,7 +53,7 @@ class InstancesGenerator(Generator):
             owner.select_set(True)
         # One vertex per instance, with what the node tree and the material read.
         mesh = owner.data
-        mesh_data.points_mesh(mesh, instances.positions)
+        mesh_data.points_mesh(mesh, np.asarray(instances.positions, np.float64) - result["origin"])
         frames = instances.frames
         mesh_data.set_attribute(mesh, "ifs_axis_x", 'FLOAT_VECTOR', frames[:, 0, :])
         mesh_data.set_attribute(mesh, "ifs_axis_y", 'FLOAT_VECTOR', frames[:, 1, :])

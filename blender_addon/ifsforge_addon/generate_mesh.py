@@ -2,6 +2,7 @@
 iso-surface gives ray tracers a surface): ifsforge.volume_to_mesh, as a mesh object whose
 material reads the per-vertex colour ("ifs_color") when the layout has colour."""
 import bpy
+import numpy as np
 
 import ifsforge
 
@@ -17,6 +18,7 @@ class MeshGenerator(Generator):
 
     needs = ("render_volume", "volume_to_mesh", "srgb_to_linear")
     feature = "iso-surfaces"
+    default_sample = "menger_sponge.json"
 
     def draw(self, layout, settings, system):
         layout.prop(settings, "volume_resolution")
@@ -35,7 +37,10 @@ class MeshGenerator(Generator):
                                                             adaptivity=settings["mesh_adaptivity"],
                                                             normals=settings["custom_normals"],
                                                             progress=lambda fraction: progress(0.5 + 0.5 * fraction)))
-        return {"path": None, "mesh": mesh, "custom_normals": settings["custom_normals"],
+        positions = np.asarray(mesh["positions"], np.float64)
+        origin = mesh_data.centre(positions.min(axis=0), positions.max(axis=0)) if len(positions) else (0.0,) * 3
+        mesh["positions"] = positions - origin
+        return {"path": None, "mesh": mesh, "custom_normals": settings["custom_normals"], "origin": origin,
                 "summary": f"{len(mesh['positions']):,} vertices, {len(mesh['triangles']):,} triangles from "
                            f"{len(volume):,} voxels"}
 

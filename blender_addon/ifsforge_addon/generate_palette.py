@@ -16,6 +16,9 @@ class PaletteGenerator(ImageGenerator):
     needs = ("read_palette_recipe",)
     feature = "fractal palettes"
 
+    def uses_system(self, settings):
+        return False
+
     def draw(self, layout, settings, system):
         layout.prop(settings, "palette_recipe")
         layout.prop(settings, "palette_entries")

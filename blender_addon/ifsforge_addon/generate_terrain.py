@@ -21,6 +21,10 @@ class TerrainGenerator(Generator):
 
     needs = ("make_terrain", "srgb_to_linear")
     feature = "terrains"
+    default_sample = "barnsley_fern.json"
+
+    def uses_system(self, settings):
+        return settings["terrain_source"] == 'ATTRACTOR'
 
     def draw(self, layout, settings, system):
         layout.prop(settings, "terrain_source")
@@ -58,14 +62,20 @@ class TerrainGenerator(Generator):
             palette = palettes.make(settings["palette_recipe"], settings["palette_entries"])[1]
         terrain = ifsforge.make_terrain(controls, columns, rows, progress=progress)
         mesh = terrain.mesh(palette=palette, up="z")
+        low, high = terrain.min_height, terrain.max_height
+        if settings["terrain_source"] != 'RECIPE':  # a recipe's heights are the recipe's
+            low, high = fit_height(mesh, settings["terrain_height"])
+        positions = np.asarray(mesh["positions"], np.float64)
+        origin = mesh_data.centre(positions.min(axis=0), positions.max(axis=0), base=True)
+        mesh["positions"] = positions - origin
         if terrain.grid == "circular":  # a fan at the centre: the generic pairing and edge search
             mesh = mesh_data.prepare(mesh)
         else:  # a lattice: quads and edges known in advance (the triangles pair up along a-c)
             mesh["faces"], mesh["edges"] = mesh_data.grid_faces(terrain.columns, terrain.rows)
         ifsforge.write_png(path, palette.to_image(1), 16)
-        return {"path": path, "mesh": mesh, "custom_normals": settings["custom_normals"],
+        return {"path": path, "mesh": mesh, "custom_normals": settings["custom_normals"], "origin": origin,
                 "summary": f"{terrain.grid} terrain, {terrain.columns}x{terrain.rows} samples, heights "
-                           f"{terrain.min_height:.3g} to {terrain.max_height:.3g}"}
+                           f"{low:.3g} to {high:.3g}"}
 
     @staticmethod
     def controls(system, settings):
@@ -99,6 +109,23 @@ class TerrainGenerator(Generator):
         mesh.materials.clear()
         mesh.materials.append(mat)
         return owner
+
+
+def fit_height(mesh, height):
+    """Maps the mesh's heights onto [0, height]: fractal interpolation overshoots its control
+    heights (by up to about half their range at roughness 0.3), and Height is what the artist asked
+    for. The normals follow the vertical scaling. Returns the new (low, high)."""
+    positions = np.array(mesh["positions"], np.float64)
+    low, high = positions[:, 2].min(), positions[:, 2].max()
+    scale = height / (high - low) if high > low else 1.0
+    positions[:, 2] = (positions[:, 2] - low) * scale
+    mesh["positions"] = positions
+    if mesh.get("normals") is not None and scale > 0:
+        normals = np.array(mesh["normals"], np.float64)
+        normals[:, 2] /= scale  # the inverse transpose of diag(1, 1, scale)
+        normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
+        mesh["normals"] = normals
+    return 0.0, (high - low) * scale
 
 
 def palette_image(name, path):

@@ -2,11 +2,14 @@
 write_vdb make an OpenVDB file (FloatGrid "density", Vec3fGrid "color" when the layout has
 colour); Blender shows it as a Volume object whose Principled Volume reads both grids."""
 import bpy
+import numpy as np
 
 import ifsforge
 
-from . import outputs
+from . import mesh_data, outputs
 from .generators import Generator, link_object, node_material, register_generator
+
+ORIGIN_MODIFIER = "ifsforge origin"  # moves the grid (in the system's coordinates) around the origin
 
 
 def render_volume(system, settings, progress):
@@ -21,6 +24,7 @@ class VolumeGenerator(Generator):
 
     needs = ("render_volume", "write_vdb")
     feature = "volumes"
+    default_sample = "sierpinski_pyramid.json"
 
     def draw(self, layout, settings, system):
         layout.prop(settings, "volume_resolution")
@@ -33,16 +37,19 @@ class VolumeGenerator(Generator):
             raise ifsforge.InputError(f"'{system.name}' is planar ({system.layout}): volumes need an xyz layout")
         volume = render_volume(system, settings, progress)
         ifsforge.write_vdb(path, volume, system)
-        dims = "x".join(str(d) for d in volume.dims)
+        dims = np.asarray(volume.dims, np.float64)
+        lo = np.asarray(volume.origin, np.float64)
+        dims_text = "x".join(str(d) for d in volume.dims)
         return {"path": path, "voxels": len(volume), "coloured": volume.color_model != "none",
-                "strength": settings["volume_strength"],
-                "summary": f"{len(volume):,} voxels in {dims} ({settings['volume_algorithm']})"}
+                "density": settings["volume_strength"] * per_world_unit(volume),
+                "origin": mesh_data.centre(lo, lo + dims * volume.voxel_size),
+                "summary": f"{len(volume):,} voxels in {dims_text} ({settings['volume_algorithm']})"}
 
     def apply(self, context, owner, result, name):
         if owner is None:
             owner = bpy.data.objects.new(name, bpy.data.volumes.new(name))
             link_object(context, owner)
-            owner.data.materials.append(material(name, result["coloured"], result["strength"]))
+            owner.data.materials.append(material(name, result["coloured"]))
         volume = owner.data
         volume.grids.unload()  # the file may have the same name: forget what was read from it
         volume.filepath = outputs.stored(result["path"])
@@ -52,20 +59,85 @@ class VolumeGenerator(Generator):
             raise ifsforge.FileError(f"Blender could not load '{result['path']}': {volume.grids.error_message}")
         names = sorted(grid.name for grid in volume.grids)
         result["summary"] += f", grids {', '.join(names)}"
+        set_density(owner, result["density"])
+        place(owner, result["origin"])
         return owner
 
 
-def material(name, coloured, strength):
-    """Principled Volume reading the "density" grid (and "color" when there is one)."""
+def per_world_unit(volume):
+    """The factor that turns the grid's values into a density whose average over the grid's box
+    is 1 per world unit: (voxels of the box) / (sum of the values). A fractal fills a smaller
+    share of its box at every finer resolution (binary), and each voxel gets a smaller share of
+    the points (hits, measure): without it, the same Material density would render fainter at
+    every resolution, and hits or measure near invisible."""
+    total = float(np.sum(np.asarray(volume.density, np.float64)))
+    return float(np.prod(np.asarray(volume.dims, np.float64))) / total if total > 0 else 1.0
+
+
+def set_density(owner, density):
+    """The add-on's material gets the density (Regenerate applies a changed Material density or
+    resolution), and a colour volume's emission follows it; a material the user put instead is
+    left alone."""
+    for slot in owner.data.materials:
+        if slot is not None and slot.node_tree is not None and slot.name.startswith(owner.name):
+            nodes = slot.node_tree.nodes
+            for node in nodes:
+                if node.bl_idname == 'ShaderNodeVolumePrincipled':
+                    node.inputs["Density"].default_value = density
+            if EMISSION in nodes:
+                nodes[EMISSION].inputs[1].default_value = density * GLOW
+
+
+def place(owner, origin):
+    """A geometry-node modifier moving the grid by -origin: the object's origin is the centre of
+    the grid's box (the transform written into the .vdb is the system's)."""
+    tree = bpy.data.node_groups.get(ORIGIN_MODIFIER)
+    if tree is None:
+        tree = bpy.data.node_groups.new(ORIGIN_MODIFIER, 'GeometryNodeTree')
+        tree.inputs.new('NodeSocketGeometry', "Geometry")
+        tree.inputs.new('NodeSocketVector', "Offset")
+        tree.outputs.new('NodeSocketGeometry', "Geometry")
+        group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
+        move = tree.nodes.new('GeometryNodeTransform')
+        tree.links.new(group_in.outputs["Geometry"], move.inputs["Geometry"])
+        tree.links.new(group_in.outputs["Offset"], move.inputs["Translation"])
+        tree.links.new(move.outputs["Geometry"], group_out.inputs["Geometry"])
+        group_out.location = (400, 0)
+        move.location = (200, 0)
+    modifier = owner.modifiers.get(ORIGIN_MODIFIER) or owner.modifiers.new(ORIGIN_MODIFIER, 'NODES')
+    modifier.node_group = tree  # makes the modifier's input properties, of the sockets' types
+    offset = modifier[tree.inputs["Offset"].identifier]
+    for k in range(3):  # element by element: a list would replace the float array by doubles
+        offset[k] = -origin[k]
+    owner.update_tag()
+
+
+EMISSION = "ifsforge emission"  # the node scaling a colour volume's emission with its density
+GLOW = 1.0  # a colour volume's emission per unit of density: where opaque it shows its colours
+
+
+def material(name, coloured):
+    """Principled Volume reading the "density" grid, and for a colour volume the "color" grid as
+    its scattering colour and as an emission proportional to the density: lit only by scattering,
+    a coloured medium absorbs what it does not scatter and turns murky and dark; emitting its own
+    colour where it is dense, it keeps the saturation its colours have (as the iso-surface shows
+    them), at any resolution since the emission scales with the density."""
     mat, nodes, links = node_material(name)
     shader = nodes.new('ShaderNodeVolumePrincipled')
-    shader.inputs["Density"].default_value = strength
     shader.inputs["Density Attribute"].default_value = "density"
-    if coloured:
-        shader.inputs["Color Attribute"].default_value = "color"
     output = nodes.new('ShaderNodeOutputMaterial')
     links.new(shader.outputs["Volume"], output.inputs["Volume"])
     output.location = (300, 0)
+    if coloured:
+        shader.inputs["Color Attribute"].default_value = "color"
+        color, density = nodes.new('ShaderNodeAttribute'), nodes.new('ShaderNodeAttribute')
+        color.attribute_name, density.attribute_name = "color", "density"
+        scale = nodes.new('ShaderNodeMath')
+        scale.operation, scale.name, scale.label = 'MULTIPLY', EMISSION, "Emission per density"
+        links.new(density.outputs["Fac"], scale.inputs[0])
+        links.new(scale.outputs[0], shader.inputs["Emission Strength"])
+        links.new(color.outputs["Color"], shader.inputs["Emission Color"])
+        color.location, density.location, scale.location = (-500, 100), (-500, -150), (-250, -150)
     return mat
 
 

@@ -5,6 +5,7 @@ import hashlib
 import json
 
 import bpy
+from mathutils import Matrix, Vector
 
 import ifsforge
 
@@ -21,6 +22,11 @@ class Generator:
     datablock = "object"  # or "image": where the parameters are stored
     needs = ()  # the ifsforge functions work() calls
     feature = ""  # what the user misses without them, e.g. "volumes"
+    default_sample = "barnsley_fern.json"  # what an empty design (a fresh scene) generates from
+
+    def uses_system(self, settings):
+        """False when the output does not depend on the system (`settings`: plain values)."""
+        return True
 
     def missing(self):
         """'' when the ifsforge module provides what this generator needs, else why not."""
@@ -94,6 +100,11 @@ def digest(values):
     return hashlib.sha1(text.encode()).hexdigest()
 
 
+def without_system(values):
+    """A snapshot whose system is left out: what names the file of an output made without one."""
+    return {key: value for key, value in values.items() if key not in ("record", "morph", "active_map")}
+
+
 def output_path(context, generator, name, values):
     """Where the generator writes (None for generators that write nothing): the datablock's
     name and a digest of everything the output depends on. Outputs are deterministic, so equal
@@ -102,7 +113,8 @@ def output_path(context, generator, name, values):
     under its old name would not show."""
     if not generator.suffix:
         return None
-    text = json.dumps([generator.kind, ifsforge.__version__, values], sort_keys=True, default=list)
+    shaping = {k: v for k, v in values.items() if k != "active_map"}
+    text = json.dumps([generator.kind, ifsforge.__version__, shaping], sort_keys=True, default=list)
     digest = hashlib.sha1(text.encode()).hexdigest()[:12]
     return outputs.path_for(context.scene, f"{name}-{digest}", generator.suffix)
 
@@ -113,12 +125,28 @@ def store(owner, generator, source, result):
     data = owner.ifsforge
     if source is not None:
         restore(source, data.system, data.settings)
-    previous = bpy.path.abspath(data.output) if data.output else ""
     data.kind = generator.kind
+    # The previous file stays: an undo step may name it (files.py deletes what nothing can name).
     data.output = outputs.stored(result["path"]) if result.get("path") else ""
-    if previous and previous != result.get("path"):
-        outputs.remove_unused(previous)
     data.summary = result.get("summary", "")
+
+
+def image_empty(context, image):
+    """An image empty showing `image` at the 3D cursor (as Add > Image > Reference makes), active
+    and selected: what Add > IFS > Image puts in the viewport."""
+    obj = bpy.data.objects.new(image.name, None)
+    obj.empty_display_type = 'IMAGE'
+    obj.empty_display_size = 2.0
+    obj.data = image
+    obj.location = context.scene.cursor.location
+    link_object(context, obj)
+    return obj
+
+
+def system_matrix(obj):
+    """The 4x4 matrix taking the system's coordinates to the world's for a generated object,
+    whose data sits around its origin (the system's point obj.ifsforge.origin)."""
+    return obj.matrix_world @ Matrix.Translation(-Vector(obj.ifsforge.origin))
 
 
 def link_object(context, obj):

@@ -26,7 +26,9 @@ class IFSFORGE_MT_add(bpy.types.Menu):
         layout.operator_context = 'INVOKE_REGION_WIN'  # the background job with progress and Esc
         for kind, text, icon in ADD_ENTRIES:
             if generators.registered(kind):
-                layout.operator(f"ifsforge.generate_{kind.lower()}", text=text, icon=icon)
+                op = layout.operator(f"ifsforge.generate_{kind.lower()}", text=text, icon=icon)
+                if kind == 'IMAGE':
+                    op.in_viewport = True
 
 
 def draw_add(self, context):
@@ -34,7 +36,7 @@ def draw_add(self, context):
 
 
 def draw_import(self, context):
-    self.layout.operator("ifsforge.import", text="IFS system (.json, .ifs)")
+    self.layout.operator("ifsforge.import_system", text="IFS system (.json, .ifs)")
 
 
 def draw_export(self, context):

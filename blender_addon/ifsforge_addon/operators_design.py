@@ -10,7 +10,7 @@ from mathutils import Vector
 
 import ifsforge
 
-from . import codec, presets, preview, state
+from . import codec, generators, presets, preview, state
 from .operators_generate import report_error
 from .properties import read_record, restore, snapshot, write_map, write_record
 
@@ -315,7 +315,7 @@ class IFSFORGE_OT_view_preview(bpy.types.Operator):
         spatial = state.analyse(pg).system.spatial_dims
         lo, hi = (Vector(list(b[:spatial]) + [0.0] * (3 - spatial)) for b in cloud.bounds)
         in_system_space = isinstance(owner, bpy.types.Object) and owner.ifsforge.kind in preview.SYSTEM_SPACE
-        matrix = owner.matrix_world if in_system_space else None
+        matrix = generators.system_matrix(owner) if in_system_space else None
         centre = (lo + hi) / 2
         view = context.space_data.region_3d
         view.view_location = matrix @ centre if matrix is not None else centre

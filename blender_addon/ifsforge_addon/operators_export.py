@@ -20,7 +20,7 @@ class IFSFORGE_OT_export_povray(bpy.types.Operator, ExportHelper):
     """Write the system's instance list as a POV-Ray 3.7 scene (the Instances settings choose depth,
     primitives and colours)"""
     bl_idname = "ifsforge.export_povray"
-    bl_label = "Export POV-Ray Scene"
+    bl_label = "Export System Instances (POV-Ray)"
     filename_ext = ".pov"
     filter_glob: StringProperty(default="*.pov", options={'HIDDEN'})
     width: IntProperty(name="Width", min=16, max=16384, default=SCENE.width)

@@ -1,6 +1,7 @@
 """Generate and Regenerate. Invoked from the UI they run modally: the work runs on a thread,
 the window manager shows its progress and Esc cancels; called from a script (execute) they
 run in place. Either way the result is one undo step, and errors become reports."""
+import json
 import traceback
 
 import bpy
@@ -10,9 +11,9 @@ import ifsforge
 
 from . import (generate_image, generate_instances, generate_mesh, generate_palette,  # noqa: F401  (they register)
                generate_terrain, generate_volume)
-from . import generators, presets, state
+from . import codec, generators, presets, state
 from .jobs import Job
-from .properties import IFSFORGE_PG_settings, restore, snapshot
+from .properties import IFSFORGE_PG_settings, restore, snapshot, snapshot_settings, snapshot_system, system_values
 
 
 def report_error(operator, error):
@@ -27,18 +28,23 @@ def report_error(operator, error):
 
 
 class Plan:
-    """What one run makes: from which values, into which datablock (by name, resolved again
-    when the work is done, since the UI keeps running meanwhile)."""
+    """What one run makes: from which values (a properties.snapshot: the system and the
+    settings), into which datablock (by name, resolved again when the work is done, since the UI
+    keeps running meanwhile)."""
 
-    def __init__(self, context, generator, owner, system_pg, settings_pg, new):
+    def __init__(self, context, generator, owner, values, new):
         self.generator = generator
-        self.values = snapshot(system_pg, settings_pg)
+        self.values = values
         self.new = new
-        base = f"{system_pg.name or 'IFS'} {generator.label.lower()}"
+        base = f"{values['record']['name'] or 'IFS'} {generator.label.lower()}"
         self.name = generators.unique_name(generator, base) if new else owner.name
-        system = state.system_of(system_pg)
-        settings = generator.resolve(dict(self.values["settings"]))
-        path = generators.output_path(context, generator, self.name, self.values | {"settings": settings})
+        settings = generator.resolve(dict(values["settings"]))
+        # A generator that reads no system (a palette, random heights) neither needs nor
+        # depends on one: an empty design does not stop it, and editing the design does not
+        # rename its file.
+        system = state.system_of_values(values) if generator.uses_system(settings) else None
+        shaped = values if system is not None else generators.without_system(values)
+        path = generators.output_path(context, generator, self.name, shaped | {"settings": settings})
         self.job = Job(lambda progress: generator.work(system, settings, path, progress))
 
     def finish(self, context):
@@ -53,6 +59,7 @@ class Plan:
         if self.new and isinstance(owner, bpy.types.Object):
             owner.location = context.scene.cursor.location  # where Blender adds objects
         generators.store(owner, self.generator, self.values if self.new else None, self.job.result)
+        owner.ifsforge.origin = self.job.result.get("origin", (0.0, 0.0, 0.0))
         owner.ifsforge.built_from = generators.digest(self.values)
         return owner
 
@@ -66,21 +73,29 @@ def own_data(owner):
 
 
 class JobOperator:
-    """Mixin: subclasses define plan(context) -> Plan."""
+    """Mixin: subclasses define plan(context) -> Plan, and may define placed(context, owner)
+    (what the new datablock gets besides: an image's empty in the viewport)."""
     bl_options = {'REGISTER', 'UNDO'}
     _plan = None
     _timer = None
 
+    def placed(self, context, owner):
+        pass
+
+    def done(self, context):
+        owner = self._plan.finish(context)
+        self.placed(context, owner)
+        self.report({'INFO'}, f"{owner.name}: {owner.ifsforge.summary}")
+        return {'FINISHED'}
+
     def execute(self, context):
         try:
-            plan = self.plan(context)
-            plan.job.run()
-            owner = plan.finish(context)
+            self._plan = self.plan(context)
+            self._plan.job.run()
+            return self.done(context)
         except Exception as error:
             report_error(self, error)
             return {'CANCELLED'}
-        self.report({'INFO'}, f"{owner.name}: {owner.ifsforge.summary}")
-        return {'FINISHED'}
 
     def invoke(self, context, event):
         try:
@@ -114,19 +129,29 @@ class JobOperator:
         wm.progress_end()
         context.workspace.status_text_set(None)
         try:
-            owner = self._plan.finish(context)
+            return self.done(context)
         except Exception as error:
             report_error(self, error)
             return {'CANCELLED'}
-        self.report({'INFO'}, f"{owner.name}: {owner.ifsforge.summary}")
-        return {'FINISHED'}
+
+
+def default_system(generator, settings):
+    """The system values (properties.SYSTEM_KEYS of a snapshot) of the generator's own sample,
+    what a fresh scene's empty design generates from; its view goes into `settings`."""
+    system = ifsforge.load(str(presets.sample("systems", generator.default_sample)))
+    view = system.render_defaults.get("view")
+    if view:
+        settings.view = view
+    return system_values(codec.system_record(system))
 
 
 def _generate_operator(kind, description):
-    """An IFSFORGE_OT_generate_<kind> class: a new datablock from the edited system (or from the
-    sample `sample`), at the 3D cursor. The settings are the operator's own (copied from the
-    edited ones on the first run), so F9 "Adjust Last Operation" re-runs it with changed values
-    and operator presets (shipped for the samples, user-savable) can set them."""
+    """An IFSFORGE_OT_generate_<kind> class: a new datablock at the 3D cursor from the edited
+    system, from the sample `sample`, or, when the design is empty (a fresh scene), from the
+    generator's own sample. The operator keeps the system (ifsforge values as JSON) and the
+    settings it made the datablock from: F9 "Adjust Last Operation" re-runs it with changed
+    values, and an operator preset (shipped, or saved by the user with F9's "+") holds every value
+    and makes the same datablock again in any scene."""
 
     def plan(self, context):
         generator = generators.get(kind)
@@ -137,13 +162,25 @@ def _generate_operator(kind, description):
         if self.sample:  # into the scene's design (never over a selected object's stored system)
             from .operators_design import load_into  # (operators_design imports this module)
             design = context.scene.ifsforge
-            owner, system_pg, settings_pg = context.scene, design.system, design.settings
+            system_pg, settings_pg = design.system, design.settings
             load_into(context, self, system_pg, ifsforge.load(str(presets.sample("systems", self.sample))),
                       settings_pg)
-        if not self.adjusted:  # first run: start from the edited settings
-            restore({**snapshot(system_pg, settings_pg), "record": None}, None, self.settings)
+            self.system = json.dumps(snapshot_system(system_pg))
+        if not self.adjusted:  # first run: start from the edited system and settings
+            restore({"settings": snapshot_settings(settings_pg)}, None, self.settings)
+            if not self.sample:
+                if state.empty(system_pg) and generator.uses_system(snapshot_settings(self.settings)):
+                    values = default_system(generator, self.settings)
+                else:
+                    values = snapshot_system(system_pg)
+                self.system = json.dumps(values)
             self.adjusted = True
-        return Plan(context, generator, owner, system_pg, self.settings, new=True)
+        values = json.loads(self.system) if self.system else snapshot_system(system_pg)
+        return Plan(context, generator, owner, values | {"settings": snapshot_settings(self.settings)}, new=True)
+
+    def placed(self, context, owner):
+        if self.in_viewport and isinstance(owner, bpy.types.Image):
+            generators.image_empty(context, owner)
 
     @classmethod
     def poll(cls, context):
@@ -157,17 +194,28 @@ def _generate_operator(kind, description):
         layout.use_property_split = True
         layout.prop(self, "sample")
         layout.prop(self.settings, "seed")
-        generators.get(kind).draw(layout, self.settings, state.analyse(state.target(context)[1]).system)
+        system = None
+        if self.system:
+            values = json.loads(self.system)
+            layout.label(text=f"System: {values['record']['name']}", icon='OUTLINER_OB_POINTCLOUD')
+            system = state.analyse_values(values).system
+        generators.get(kind).draw(layout, self.settings, system)
 
     name = kind.lower()
     return type(f"IFSFORGE_OT_generate_{name}", (JobOperator, bpy.types.Operator), {
         "bl_idname": f"ifsforge.generate_{name}", "bl_label": f"Generate {generators.get(kind).label}",
         "bl_description": description, "bl_options": {'REGISTER', 'UNDO', 'PRESET'},
-        "plan": plan, "poll": poll, "draw": draw,
+        "plan": plan, "placed": placed, "poll": poll, "draw": draw,
         "__annotations__": {
-            "settings": PointerProperty(type=IFSFORGE_PG_settings, options={'SKIP_SAVE'}),
+            # Saved in presets (neither hidden nor SKIP_SAVE), and ignored on a first run
+            # (adjusted is False), which takes the edited values instead of the last run's.
+            "settings": PointerProperty(type=IFSFORGE_PG_settings),
+            "system": StringProperty(name="System", description="The system generated from (ifsforge values, JSON)"),
             "sample": StringProperty(name="Sample", options={'SKIP_SAVE'},
                                      description="A sample system file to generate from (empty: the edited system)"),
+            "in_viewport": BoolProperty(
+                name="Show in viewport", options={'SKIP_SAVE'},
+                description="An image: also add an image empty showing it at the 3D cursor"),
             "adjusted": BoolProperty(options={'HIDDEN', 'SKIP_SAVE'}),
         }})
 
@@ -191,7 +239,7 @@ class IFSFORGE_OT_regenerate(JobOperator, bpy.types.Operator):
         reason = generator.missing()
         if reason:
             raise ifsforge.Error(reason)
-        return Plan(context, generator, owner, owner.ifsforge.system, owner.ifsforge.settings, new=False)
+        return Plan(context, generator, owner, snapshot(owner.ifsforge.system, owner.ifsforge.settings), new=False)
 
 
 def regenerate_now(context, owner, source=None):
@@ -199,7 +247,8 @@ def regenerate_now(context, owner, source=None):
     values or from `source` (its evaluated copy's ifsforge group). Returns an error message or ''."""
     source = source or owner.ifsforge
     try:
-        plan = Plan(context, generators.get(owner.ifsforge.kind), owner, source.system, source.settings, new=False)
+        plan = Plan(context, generators.get(owner.ifsforge.kind), owner, snapshot(source.system, source.settings),
+                    new=False)
         plan.job.run()
         plan.finish(context)
     except Exception as error:

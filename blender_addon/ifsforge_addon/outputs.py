@@ -10,6 +10,9 @@ from pathlib import Path
 import bpy
 
 
+CODE_KEY = "ifsforge_pifs"  # a fractal texture's custom property: the path of its .pifs code
+SIZE_KEY = "ifsforge_pifs_size"  # and the size it was decoded at
+
 SESSION = time.strftime("session-%Y%m%d-%H%M%S-") + str(os.getpid())
 
 
@@ -31,6 +34,7 @@ def folder(scene):
         path = blend.parent / f"{blend.stem}_ifsforge"
     else:
         path = session_folder()
+        _session_folders.add(str(path))
     path.mkdir(parents=True, exist_ok=True)
     return path
 
@@ -42,18 +46,34 @@ def file_name(stem, suffix):
 
 
 def path_for(scene, stem, suffix):
-    return str(folder(scene) / file_name(stem, suffix))
+    """Where a generated file goes (recorded as handed out)."""
+    return note(folder(scene) / file_name(stem, suffix))
 
 
-def remove_unused(path):
-    """Deletes a file an ifsforge datablock no longer uses, unless a volume or an image still
-    reads it."""
-    path = os.path.abspath(path)
-    users = [v.filepath for v in bpy.data.volumes] + [i.filepath for i in bpy.data.images]
-    if any(os.path.abspath(bpy.path.abspath(p)) == path for p in users if p):
-        return
-    if os.path.isfile(path):
-        os.remove(path)
+# What this session handed out: every file it made or copied, and those the file it opened uses
+# (an undo step may name any of them: files.py deletes none of them before the session ends).
+_handed_out = set()
+_session_folders = set()
+
+
+def note(path):
+    """Records a file this session made (or copied, or found in the file it opened)."""
+    _handed_out.add(os.path.abspath(str(path)))
+    return str(path)
+
+
+def handed_out():
+    return set(_handed_out)
+
+
+def session_folders():
+    return set(_session_folders)
+
+
+def forget():
+    """A new session: its undo steps name none of the earlier files."""
+    _handed_out.clear()
+    _session_folders.clear()
 
 
 def stored(path):

@@ -101,6 +101,11 @@ class IFSFORGE_PT_design(SidebarPanel, Panel):
         row.prop(pg, "layout")
         row.menu("IFSFORGE_MT_layouts", text="", icon='DOWNARROW_HLT')
         layout.prop(pg, "probabilities")
+        if state.empty(pg):  # a fresh scene: say what Generate does rather than what is missing
+            box = layout.box()
+            box.label(text="No system yet: each generator starts", icon='INFO')
+            box.label(text="from its own sample (Preset to pick one)", icon='BLANK1')
+            return
         analysis = state.analyse(pg)
         draw_analysis(layout, analysis, pg)
         if pg.morph.enabled:

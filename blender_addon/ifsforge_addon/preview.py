@@ -8,7 +8,7 @@ import bpy
 
 import ifsforge
 
-from . import collage, state
+from . import collage, generators, state
 
 _handle = None
 # Generated objects in the system's own coordinates: the preview follows their transform.
@@ -117,7 +117,7 @@ def draw():
     settings = scene.ifsforge.preview
     gpu.matrix.push()
     if isinstance(owner, bpy.types.Object) and owner.ifsforge.kind in SYSTEM_SPACE:
-        gpu.matrix.multiply_matrix(owner.matrix_world)
+        gpu.matrix.multiply_matrix(generators.system_matrix(owner))
     gpu.state.depth_test_set('LESS_EQUAL')
     gpu.state.blend_set('ALPHA')
     gpu.state.point_size_set(settings.point_size)

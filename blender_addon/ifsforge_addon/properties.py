@@ -2,6 +2,7 @@
 each generated datablock keeps (on the object or image), so Regenerate can rebuild it and
 the values are saved with the .blend and can be keyframed."""
 import bpy
+import numpy as np
 from bpy.props import (BoolProperty, BoolVectorProperty, CollectionProperty, EnumProperty, FloatProperty,
                        FloatVectorProperty, IntProperty, PointerProperty, StringProperty)
 from bpy.types import PropertyGroup
@@ -146,8 +147,10 @@ class IFSFORGE_PG_settings(PropertyGroup):
     volume_density: EnumProperty(name="Density", default=VOLUME.density, items=(
         ('binary', "Binary", "1 in every occupied voxel"), ('hits', "Hits", "Points or leaves per voxel"),
         ('measure', "Measure", "The voxel's share of the invariant measure")))
-    volume_strength: FloatProperty(name="Material density", min=0.0, default=25.0,
-                                   description="Principled Volume density multiplier of the new material")
+    volume_strength: FloatProperty(
+        name="Material density", min=0.0, default=2.0,
+        description="The volume's average density over its box, per world unit: the same look at any "
+                    "resolution and density mode (Regenerate applies it to the material)")
     mesh_iso: FloatProperty(name="Iso value", min=0.0, max=1.0, default=ISO.iso,
                             description="Iso-surface of the occupancy (0..1)")
     custom_normals: BoolProperty(
@@ -186,7 +189,8 @@ class IFSFORGE_PG_settings(PropertyGroup):
     terrain_resolution: IntProperty(name="Resolution", min=17, max=4097, default=257,
                                     description="Samples along each side")
     terrain_size: FloatProperty(name="Size", min=0.01, default=4.0, subtype='DISTANCE')
-    terrain_height: FloatProperty(name="Height", min=0.0, default=1.0, subtype='DISTANCE')
+    terrain_height: FloatProperty(name="Height", min=0.0, default=1.0, subtype='DISTANCE',
+                                  description="From the lowest to the highest point of the terrain")
     palette_recipe: StringProperty(name="Palette", subtype='FILE_PATH',
                                    description="A palette recipe (ifsforge-palette/1); empty: the sample 'earth'")
     palette_entries: IntProperty(name="Entries", min=2, max=65536, default=256)
@@ -209,6 +213,9 @@ class IFSFORGE_PG_generated(PropertyGroup):
                     "(keyframes, drivers, NLA, scripts)")
     # generators.digest() of the values the datablock was last built from.
     built_from: StringProperty(options={'HIDDEN'})
+    # The system's point at the object's origin (the centre of what was generated): the data is
+    # stored relative to it (generators.system_matrix).
+    origin: FloatVectorProperty(name="Origin in system", size=3, subtype='XYZ', options={'HIDDEN'})
     baked: BoolProperty(name="Baked", description="Its frames are files Blender reads natively (Bake Animation)")
 
 
@@ -344,16 +351,59 @@ def write_map(item, m, name=None):
 MORPH_KEYS = ("enabled", "source", "target", "source_name", "target_name", "factor")
 
 
-def snapshot(system_pg, settings_pg):
-    """Plain values of a system and its settings (safe to keep while the UI changes them)."""
+def snapshot_settings(settings_pg):
+    """Plain values of a settings group (-0.0 written 0.0: equal values, equal digests)."""
     values = {}
     for prop in settings_pg.bl_rna.properties:
         if prop.identifier != "rna_type":
             value = getattr(settings_pg, prop.identifier)
-            values[prop.identifier] = value if isinstance(value, (str, int, float, bool)) else tuple(value)
-    return {"record": read_record(system_pg) | {"morph": None},
-            "morph": {key: getattr(system_pg.morph, key) for key in MORPH_KEYS},
-            "active_map": system_pg.active_map, "settings": values}
+            values[prop.identifier] = _plain(value if isinstance(value, (str, int, float, bool)) else tuple(value))
+    return values
+
+
+def _plain(value):
+    if isinstance(value, float):
+        return value + 0.0  # -0.0 + 0.0 is 0.0
+    if isinstance(value, (tuple, list)):
+        return tuple(_plain(v) for v in value)
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    return value
+
+
+def snapshot_system(system_pg):
+    """Plain values of a system group: {"record", "morph", "active_map"} (SYSTEM_KEYS)."""
+    return {"record": _plain(read_record(system_pg) | {"morph": None}),
+            "morph": {key: _plain(getattr(system_pg.morph, key)) for key in MORPH_KEYS},
+            "active_map": system_pg.active_map}
+
+
+SYSTEM_KEYS = ("record", "morph", "active_map")
+
+
+def _single(value):
+    """Values as a float property holds them (single precision)."""
+    if isinstance(value, float):
+        return float(np.float32(value)) + 0.0
+    if isinstance(value, (tuple, list)):
+        return tuple(_single(v) for v in value)
+    if isinstance(value, dict):
+        return {k: _single(v) for k, v in value.items()}
+    return value
+
+
+def system_values(record):
+    """The snapshot_system() values of a codec record (no morph), as a system group would hold
+    them: the datablock made from them stores them there, and its digest must not change."""
+    return {"record": _single(record | {"morph": None}),
+            "morph": {"enabled": False, "source": "", "target": "", "source_name": "", "target_name": "",
+                      "factor": 0.0},
+            "active_map": 0}
+
+
+def snapshot(system_pg, settings_pg):
+    """Plain values of a system and its settings (safe to keep while the UI changes them)."""
+    return snapshot_system(system_pg) | {"settings": snapshot_settings(settings_pg)}
 
 
 def restore(values, system_pg, settings_pg):

@@ -82,5 +82,32 @@ def system_of(pg):
     return analysis.system
 
 
+def record_of(values):
+    """The codec record (its morph included) of properties.snapshot_system() values."""
+    morph = values["morph"]
+    return values["record"] | {
+        "morph": {"from": morph["source"], "to": morph["target"], "t": morph["factor"]} if morph["enabled"] else None}
+
+
+def analyse_values(values):
+    """The Analysis of snapshot_system() values (an operator's stored system)."""
+    return Analysis(record_of(values))
+
+
+def system_of_values(values):
+    """The ifsforge.Ifs of snapshot_system() values; raises as system_of() does."""
+    analysis = analyse_values(values)
+    if analysis.system is None:
+        raise ifsforge.InputError(analysis.error)
+    if analysis.error:
+        raise ifsforge.DivergentSystemError(analysis.error)
+    return analysis.system
+
+
+def empty(pg):
+    """True for a design nobody has filled yet (a fresh scene's): no maps and no morph."""
+    return len(pg.maps) == 0 and not pg.morph.enabled
+
+
 def clear():
     _cache.clear()

@@ -46,6 +46,26 @@ def operator_settings_and_cursor():
         assert {'REGISTER', 'UNDO', 'PRESET'} <= set(cls.bl_options), cls.bl_options
         properties = getattr(bpy.ops.ifsforge, f"generate_{kind}").get_rna_type().properties
         assert "settings" in properties and "sample" in properties
+        # What F9's "+" writes into a user preset: the system and every setting (neither hidden
+        # nor SKIP_SAVE); the first run of a new invocation takes the edited values instead.
+        for name in ("settings", "system"):
+            assert not properties[name].is_skip_save and not properties[name].is_hidden, (kind, name)
+
+
+def negative_zero_does_not_rebuild():
+    """-0.0 where 0.0 was (a keyframe, a script) is the same value: no rebuild, same file."""
+    deselect()
+    bpy.ops.ifsforge.load_preset(preset="sierpinski_tetrahedron.json")
+    context.scene.ifsforge.settings.volume_resolution = 12
+    bpy.ops.ifsforge.generate_volume()
+    obj = context.active_object
+    path, built = obj.data.filepath, obj.ifsforge.built_from
+    rotation = obj.ifsforge.system.maps[0].rotation
+    assert rotation[0] == 0.0
+    rotation[:] = [-v if v == 0 else v for v in rotation]  # each zero's sign flipped
+    obj.ifsforge.settings.view = [-v if v == 0 else v for v in obj.ifsforge.settings.view]
+    context.scene.frame_set(context.scene.frame_current + 1)
+    assert (obj.data.filepath, obj.ifsforge.built_from) == (path, built)
 
 
 def shipped_presets():
@@ -108,6 +128,7 @@ def gltf_import_without_a_patch():
 
 
 checks.run("operator_settings_and_cursor", operator_settings_and_cursor)
+checks.run("negative_zero_does_not_rebuild", negative_zero_does_not_rebuild)
 checks.run("shipped_presets", shipped_presets)
 checks.run("menus_hold_the_entries", menus_hold_the_entries)
 checks.run("preferences_apply", preferences_apply)

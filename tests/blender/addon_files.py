@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import bpy
+import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from addon_harness import Checks, arguments, enable_addon, render_alpha  # noqa: E402
@@ -128,12 +129,24 @@ def files_move_beside_the_blend_and_travel():
     obj = generate("volume", "sierpinski_tetrahedron.json", volume_resolution=24)
     before = Path(obj.data.filepath)
     assert before.is_absolute() and before.parent == outputs.session_folder() and before.is_file(), before
+    # A fractal texture made before the save: its picture and its code go beside the .blend too.
+    source = bpy.data.images.new("swatch", 32, 32)
+    source.pixels.foreach_set(np.random.default_rng(1).random(32 * 32 * 4).astype(np.float32))
+    scene().ifsforge_fractal_texture.source = source
+    assert bpy.ops.ifsforge.fractal_texture() == {'FINISHED'}
+    texture = scene().ifsforge_fractal_texture.result
+    code = Path(texture[outputs.CODE_KEY])
+    assert code.parent == outputs.session_folder() and code.is_file()
     project = OUT / "project"
     project.mkdir(exist_ok=True)
     bpy.ops.wm.save_as_mainfile(filepath=str(project / "scene.blend"))
     assert obj.data.filepath == f"//scene_ifsforge/{before.name}", obj.data.filepath
     assert obj.ifsforge.output == obj.data.filepath
-    assert not before.exists() and (project / "scene_ifsforge" / before.name).is_file()
+    assert texture[outputs.CODE_KEY] == f"//scene_ifsforge/{code.name}", texture[outputs.CODE_KEY]
+    assert texture.filepath.startswith("//scene_ifsforge/") and Path(bpy.path.abspath(texture.filepath)).is_file()
+    # Copied: the originals stay while an undo step may name them (until this session ends).
+    assert before.exists() and (project / "scene_ifsforge" / before.name).is_file()
+    assert (project / "scene_ifsforge" / code.name).is_file()
     # The file on disk says so too (the handler saved again): copy the project and open the copy.
     elsewhere = OUT / "elsewhere" / "copied"
     shutil.rmtree(elsewhere.parent, ignore_errors=True)
@@ -141,6 +154,7 @@ def files_move_beside_the_blend_and_travel():
     shutil.rmtree(project)
     name = obj.name
     bpy.ops.wm.open_mainfile(filepath=str(elsewhere / "scene.blend"))
+    assert not before.exists() and not code.exists(), "the ended session left its cache files"
     obj = bpy.data.objects[name]
     path = Path(bpy.path.abspath(obj.data.filepath))
     assert path.parent == elsewhere / "scene_ifsforge" and path.is_file(), path

@@ -164,3 +164,60 @@ print("PROBE " + json.dumps(out))
     if seen["imports"] or seen["addon"]:
         raise AssertionError(f"ifsforge was needed: imports {seen['imports']}, add-on enabled {seen['addon']}")
     return seen
+
+
+class RecordingLayout:
+    """Stands in for a menu's UILayout: records the entries a draw function adds, as
+    (kind, label, id, properties): "operator" entries with the properties the menu sets on them,
+    "menu" entries (sub-menus). Anything else a draw function calls (separators, columns,
+    operator_context) is accepted and ignored."""
+
+    def __init__(self):
+        self.entries = []
+
+    def operator(self, idname, text="", **options):
+        import types
+        properties = types.SimpleNamespace()
+        self.entries.append(("operator", text or idname, idname, properties))
+        return properties
+
+    def menu(self, name, text="", **options):
+        import bpy
+        self.entries.append(("menu", text or getattr(bpy.types, name).bl_label, name, None))
+
+    def __getattr__(self, name):
+        return lambda *args, **kwargs: self
+
+    def __setattr__(self, name, value):
+        if name == "entries":
+            object.__setattr__(self, name, value)
+
+
+def menu_entries(menu, context):
+    """What the menu class shows: its own draw and every function appended to it (what Blender
+    draws), on a RecordingLayout."""
+    import types
+    layout = RecordingLayout()
+    for draw in menu._dyn_ui_initialize():
+        draw(types.SimpleNamespace(layout=layout, bl_idname=menu.__name__), context)
+    return layout.entries
+
+
+def operator_by_label(menu, context, label):
+    """The operator entry of a menu shown as `label`: (bpy.ops function, the properties the menu
+    sets). Fails when no entry has that label or the entry's operator does not exist (Blender
+    would draw it greyed out)."""
+    import bpy
+    found = [(idname, props) for kind, text, idname, props in menu_entries(menu, context)
+             if kind == "operator" and text == label]
+    if not found:
+        labels = [text for _, text, _, _ in menu_entries(menu, context)]
+        raise AssertionError(f"{menu.__name__} has no entry '{label}' (it has {labels})")
+    idname, props = found[0]
+    group, name = idname.split(".")
+    function = getattr(getattr(bpy.ops, group), name)
+    try:
+        function.get_rna_type()
+    except KeyError:
+        raise AssertionError(f"'{label}' in {menu.__name__} calls {idname}, which is no operator") from None
+    return function, vars(props)
