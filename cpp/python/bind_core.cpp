@@ -5,6 +5,7 @@
 #include "ifsforge/core/color.h"
 #include "ifsforge/core/default_threads.h"
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 
 namespace ifsforge::python {
@@ -35,6 +36,10 @@ void bind_core(py::module_& m) {
   m.def("set_default_threads", &set_default_threads, py::arg("threads"),
         "Threads used by every call given threads=0 (0: all cores). Results do not depend on it.");
   m.def("default_threads", [] { return resolve_threads(0); }, "Threads a call given threads=0 uses.");
+  m.def("memory_budget", &memory_budget,
+        "Bytes one job may allocate: IFSFORGE_MEMORY_BUDGET_MB if set, else 75% of the physical memory.");
+  m.def("check_memory", &check_memory, py::arg("bytes"), py::arg("what"),
+        "MemoryBudgetError naming `what` when `bytes` exceeds memory_budget() (estimate before allocating).");
   m.def("srgb_to_linear", py::vectorize([](double c) { return srgb_to_linear<double>(c); }), py::arg("c"),
         "Display (sRGB-encoded) colour values in [0, 1] to linear light (IEC 61966-2-1), clamped first: what "
         "glTF COLOR_0/baseColorFactor, the .vdb colour grid and Blender colour attributes hold.");

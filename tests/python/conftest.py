@@ -1,5 +1,6 @@
 """Shared fixtures. The suite tests the Python binding and the CLI, not the C++ core again."""
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -20,13 +21,27 @@ def samples():
     return SAMPLES
 
 
+def patience(seconds):
+    """A responsiveness limit stretched by the machine's load: a command that must stop within a
+    second on a quiet machine gets its share of the cores on a busy one (load / cores times more)."""
+    return seconds * max(1.0, os.getloadavg()[0] / (os.cpu_count() or 1))
+
+
+def ifsforge_command():
+    """The `ifsforge` command as the README's set-up installs it (its launcher on PATH), else the
+    same launcher from the source tree: tests run what users run, not `python3 -m ifsforge`."""
+    installed = shutil.which("ifsforge", path="/usr/local/bin" + os.pathsep + os.environ.get("PATH", ""))
+    # -P: the source folder of the launcher holds the package without its compiled modules.
+    return [installed] if installed else ["/usr/bin/python3", "-P", str(ROOT / "cpp" / "python" / "ifsforge-launcher")]
+
+
 @pytest.fixture
 def cli(tmp_path):
-    """Run `python3 -m ifsforge ARGS` with Debian's Python; returns the CompletedProcess."""
-    def run(*args, check=False):
+    """Run the installed `ifsforge ARGS` on the build tree's module; returns the CompletedProcess."""
+    def run(*args, check=False, timeout=None):
         env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON))
-        result = subprocess.run(["/usr/bin/python3", "-m", "ifsforge", *map(str, args)],
-                                capture_output=True, text=True, env=env, cwd=tmp_path)
+        result = subprocess.run([*ifsforge_command(), *map(str, args)],
+                                capture_output=True, text=True, env=env, cwd=tmp_path, timeout=timeout)
         if check and result.returncode != 0:
             raise AssertionError(f"ifsforge {args} failed:\n{result.stderr}")
         return result

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import ifsforge
-from conftest import SAMPLES
+from conftest import SAMPLES, ifsforge_command
 
 # The build this module was imported from: the CLI runs against the same one.
 BUILD_PYTHON = Path(ifsforge.__file__).resolve().parents[1]
@@ -22,7 +22,7 @@ NEW_SAMPLES = ["superfractal_pair", "recurrent_squares", "condensation_tree", "c
 def run_cli(tmp_path):
     def run(*args):
         env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON))
-        return subprocess.run(["/usr/bin/python3", "-m", "ifsforge", *map(str, args)],
+        return subprocess.run([*ifsforge_command(), *map(str, args)],
                               capture_output=True, text=True, env=env, cwd=tmp_path)
     return run
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import BUILD_PYTHON, SAMPLES
+from conftest import BUILD_PYTHON, SAMPLES, ifsforge_command, patience
 
 import ifsforge
 
@@ -35,7 +35,7 @@ sys.exit(os.waitstatus_to_exitcode(status) % 256)
 def hostile(tmp_path, *args):
     """Runs the CLI with a 200 MB budget; returns (exit code, stderr, peak RSS in MB)."""
     env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON), IFSFORGE_MEMORY_BUDGET_MB=str(BUDGET_MB))
-    result = subprocess.run(["/usr/bin/python3", "-c", LAUNCHER, "/usr/bin/python3", "-m", "ifsforge",
+    result = subprocess.run(["/usr/bin/python3", "-c", LAUNCHER, *ifsforge_command(),
                              *map(str, args)], capture_output=True, env=env, cwd=tmp_path)
     text = result.stderr.decode(errors="replace")
     return result.returncode, text, int(result.stdout.decode().strip() or 0) / 1024
@@ -230,7 +230,7 @@ def test_a_fixed_depth_of_more_than_a_trillion_leaves_is_refused(tmp_path, args)
 def interrupt_after(tmp_path, seconds, *args):
     """Starts the CLI, sends SIGINT after `seconds`; returns (exit code, stderr, seconds to stop)."""
     env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON))
-    process = subprocess.Popen(["/usr/bin/python3", "-m", "ifsforge", *map(str, args)], cwd=tmp_path, env=env,
+    process = subprocess.Popen([*ifsforge_command(), *map(str, args)], cwd=tmp_path, env=env,
                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     time.sleep(seconds)
     assert process.poll() is None, "finished before the interrupt: make the case larger"
@@ -254,7 +254,7 @@ def interrupt_after(tmp_path, seconds, *args):
 def test_ctrl_c_stops_a_long_command_within_a_second(tmp_path, args):
     code, err, stop = interrupt_after(tmp_path, 2.0, *args)
     assert code == 130 and "interrupted" in err and "Traceback" not in err, err
-    assert stop < 1.0, f"{stop:.1f} s to stop"
+    assert stop < patience(1.0), f"{stop:.1f} s to stop"
     assert not any(tmp_path.iterdir())
 
 
@@ -265,7 +265,7 @@ def test_ctrl_c_reaches_the_first_buffers(tmp_path, algorithm):
     code, err, stop = interrupt_after(tmp_path, 0.6, "render", SAMPLES / "barnsley_fern.json", "-a", algorithm,
                                       "--size", "8000", "-o", "f.png")
     assert code == 130 and "interrupted" in err and "Traceback" not in err, err
-    assert stop < 1.0, f"{stop:.1f} s to stop"
+    assert stop < patience(1.0), f"{stop:.1f} s to stop"
     assert not any(tmp_path.iterdir())
 
 
@@ -286,7 +286,7 @@ def test_progress_is_heard_within_three_quarters_of_a_second(algorithm):
     with pytest.raises(ifsforge.Cancelled):
         ifsforge.render(system, algorithm, 8000, progress=progress)
     gaps = [b - a for a, b in zip(calls, calls[1:])]
-    assert max(gaps) < 0.75, f"{max(gaps):.2f} s without a progress call (call {gaps.index(max(gaps))} of {len(gaps)})"
+    assert max(gaps) < patience(0.75), f"{max(gaps):.2f} s without a progress call (call {gaps.index(max(gaps))} of {len(gaps)})"
 
 
 @pytest.mark.parametrize("mesh, delay", [("m.obj", 0.3), ("m.obj", 2.5), ("m.ply", 2.5)])
@@ -295,7 +295,7 @@ def test_ctrl_c_stops_the_iso_surface_within_a_second(tmp_path, mesh, delay):
     # The volume's summary line marks the start of meshing; the interrupt comes `delay` later
     # (the mesher, then its normals or the writer, depending on the machine's speed).
     env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON), PYTHONUNBUFFERED="1")
-    process = subprocess.Popen(["/usr/bin/python3", "-m", "ifsforge", "volume", str(SAMPLES / "menger_sponge.json"),
+    process = subprocess.Popen([*ifsforge_command(), "volume", str(SAMPLES / "menger_sponge.json"),
                                 "--res", "400", "--mesh", mesh], cwd=tmp_path, env=env,
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     assert "occupied" in process.stdout.readline().decode()
@@ -306,7 +306,7 @@ def test_ctrl_c_stops_the_iso_surface_within_a_second(tmp_path, mesh, delay):
     err = process.communicate(timeout=120)[1].decode(errors="replace")
     stop = time.monotonic() - sent
     assert process.returncode == 130 and "interrupted" in err and "Traceback" not in err, err
-    assert stop < 1.0, f"{stop:.1f} s to stop"
+    assert stop < patience(1.0), f"{stop:.1f} s to stop"
     assert not any(tmp_path.iterdir())
 
 
@@ -356,7 +356,7 @@ def test_volume_estimate_measures_the_set_before_refusing(tmp_path):
     # The sponge at 300^3 holds 10 M voxels (0.5 GB at peak). The bound from the maps alone
     # (8 res^D, D = log 20 / log 3) asked 2.7 GB; two pilot renders measure 0.9 GB instead.
     env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON), IFSFORGE_MEMORY_BUDGET_MB="1500")
-    result = subprocess.run(["/usr/bin/python3", "-m", "ifsforge", "volume", str(SAMPLES / "menger_sponge.json"),
+    result = subprocess.run([*ifsforge_command(), "volume", str(SAMPLES / "menger_sponge.json"),
                              "--res", "300", "-o", "v.vdb"], capture_output=True, env=env, cwd=tmp_path)
     assert result.returncode == 0, result.stderr.decode()
     assert "10,030,400 occupied" in result.stdout.decode()
@@ -373,7 +373,7 @@ def test_a_vdb_that_cannot_grow_is_a_clear_error_and_leaves_nothing(tmp_path, ex
     # The .vdb written band by band (alone) or from the whole volume (with a mesh): its leaves are
     # written at their offsets, past the limit; the error names the file and nothing is left.
     env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON))
-    result = subprocess.run(["/usr/bin/python3", "-m", "ifsforge", "volume", SAMPLES / "volume_sierpinski_pyramid_rgb.json",
+    result = subprocess.run([*ifsforge_command(), "volume", SAMPLES / "volume_sierpinski_pyramid_rgb.json",
                              "--res", "256", "-o", "v.vdb", *extra], capture_output=True, env=env, cwd=tmp_path,
                             preexec_fn=limited_file_size)
     err = result.stderr.decode(errors="replace")

@@ -30,6 +30,8 @@ from ifsforge._core import (  # noqa: F401
     to_json,
     write_json,
     default_threads,
+    check_memory,
+    memory_budget,
     mesh_edges,
     set_default_threads,
     write_mesh,

@@ -4,6 +4,7 @@ import contextlib
 import json
 import math
 import os
+import secrets
 import shutil
 import tempfile
 
@@ -154,8 +155,9 @@ def all_or_none(targets):
     """Yields {target: staging path beside it (same extension)}. When the block succeeds every
     staging file is renamed onto its target; when it fails (or is interrupted) all are removed
     and the error says no output was written: a multi-file command commits all or none."""
+    # Names nobody can guess (a link planted at a predictable one would redirect a write).
     staged = {t: os.path.join(os.path.dirname(os.path.abspath(t)),
-                              f".ifsforge-stage-{os.getpid()}-{os.path.basename(t)}") for t in targets}
+                              f".ifsforge-stage-{secrets.token_hex(8)}-{os.path.basename(t)}") for t in targets}
     try:
         yield staged
         for target, staging in staged.items():
@@ -195,5 +197,44 @@ def scene_folder(scene):
 
 def _remove(paths):
     for path in paths:
-        if os.path.exists(path):
+        if os.path.lexists(path):
             os.remove(path)
+
+
+@contextlib.contextmanager
+def staged_folder(folder):
+    """Yields a staging folder beside `folder` (which need not exist) that a command fills file
+    by file, one frame at a time (nothing is held in memory for the end). When the block succeeds
+    the files are moved into `folder` (created if missing); when it fails or is interrupted the
+    staging folder goes, and `folder` is as it was: a multi-frame command commits all or none."""
+    import shutil
+    import tempfile
+    parent = os.path.dirname(os.path.abspath(folder))
+    if not os.path.isdir(parent):
+        raise ifsforge.FileError(f"cannot write '{folder}': folder '{parent}' does not exist")
+    if os.path.lexists(folder) and not os.path.isdir(folder):
+        raise ifsforge.FileError(f"cannot write into '{folder}': it is not a folder")
+    staging = tempfile.mkdtemp(prefix=".ifsforge-stage-", dir=parent)
+    try:
+        yield staging
+        names = sorted(os.listdir(staging))
+        if not os.path.isdir(folder):
+            os.rename(staging, folder)
+            os.chmod(folder, 0o777 & ~_umask())
+            return
+        for name in names:
+            os.replace(os.path.join(staging, name), os.path.join(folder, name))
+        os.rmdir(staging)
+    except (ifsforge.Error, OSError) as error:
+        shutil.rmtree(staging, ignore_errors=True)
+        message = str(error).replace(staging, folder)
+        raise type(error)(f"{message}; nothing was written to '{folder}'") from None
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+
+
+def _umask():
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask

@@ -23,6 +23,9 @@ from ifsforge import _core
 CONNECT_TIMEOUT = 5.0
 #: Seconds a local cluster's worker processes may take to start and register.
 LOCAL_START_TIMEOUT = 60.0
+#: Seconds a job may wait with no worker connected, or with a scheduler that does not answer,
+#: before it fails (IFSFORGE_CLUSTER_TIMEOUT overrides): Dask itself would wait for a worker forever.
+NO_WORKER_TIMEOUT = 60.0
 #: Tasks per worker thread a volume is cut into (load balance against per-task overhead).
 TASKS_PER_THREAD = 4
 #: Tasks per worker thread an image is cut into: fewer than for volumes, because each task of a
@@ -172,7 +175,7 @@ def _runner(client, task, system_json, algorithm, options, tasks_per_thread=TASK
         futures = [client.submit(task, system_json, algorithm, jobs, a, b, pure=False)
                    for a, b in zip(cuts, cuts[1:]) if b > a]
         try:
-            return client.gather(futures)
+            return gather(client, futures)
         except ifsforge.Error:  # raised by the core on a worker: as it would be here
             raise
         except Exception as error:  # lost connection, a task whose workers kept dying (KilledWorker), ...
@@ -181,6 +184,45 @@ def _runner(client, task, system_json, algorithm, options, tasks_per_thread=TASK
             for future in futures:
                 future.release()
     return distribute
+
+
+def no_worker_timeout():
+    try:
+        return float(os.environ.get("IFSFORGE_CLUSTER_TIMEOUT", NO_WORKER_TIMEOUT))
+    except ValueError:
+        raise ifsforge.InputError("IFSFORGE_CLUSTER_TIMEOUT expects seconds, got "
+                                  f"'{os.environ['IFSFORGE_CLUSTER_TIMEOUT']}'") from None
+
+
+def gather(client, futures):
+    """client.gather(futures), except that a cluster left without workers, or a scheduler that
+    stops answering, fails after no_worker_timeout() seconds with ClusterError naming the
+    scheduler (Dask would wait for a worker to join forever)."""
+    import threading
+    import time
+    finished, remaining, lock = threading.Event(), [len(futures)], threading.Lock()
+
+    def one_done(_):
+        with lock:
+            remaining[0] -= 1
+            if remaining[0] == 0:
+                finished.set()
+    for future in futures:
+        future.add_done_callback(one_done)
+    limit, alone_since = no_worker_timeout(), None
+    while futures and not finished.wait(1.0):
+        try:
+            workers = len(client.nthreads()) if client.status == "running" else 0
+        except (OSError, TimeoutError):
+            workers = 0
+        if workers:
+            alone_since = None
+            continue
+        alone_since = alone_since or time.monotonic()
+        if time.monotonic() - alone_since > limit:
+            raise ClusterError(f"the Dask scheduler at {client.scheduler.address} has had no worker (or has not "
+                               f"answered) for {limit:g} s; the job was abandoned (IFSFORGE_CLUSTER_TIMEOUT)")
+    return client.gather(futures)  # the results, or the first failed task's error
 
 
 def _volume_task(system_json, algorithm, options, first, last):
@@ -248,7 +290,7 @@ def render_frames(client, frames, algorithm, mode, progress=None, **options):
     try:
         sizes = []
         for task in tasks:
-            sizes.extend(task.result())
+            sizes.extend(gather(client, [task])[0])
             if progress is not None and progress(len(sizes) / len(frames)) is False:
                 raise ifsforge.Cancelled("cancelled")
         return sizes

@@ -54,6 +54,9 @@ def run(args):
     folder = args.json_dir or os.path.splitext(args.output)[0]
     if os.path.exists(folder) and not os.path.isdir(folder):
         raise ifsforge.FileError(f"cannot write phenotypes into '{folder}': it is not a folder")
+    # Each phenotype's picture is kept for the sheet (float RGB, with its density raster while
+    # it is made), and the sheet holds them all again.
+    ifsforge.check_memory(args.count * args.size * args.size * 40.0, f"{args.count} phenotypes of {args.size}^2 pixels")
     systems = ifsforge.breed(count=args.count, seed=args.seed, maps=args.maps)
     images, labels = [], []
     for k, system in enumerate(systems):

@@ -138,23 +138,19 @@ def run(args):
     size = common.parse_size(args.size)
     algorithms = [a.strip() for a in args.algorithms.split(",")] if args.algorithms else None
     overrides = common.parse_parameters(args.param)
-    parent = os.path.dirname(os.path.abspath(args.output))
-    if not os.path.isdir(parent):
-        raise ifsforge.FileError(f"cannot write '{args.output}': folder '{parent}' does not exist")
-    rows, images, reference = compare(system, size, algorithms, args.threads, args.seed, overrides)
-    # Everything is rendered before anything is written; each file is written atomically.
-    os.makedirs(args.output, exist_ok=True)
-    for name, image in images.items():
-        ifsforge.write_png(os.path.join(args.output, f"{name}.png"), image)
-    done = [r for r in rows if r["algorithm"] in images]
-    sheet = contact_sheet([images[r["algorithm"]] for r in done],
-                          [f"{r['algorithm']}\n{r['ms']:.0f} ms  iou {r['iou']:.3f}" for r in done])
-    ifsforge.write_png(os.path.join(args.output, "contact_sheet.png"), sheet)
-    text = markdown(system, rows, reference, size)
-    for name, content in (("comparison.md", text),
-                          ("comparison.json", common.to_json({"system": system.name, "size": list(size),
-                                                                "reference": reference, "rows": rows}))):
-        ifsforge.write_bytes(os.path.join(args.output, name), content)
+    with common.staged_folder(args.output) as staging:
+        rows, images, reference = compare(system, size, algorithms, args.threads, args.seed, overrides)
+        for name, image in images.items():
+            ifsforge.write_png(os.path.join(staging, f"{name}.png"), image)
+        done = [r for r in rows if r["algorithm"] in images]
+        sheet = contact_sheet([images[r["algorithm"]] for r in done],
+                              [f"{r['algorithm']}\n{r['ms']:.0f} ms  iou {r['iou']:.3f}" for r in done])
+        ifsforge.write_png(os.path.join(staging, "contact_sheet.png"), sheet)
+        text = markdown(system, rows, reference, size)
+        for name, content in (("comparison.md", text),
+                              ("comparison.json", common.to_json({"system": system.name, "size": list(size),
+                                                                    "reference": reference, "rows": rows}))):
+            ifsforge.write_bytes(os.path.join(staging, name), content)
     print(text, end="")
     print(f"{args.output}: contact_sheet.png, comparison.md, comparison.json and {len(images)} images")
     return 0

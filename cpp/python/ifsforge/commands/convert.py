@@ -24,7 +24,6 @@ def run(args):
         systems = ifsforge.read_fractint(source)
     else:
         systems = [common.load_system(source)]
-    os.makedirs(args.output, exist_ok=True)
     used, paths = set(), []
     for system in systems:
         name = slug(system.name)
@@ -33,10 +32,11 @@ def run(args):
         used.add(name)
         paths.append(os.path.join(args.output, name + ".json"))
     for path in paths:
-        common.ensure_output_folder(path)
-    with common.all_or_none(paths) as staged:
+        if os.path.lexists(path) and (os.path.islink(path) or not os.path.isfile(path)):
+            raise ifsforge.FileError(f"cannot write '{path}': it is not a regular file; ifsforge writes only regular files")
+    with common.staged_folder(args.output) as staging:
         for system, path in zip(systems, paths):
-            ifsforge.write_json(staged[path], system)
+            ifsforge.write_json(os.path.join(staging, os.path.basename(path)), system)
     for system, path in zip(systems, paths):
         print(f"{path}: {system.name} ({system.layout}, {len(system)} maps)")
     return 0

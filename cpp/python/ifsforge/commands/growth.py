@@ -27,16 +27,12 @@ def run(args):
     system = common.load_system(args.system)
     defaults = system.render_defaults
     width, height = common.parse_size(args.size) if args.size else defaults.get("size", (512, 512))
-    parent = os.path.dirname(os.path.abspath(args.output))
-    if not os.path.isdir(parent):
-        raise ifsforge.FileError(f"cannot write '{args.output}': folder '{parent}' does not exist")
-    frames = ifsforge.growth_frames(system, width, height, window=defaults.get("window"), threads=args.threads,
-                                    parameters={"cycle": args.cycle, "supersample": args.supersample},
-                                    progress=ProgressBar(f"growth {system.name}"))
-    images = [frame.to_image(args.mode) for frame in frames]  # every frame before any file
-    os.makedirs(args.output, exist_ok=True)
-    for k, image in enumerate(images):
-        ifsforge.write_png(os.path.join(args.output, f"frame_{k:04d}.png"), image, args.bits)
+    with common.staged_folder(args.output) as staging:
+        frames = ifsforge.growth_frames(system, width, height, window=defaults.get("window"), threads=args.threads,
+                                        parameters={"cycle": args.cycle, "supersample": args.supersample},
+                                        progress=ProgressBar(f"growth {system.name}"))
+        for k, frame in enumerate(frames):
+            ifsforge.write_png(os.path.join(staging, f"frame_{k:04d}.png"), frame.to_image(args.mode), args.bits)
     print(f"{args.output}: {len(frames)} frames of {width}x{height}, "
           f"{frames[-1].covered()} pixels grown in the last")
     return 0

@@ -23,7 +23,13 @@ def describe(system, dimension_size=1024):
     if "bounds" in out and system.spatial_dims == 2 and system.condensation is None:
         # Random iteration with Eq. 45's count: fast for every system, overlapping or not.
         raster = ifsforge.render(system, "chaos", dimension_size, binary=True)
-        out["box_counting_dimension"] = ifsforge.box_counting(raster).dimension
+        try:
+            counting = ifsforge.box_counting(raster)
+            out["box_counting_dimension"] = counting.dimension
+            out["box_sizes"] = list(counting.box_sizes)
+        except ifsforge.InputError as error:  # too few pixels for a slope worth printing
+            out["box_counting_dimension"] = None
+            out["box_counting_refused"] = str(error)
     return out
 
 
@@ -134,8 +140,11 @@ def run(args):
           f"sum p log s = {info['average_log_contraction']:.4f}{lyapunov})")
     for name, (lo, hi) in info.get("bounds", {}).items():
         print(f"  {name}: [{lo:.6g}, {hi:.6g}]")
-    if "box_counting_dimension" in info:
-        print(f"box-counting dimension: {info['box_counting_dimension']:.4f}")
+    if info.get("box_counting_dimension") is not None:
+        print(f"box-counting dimension: {info['box_counting_dimension']:.4f} (boxes of "
+              f"{', '.join(map(str, info['box_sizes']))} pixels on a {args.dimension_size}^2 image)")
+    elif "box_counting_refused" in info:
+        print(f"box-counting dimension: not estimated at {args.dimension_size}^2: {info['box_counting_refused']}")
     return 0
 
 

@@ -37,6 +37,8 @@ def run(args):
             ifsforge.write_json(path, f.to_ifs(args.name))
             print(f"{path}: the IFS (render it with `ifsforge render {path}`)")
         else:
+            # The CSV is built in memory before its atomic write: about 100 bytes a row at most.
+            ifsforge.check_memory(args.samples * 100.0, f"{args.samples:,} CSV rows")
             values = f.sample(args.samples)
             x0, x1 = args.x[0], args.x[-1]
             rows = ["x,f"]

@@ -30,15 +30,15 @@ def register(subparsers):
 
 
 def frames(start, end, count):
-    """The systems at t = k / (count - 1); refuses (before anything is written) a morph whose
-    intermediate systems lose their attractor."""
+    """The systems at t = k / (count - 1), one at a time; refuses a morph whose intermediate
+    systems lose their attractor (the frames already written are then discarded)."""
     if count < 2:
         raise ifsforge.InputError(f"--frames must be at least 2, got {count}")
-    systems = [ifsforge.morph(start, end, k / (count - 1)) for k in range(count)]
-    for k, system in enumerate(systems):
+    for k in range(count):
+        system = ifsforge.morph(start, end, k / (count - 1))
         if system.classify() == "divergent":
             raise ifsforge.DivergentSystemError(f"frame {k} (t = {k / (count - 1):.4g}) of the morph has no attractor")
-    return systems
+        yield system
 
 
 def common_window(systems):
@@ -55,27 +55,26 @@ def common_window(systems):
 def run(args):
     start, end = common.load_system(args.start), common.load_system(args.end)
     width, height = common.parse_size(args.size)
-    systems = frames(start, end, args.frames)
-    os.makedirs(args.output, exist_ok=True)
-    if args.json:
-        for k, system in enumerate(systems):
-            ifsforge.write_json(os.path.join(args.output, f"{args.prefix}_{k:04d}.json"), system)
-        print(f"{args.output}: {len(systems)} systems from '{start.name}' to '{end.name}'")
-        return 0
-    window = common_window(systems) if start.spatial_dims == 2 else None
-    view = (args.view or start.render_defaults.get("view")) if start.spatial_dims == 3 else None
-    bar = ProgressBar(f"morph {start.name} -> {end.name}")
-    paths = [os.path.join(args.output, f"{args.prefix}_{k:04d}.png") for k in range(len(systems))]
-    with distributed.client_from_args(args) as client:
-        if client is not None:  # one task per frame, each written by its worker
-            distributed.render_frames(client, zip(systems, paths), args.algorithm, args.mode, progress=bar,
-                                      width=width, height=height, window=window, view=view, seed=args.seed,
-                                      binary=args.mode == "binary")
-    for k, system in enumerate(systems if client is None else []):
-        def progress(fraction, k=k):
-            return bar((k + fraction) / len(systems))
-        raster = ifsforge.render(system, args.algorithm, width, height, window=window, view=view, seed=args.seed,
-                                 binary=args.mode == "binary", progress=progress)
-        ifsforge.write_png(paths[k], raster.to_image(args.mode))
-    print(f"{args.output}: {len(systems)} frames from '{start.name}' to '{end.name}' ({width}x{height})")
+    with common.staged_folder(args.output) as staging:
+        if args.json:
+            for k, system in enumerate(frames(start, end, args.frames)):
+                ifsforge.write_json(os.path.join(staging, f"{args.prefix}_{k:04d}.json"), system)
+            print(f"{args.output}: {args.frames} systems from '{start.name}' to '{end.name}'")
+            return 0
+        window = common_window(frames(start, end, args.frames)) if start.spatial_dims == 2 else None
+        view = (args.view or start.render_defaults.get("view")) if start.spatial_dims == 3 else None
+        bar = ProgressBar(f"morph {start.name} -> {end.name}")
+        paths = [os.path.join(staging, f"{args.prefix}_{k:04d}.png") for k in range(args.frames)]
+        with distributed.client_from_args(args) as client:
+            if client is not None:  # one task per frame, each written by its worker
+                distributed.render_frames(client, zip(frames(start, end, args.frames), paths), args.algorithm,
+                                          args.mode, progress=bar, width=width, height=height, window=window,
+                                          view=view, seed=args.seed, binary=args.mode == "binary")
+        for k, system in enumerate(frames(start, end, args.frames) if client is None else []):
+            def progress(fraction, k=k):
+                return bar((k + fraction) / args.frames)
+            raster = ifsforge.render(system, args.algorithm, width, height, window=window, view=view, seed=args.seed,
+                                     binary=args.mode == "binary", progress=progress)
+            ifsforge.write_png(paths[k], raster.to_image(args.mode))
+    print(f"{args.output}: {args.frames} frames from '{start.name}' to '{end.name}' ({width}x{height})")
     return 0

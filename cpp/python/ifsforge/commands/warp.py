@@ -32,12 +32,11 @@ def run(args):
     if args.frames:
         if args.frames < 2:
             raise ifsforge.InputError(f"--frames expects at least 2, got {args.frames}")
-        common.ensure_output_folder(args.output)  # the folder's parent exists
-        frames = [ifsforge.tops_warp(source, picture, ifsforge.morph(source, target, k / (args.frames - 1)),
-                                     width, height, seed=args.seed) for k in range(args.frames)]
-        os.makedirs(args.output, exist_ok=True)
-        for k, frame in enumerate(frames):
-            ifsforge.write_png(os.path.join(args.output, f"frame_{k:04d}.png"), frame)
+        with common.staged_folder(args.output) as staging:  # one frame in memory at a time
+            for k in range(args.frames):
+                frame = ifsforge.tops_warp(source, picture, ifsforge.morph(source, target, k / (args.frames - 1)),
+                                           width, height, seed=args.seed)
+                ifsforge.write_png(os.path.join(staging, f"frame_{k:04d}.png"), frame)
         print(f"{args.output}: {args.frames} frames")
         return 0
     common.ensure_output_folder(args.output)
