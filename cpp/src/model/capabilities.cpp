@@ -23,9 +23,7 @@ SystemFeatures system_features(const Ifs& ifs) {
   f.condensation = !ifs.condensation().empty();
   f.spatial_dims = ifs.spatial_dims();
   f.classification = ifs.classify();
-  f.average_contractive = f.classification == Classification::AverageContractive ||
-                          f.classification == Classification::EventuallyContractive;
-  const auto s = ifs.contraction_factors();
+  const auto s = ifs.spatial_contraction_factors();
   for (std::size_t i = 0; i < ifs.size(); ++i) {
     f.determinant_sum += std::abs(ifs.map(i).determinant(f.spatial_dims));
     if (!(s[i] < 1.0) && f.expanding_map < 0) {
@@ -33,9 +31,14 @@ SystemFeatures system_features(const Ifs& ifs) {
       f.expanding_factor = s[i];
     }
   }
+  // A map that expands in space (not only in its colour channels) keeps some pieces from ever
+  // shrinking: what the algorithms that split pieces down to the pixel cannot take.
+  f.average_contractive = (f.classification == Classification::AverageContractive ||
+                           f.classification == Classification::EventuallyContractive) &&
+                          f.expanding_map >= 0;
   // Pieces w_i(A) of total measure sum |det| > 1 cannot tile A: they overlap, and an
   // enumeration of addresses down to a pixel visits (pixels)^(D/d) pieces, D > d.
-  f.overlapping = f.classification == Classification::Hyperbolic && f.determinant_sum > 1.0 + 1e-9;
+  f.overlapping = f.classification == Classification::Hyperbolic && f.determinant_sum > 1.0 + 1e-6;
   return f;
 }
 
@@ -73,7 +76,7 @@ std::string unhandled_reason(const Capabilities& c, const SystemFeatures& f, con
   if (f.average_contractive && !c.has(Capabilities::AverageContractive))
     return "needs every map to contract, and " + named + " is " +
            std::string(name_of(f.classification)) + " (map " + std::to_string(f.expanding_map + 1) +
-           " has contraction factor " + number(f.expanding_factor) +
+           " has spatial contraction factor " + number(f.expanding_factor) +
            "): its pieces never shrink below a pixel, so the work has no bound";
   if (f.overlapping && !c.has(Capabilities::Overlapping))
     return "enumerates pieces down to the pixel, and the pieces of " + named + " overlap (sum of |det| = " +

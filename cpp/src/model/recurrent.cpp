@@ -74,7 +74,7 @@ std::vector<double> TransitionMatrix::row(std::size_t i) const {
 
 std::vector<double> TransitionMatrix::stationary() const {
   // Solve m (P - I) = 0 with sum m = 1: the transposed system with its last equation replaced
-  // by the normalisation, by Gaussian elimination with partial pivoting.
+  // by the normalization, by Gaussian elimination with partial pivoting.
   const std::size_t n = size_;
   std::vector<double> a(n * (n + 1), 0.0);
   for (std::size_t r = 0; r < n; ++r) {

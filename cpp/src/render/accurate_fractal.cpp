@@ -72,7 +72,7 @@ Raster AccurateFractal::draw(const Ifs& ifs, const RenderOptions& options) const
                        ifs.name() + "' does not shrink both sides");
   }
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
-  check_piece_work(ifs, frame, 0.25, 0.0, name());  // tiles split to a quarter pixel, depth first
+  PieceBudget budget(ifs, frame, 0.25, name());  // tiles split to a quarter pixel
   const std::vector<double>& p = ifs.probabilities();
 
   // The parent block Q: the fixed point of the box map (exact for rectangle-preserving maps).
@@ -213,9 +213,13 @@ Raster AccurateFractal::draw(const Ifs& ifs, const RenderOptions& options) const
   parallel_jobs(jobs.size(), options.threads, [&](std::size_t job, int) {
     LeafPlotter::Batch batch;
     std::vector<Tile> stack{jobs[job]};
-    std::uint64_t visited = 0;
+    std::uint64_t visited = 0, counted = 0;
     while (!stack.empty()) {
-      if ((visited & 0xFFFF) < count && stop_requested()) throw Cancelled();
+      if (visited - counted >= 4096) {
+        if (stop_requested()) throw Cancelled();
+        budget.spend(visited - counted);
+        counted = visited;
+      }
       const Tile t = stack.back();
       stack.pop_back();
       for (std::size_t k = 0; k < count; ++k) {

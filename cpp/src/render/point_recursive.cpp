@@ -300,9 +300,11 @@ struct PrrImage {
 }  // namespace
 
 Capabilities PointRecursive::capabilities() const {
-  // Pieces cut at the pixel under node budgets (its own fallback); polar maps by their own rule.
+  // Pieces cut at the pixel under node budgets, polar maps by their own rule. A map that
+  // expands in space never gets below the cut: the budget's fallback then loses the
+  // measure's thin parts, so such systems are refused.
   using C = Capabilities;
-  return {C::Polar | C::AverageContractive | C::Overlapping | C::Plane | C::Space};
+  return {C::Polar | C::Overlapping | C::Plane | C::Space};
 }
 
 Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const {

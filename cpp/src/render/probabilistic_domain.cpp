@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/core/random.h"
@@ -94,7 +95,8 @@ Raster ProbabilisticDomain::draw(const Ifs& ifs, const RenderOptions& options) c
   const int dim = ifs.dim(), stride = composed::size(dim);
   const PieceBoxes boxes(ifs, frame);
   const int fixed = options.depth > 0 ? std::min(options.depth, 64) : 0;
-  if (!fixed) check_piece_work(ifs, frame, 1.0, 0.0, name());  // depth first: a small stack per job
+  std::optional<PieceBudget> budget;  // automatic depth: down to the pixel, within a budget of pieces
+  if (!fixed) budget.emplace(ifs, frame, 1.0, name());
   LeafPlotter plotter(ifs, frame);
   // Visits the children M o w_s (A_i) of a node (its map `map`): leaves are plotted into
   // `batch`, the others pushed onto `keep`.
@@ -144,8 +146,13 @@ Raster ProbabilisticDomain::draw(const Ifs& ifs, const RenderOptions& options) c
     Nodes stack;
     stack.push(level.nodes[job], &level.maps[job * stride], stride);
     double map[composed::size(kMaxDim)];
+    std::uint64_t counted = 0;
     for (std::uint64_t popped = 1; !stack.nodes.empty(); ++popped) {
-      if ((popped & 0xFFFF) == 0 && stop_requested()) throw Cancelled();
+      if ((popped & 0xFFF) == 0) {
+        if (stop_requested()) throw Cancelled();
+        if (budget) budget->spend(visited[job] - counted);
+        counted = visited[job];
+      }
       const Node node = stack.nodes.back();
       std::copy(stack.maps.end() - stride, stack.maps.end(), map);
       stack.pop(stride);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
@@ -61,10 +62,12 @@ Raster StringRewriting::draw(const Ifs& ifs, const RenderOptions& options) const
   if (fixed > 1)
     check_memory(std::pow(double(maps), fixed - 1) * (stride + 1) * 8.0 * 2.0,
                  "string rewriting to depth " + std::to_string(fixed) + " with " + std::to_string(maps) + " maps");
-  // Automatic depth: strings are rewritten until they fit a pixel; how many that makes is
-  // estimated first (each job holds its strings' widest level twice, jobs >= 256).
-  if (!fixed)
-    check_piece_work(ifs, frame, 1.0, (stride + 1) * 8.0 * 2.0 * resolve_threads(options.threads) / 256.0, name());
+  // Automatic depth: strings are rewritten until they fit a pixel, within a budget of pieces
+  // (overlapping pieces multiply faster than the pixels), each level's strings checked
+  // against the memory budget before they are made.
+  std::optional<PieceBudget> budget;
+  if (!fixed) budget.emplace(ifs, frame, 1.0, name());
+  const double level_bytes = maps * (stride + 1) * 8.0 * resolve_threads(options.threads);
   LeafPlotter plotter(ifs, frame);
   // Rewrites every string of `a` into its N successors STR w_k: finished strings are plotted
   // into `batch`, the others appended to `b`.
@@ -100,7 +103,9 @@ Raster StringRewriting::draw(const Ifs& ifs, const RenderOptions& options) const
   LeafPlotter::Batch first;
   std::uint64_t operations = 0;
   while (!a.mass.empty() && a.mass.size() < 256) {
+    const std::uint64_t before = operations;
     rewrite(a, b, first, operations);
+    if (budget) budget->spend(operations - before);
     std::swap(a, b);
   }
   plotter.submit(0, std::move(first));
@@ -113,7 +118,10 @@ Raster StringRewriting::draw(const Ifs& ifs, const RenderOptions& options) const
     mine.length = a.length;
     while (!mine.mass.empty()) {
       if (stop_requested()) throw Cancelled();
+      if (!fixed) check_memory(level_bytes * mine.mass.size(), "the next level of string rewriting's strings");
+      const std::uint64_t before = written[job];
       rewrite(mine, next, batch, written[job]);
+      if (budget) budget->spend(written[job] - before);
       std::swap(mine, next);
     }
     plotter.submit(job + 1, std::move(batch));

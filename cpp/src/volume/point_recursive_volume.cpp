@@ -237,9 +237,10 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
 }  // namespace
 
 Capabilities PointRecursiveVolume::capabilities() const {
-  // Pieces cut at the voxel: the address tree knows no forbidden words.
+  // Pieces cut at the voxel: the address tree knows no forbidden words, and a map that
+  // expands never gets below the cut (as for the image renderer).
   using C = Capabilities;
-  return {C::Overlapping | C::AverageContractive | C::Space};
+  return {C::Overlapping | C::Space};
 }
 
 Volume PointRecursiveVolume::draw(const Ifs& ifs, const VolumeOptions& options) const {

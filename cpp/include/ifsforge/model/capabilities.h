@@ -15,13 +15,13 @@ namespace ifsforge {
 struct SystemFeatures {
   bool recurrent = false;            ///< transitions (3.3.1)
   bool polar = false;                ///< polar maps (3.3.3)
-  bool average_contractive = false;  ///< some map expands: average- or eventually-contractive (Eq. 14)
+  bool average_contractive = false;  ///< average- or eventually-contractive (Eq. 14), a map expanding in space
   bool overlapping = false;          ///< the pieces overlap: sum of |det| of the spatial blocks above 1
   bool condensation = false;         ///< a condensation set (3.1)
   int spatial_dims = 2;
   Classification classification = Classification::Hyperbolic;
   double determinant_sum = 0.0;  ///< sum over the maps of |det| of the spatial block
-  int expanding_map = -1;        ///< a map whose contraction factor is >= 1 (0-based), or -1
+  int expanding_map = -1;        ///< a map whose spatial contraction factor is >= 1 (0-based), or -1
   double expanding_factor = 0.0;
 };
 

@@ -1,7 +1,10 @@
 #pragma once
-/// @file How much work an address tree is before it is walked: the algorithms that split
-/// every piece until it fits a pixel (string rewriting 5.6, AFRA 5.10, the probabilistic
-/// domain 5.12.2) estimate it first and refuse work that has no bound or exceeds the budget.
+/// @file How much work an address tree may be: the algorithms that split every piece until it
+/// fits a pixel (string rewriting 5.6, AFRA 5.10, the probabilistic domain 5.12.2) estimate
+/// it before they start and count it while they run, and stop with an InputError that names
+/// the reason and the algorithms to use instead, rather than run for minutes.
+#include <atomic>
+#include <cstdint>
 #include <string>
 
 #include "ifsforge/model/ifs.h"
@@ -10,22 +13,40 @@
 namespace ifsforge {
 
 /// @brief About how many pieces an address tree visits when every piece is split until its
-/// box, the attractor's box shrunk by the product of the maps' spatial contraction factors
-/// s_i, is at most 1/`ratio` of it: N(x) = 1 + sum_i N(x - log 1/s_i), x = log(ratio) still
-/// to go. Pieces overlap when sum |det| > 1, and then N grows as ratio^D with D above the
-/// dimension of the space (faster than the pixels). An upper bound where a map shrinks
-/// boxes faster than its norm or pieces leave the image; infinite when a map does not
-/// contract.
-double estimated_pieces(const Ifs& ifs, double ratio);
+/// box, the attractor's box shrunk by the product of the maps' shrink factors s_i (spectral
+/// radii of the spatial blocks), is at most 1/`ratio` of it, or `max_depth` levels deep:
+/// N(x) = 1 + sum_i N(x - log 1/s_i), x = log(ratio) still to go. Pieces overlap when sum
+/// |det| > 1, and then N grows as ratio^D with D above the dimension of the space (faster
+/// than the pixels). It errs high (2-4x on the samples: pieces leave the image, boxes are
+/// not tight); infinite when a map does not shrink.
+double estimated_pieces(const Ifs& ifs, double ratio, int max_depth = 64);
 
-/// @brief InputError naming `algorithm` and the estimate when splitting pieces down to
-/// `leaf` pixels across (1: a pixel; AFRA: a quarter) on `frame` would visit more than
-/// kPiecesPerPixel pieces per pixel (at least kMinPieceWork in all), or hold more than the
-/// memory budget at `bytes_per_piece` for each piece of the widest level.
-void check_piece_work(const Ifs& ifs, const Frame& frame, double leaf, double bytes_per_piece,
-                      const std::string& algorithm);
+/// Pieces an algorithm may visit per pixel of the image (at least kMinPieceWork in all).
+constexpr double kPiecesPerPixel = 64;
+constexpr double kMinPieceWork = 1u << 24;
+/// The estimate errs high: it refuses only beyond this multiple of the work allowed, and the
+/// count while running does the rest.
+constexpr double kEstimateSlack = 4;
 
-constexpr double kPiecesPerPixel = 256;
-constexpr double kMinPieceWork = 1u << 26;
+/// @brief The work allowed to one render of `algorithm` on `frame`, splitting pieces down to
+/// `leaf` pixels across (1: a pixel; AFRA: a quarter). The constructor refuses a render whose
+/// estimate is far beyond it; spend() counts the pieces the jobs visit and refuses once they
+/// pass it.
+class PieceBudget {
+ public:
+  PieceBudget(const Ifs& ifs, const Frame& frame, double leaf, std::string algorithm);
+  /// @brief Adds `pieces` visited by a job (call it every few thousand); InputError once the
+  /// render's total passes the limit.
+  void spend(std::uint64_t pieces);
+  double limit() const { return limit_; }
+
+ private:
+  [[noreturn]] void refuse(double pieces, const char* how) const;
+  const Ifs& ifs_;
+  int width_, height_;
+  std::string algorithm_;
+  double limit_;
+  std::atomic<std::uint64_t> spent_{0};
+};
 
 }  // namespace ifsforge
