@@ -9,6 +9,7 @@ import ifsforge
 from . import mesh_data, outputs
 from .generators import Generator, link_object, node_material, register_generator
 
+CLIPPING = 0.001  # Blender's default: grid values below it count as empty space
 ORIGIN_MODIFIER = "ifsforge origin"  # moves the grid (in the system's coordinates) around the origin
 
 
@@ -40,8 +41,11 @@ class VolumeGenerator(Generator):
         dims = np.asarray(volume.dims, np.float64)
         lo = np.asarray(volume.origin, np.float64)
         dims_text = "x".join(str(d) for d in volume.dims)
+        values = np.asarray(volume.density, np.float32)
         return {"path": path, "voxels": len(volume), "coloured": volume.color_model != "none",
                 "density": settings["volume_strength"] * per_world_unit(volume),
+                # Blender skips voxels below its clipping value (0.001): a measure's shares are smaller.
+                "clipping": min(CLIPPING, 0.5 * float(values[values > 0].min())) if len(values) else CLIPPING,
                 "origin": mesh_data.centre(lo, lo + dims * volume.voxel_size),
                 "summary": f"{len(volume):,} voxels in {dims_text} ({settings['volume_algorithm']})"}
 
@@ -59,6 +63,7 @@ class VolumeGenerator(Generator):
             raise ifsforge.FileError(f"Blender could not load '{result['path']}': {volume.grids.error_message}")
         names = sorted(grid.name for grid in volume.grids)
         result["summary"] += f", grids {', '.join(names)}"
+        volume.render.clipping = result["clipping"]
         set_density(owner, result["density"])
         place(owner, result["origin"])
         return owner

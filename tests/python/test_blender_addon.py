@@ -184,3 +184,9 @@ def test_viewport_and_panels_with_a_window(tmp_path):
 def test_fractal_texture_in_blender(tmp_path):
     report = run_blender("addon_fractal_texture.py", tmp_path)
     assert report["values"]["generated_psnr"] > 25
+
+
+def test_volume_look_in_blender(tmp_path):
+    report = run_blender("addon_volume_look.py", tmp_path, timeout=300)
+    opacity = report["values"]["opacity_by_resolution"]
+    assert max(opacity.values()) - min(opacity.values()) <= 0.05 * max(opacity.values())
