@@ -1,7 +1,7 @@
 """Every example of the README and docs/*.md runs as written: the ```sh blocks through bash with
 the `ifsforge` command users run, the ```python blocks in one interpreter per page (a page reads
 like one session), in document order, in a scratch folder where the repository's shipped files
-appear under their own paths (samples/, tests/, povray/). A block preceded by an HTML comment
+appear under their own paths (samples/, tests/, povray/, and the build folder build/). A block preceded by an HTML comment
 `<!-- example: slow ... -->` or `<!-- example: cluster ... -->` is not run (Blender, machines
 that are not here); `<!-- example: file NAME -->` before a ```json block writes it to NAME for
 the blocks after it, so the format's documented example is read by the real reader."""
@@ -18,7 +18,7 @@ import pytest
 from conftest import BUILD_PYTHON, ROOT
 
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
-SHIPPED = ("samples", "tests", "povray", "cpp", "blender_addon")
+SHIPPED = ("samples", "tests", "povray", "cpp", "blender_addon", "build")
 FENCE = re.compile(r"^( *)```(\w*)[^\n]*\n(.*?)^\1```[ \t]*$", re.M | re.S)
 MARK = re.compile(r"<!--\s*example:\s*(\w+)\s*([^\s>]*)[^>]*-->\s*$")
 SKIPPED = {"slow", "cluster"}
@@ -63,7 +63,8 @@ def scratch_folder(tmp_path):
     """A folder where the shipped files sit under their own paths and `ifsforge` is the command
     users run, on the build tree's module."""
     for name in SHIPPED:
-        (tmp_path / name).symlink_to(ROOT / name)
+        if (ROOT / name).exists():
+            (tmp_path / name).symlink_to(ROOT / name)
     bin_dir = tmp_path / ".bin"
     bin_dir.mkdir()
     shim = bin_dir / "ifsforge"
