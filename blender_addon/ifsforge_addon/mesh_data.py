@@ -14,7 +14,7 @@ def prepare(data):
     if len(faces) and len(faces) % 2 == 0:
         pairs = faces.reshape(-1, 6)  # (a, b, c, a', c', d)
         if np.array_equal(pairs[:, 0], pairs[:, 3]) and np.array_equal(pairs[:, 2], pairs[:, 4]):
-            quads = np.empty((len(pairs), 4), np.uint32)  # filled column by column: 5x faster than column_stack
+            quads = np.empty((len(pairs), 4), np.uint32)  # filled column by column: no temporaries, unlike column_stack
             quads[:, :3] = pairs[:, :3]
             quads[:, 3] = pairs[:, 5]
             faces = quads
@@ -72,7 +72,7 @@ def fill_mesh(mesh, positions, faces, normals=None, uvs=None, colors=None, color
     positions = np.ascontiguousarray(positions, np.float32).reshape(-1, 3)
     faces = np.asarray(faces)
     # Index arrays are uint32: Blender 3.4's foreach_set copies them in bulk only in that format
-    # (int32 goes element by element, 20x slower).
+    # (int32 goes element by element, far slower).
     faces = np.ascontiguousarray(faces, np.uint32).reshape(len(faces), -1)
     count, size = faces.shape
     mesh.clear_geometry()
