@@ -1,4 +1,4 @@
-"""Hostile input (issue 18): every case refuses with exit 2, no signal, no traceback, no output
+"""Hostile input: every case refuses with exit 2, no signal, no traceback, no output
 file, a message naming its file and place, and a peak memory within the budget."""
 import os
 import resource
@@ -222,7 +222,7 @@ def test_python_callers_get_input_errors_not_type_errors():
     ["instances", SAMPLES / "tree.json", "--depth", "40", "--pov", "t.pov"],
 ])
 def test_a_fixed_depth_of_more_than_a_trillion_leaves_is_refused(tmp_path, args):
-    # PRR at --depth 60 used to run on past 3.5 GB: 4^60 leaves would take longer than the sun.
+    # Refused up front: 4^60 leaves would take longer than the sun, and their memory with them.
     refused(tmp_path, *args, names=("--depth:", "more than 10^12"))
     assert not any(tmp_path.iterdir())
 
@@ -273,9 +273,9 @@ def test_ctrl_c_reaches_the_first_buffers(tmp_path, algorithm):
 def test_progress_is_heard_within_three_quarters_of_a_second(algorithm):
     # Ctrl-C is heard when the progress callback is called: the longest gap between two calls
     # is how long it can wait. An interrupt at a fixed time landed in a gap only sometimes, so
-    # the gaps are measured over the first 4 s of an 8000^2 render. Before, the superfractal's
-    # scatter buffers (2 x 1.25 GB, filled without a call) left gaps of 1.5-1.7 s, and IBR's
-    # forward splat of the fern's singular stem map (every texel of the first passes) 1.5 s.
+    # the gaps are measured over the first 4 s of an 8000^2 render, long enough to reach the
+    # superfractal's huge scatter buffers and IBR's forward splat of the fern's singular stem
+    # map (every texel of the first passes), the loops most likely to run without a call.
     system = ifsforge.load(str(SAMPLES / "barnsley_fern.json"))
     calls = [time.monotonic()]
 
@@ -346,7 +346,7 @@ def test_budget_refuses_deep_string_rewriting(tmp_path):
 @pytest.mark.parametrize("algorithm, name", [("prr", "point-recursive volume"), ("ria", "random iteration"),
                                              ("eta", "escape time"), ("dia", "deterministic iteration")])
 def test_budget_refuses_a_huge_volume_before_the_first_voxel(tmp_path, algorithm, name):
-    # ETA used to run on past 800 MB, RIA to refuse only when its table grew past 680 MB.
+    # Every volume renderer estimates its voxels first, rather than growing until memory runs out.
     refused(tmp_path, "volume", SAMPLES / "menger_sponge.json", "-a", algorithm, "--res", "1024", "-o", "v.vdb",
             names=(name, "budget"))
     assert not (tmp_path / "v.vdb").exists()
