@@ -14,8 +14,9 @@ from .operators_generate import report_error
 
 
 class IFSFORGE_OT_export_povray_scene(bpy.types.Operator, ExportHelper):
-    """Write the scene's terrains, iso-surfaces and instances as a POV-Ray 3.7 scene seen through the
-    active camera, lit by its sun and point lights (size: the scene's render resolution)"""
+    """Write the scene's terrains, iso-surfaces, instances and volumes, with their colours, as a POV-Ray
+    3.7 scene seen through the active camera, lit by its sun and point lights and the world colour
+    (size: the scene's render resolution)"""
     bl_idname = "ifsforge.export_povray_scene"
     bl_label = "Export POV-Ray Scene"
     filename_ext = ".pov"
