@@ -38,6 +38,9 @@ def iou(a, b):
 
 def silhouettes():
     scene = context.scene
+    # The world's colour is POV-Ray's background: one no object here shows.
+    background = next(n for n in scene.world.node_tree.nodes if n.type == 'BACKGROUND')
+    background.inputs["Color"].default_value = (1.0, 0.0, 1.0, 1.0)
     expect_report(lambda: bpy.ops.ifsforge.export_povray_scene(filepath=str(OUT / "none.pov")), "no terrain")
     assert not (OUT / "none.pov").exists()
     for obj in list(scene.objects):
@@ -70,7 +73,7 @@ def silhouettes():
     text = (OUT / "scene.pov").read_text()
     assert text.count("union {") == 1 and text.count("mesh2 {") == 2 and "camera {" in text, text[:400]
     pov = load(OUT / "scene.png")[:, :, :3]
-    povray = np.abs(pov - world_srgb()).max(axis=2) > 0.1  # not the world's colour, POV-Ray's background
+    povray = np.abs(pov - world_srgb()).max(axis=2) > 0.25  # not the world's colour, POV-Ray's background
     overlap = iou(blender, povray)
     checks.values["silhouette_iou"] = float(overlap)
     assert 0.08 < blender.mean() < 0.8 and 0.08 < povray.mean() < 0.8, (blender.mean(), povray.mean())
@@ -109,7 +112,7 @@ def volume_media():
     assert "x".join(str(n) for n in sizes) in volume.ifsforge.summary, (sizes, volume.ifsforge.summary)
     assert "density_file df3" in (OUT / "volume.pov").read_text()
     pov = load(OUT / "volume.png")[:, :, :3]
-    covered = (np.abs(pov - world_srgb()).max(axis=2) > 0.05).mean()
+    covered = (np.abs(pov - world_srgb()).max(axis=2) > 0.1).mean()
     checks.values["volume_coverage"] = float(covered)
     assert 0.02 < covered < 0.9, covered
 
