@@ -132,28 +132,43 @@ def point_colors(mesh, name=None):
 
 
 def mesh_arrays(mesh, matrix=None, color_name=None):
-    """(positions (n, 3) in POV-Ray axes, triangles (m, 3), display colours (n, 3) or None)."""
+    """(positions (n, 3) in POV-Ray axes, triangles (m, 3), display colours (n, 3) or None,
+    vertex normals (n, 3) in POV-Ray axes where the mesh is smooth-shaded, else None)."""
     mesh.calc_loop_triangles()
     co = np.zeros(len(mesh.vertices) * 3, np.float32)
     mesh.vertices.foreach_get("co", co)
     co = co.reshape(-1, 3).astype(np.float64)
+    smooth = np.zeros(len(mesh.polygons), bool)
+    mesh.polygons.foreach_get("use_smooth", smooth)
+    normals = None
+    if smooth.any():
+        normals = np.zeros(len(mesh.vertices) * 3, np.float32)
+        mesh.vertices.foreach_get("normal", normals)
+        normals = normals.reshape(-1, 3).astype(np.float64)
     if matrix is not None:
         m = np.array(matrix, np.float64)
         co = co @ m[:3, :3].T + m[:3, 3]
+        if normals is not None:
+            normals = normals @ np.linalg.inv(m[:3, :3])  # by the inverse transpose
+    if normals is not None:
+        length = np.linalg.norm(normals, axis=1, keepdims=True)
+        normals = swap_yz(np.divide(normals, length, out=np.zeros_like(normals), where=length > 0))
     tris = np.zeros(len(mesh.loop_triangles) * 3, np.int64)
     mesh.loop_triangles.foreach_get("vertices", tris)
     colors = point_colors(mesh, color_name)
     if colors is not None and len(colors) != len(mesh.vertices):
         colors = None
-    return swap_yz(co), tris.reshape(-1, 3), None if colors is None else colors[:, :3]
+    return swap_yz(co), tris.reshape(-1, 3), None if colors is None else colors[:, :3], normals
 
 
-def mesh2(name, positions, triangles, colors=None, color=None):
+def mesh2(name, positions, triangles, colors=None, color=None, normals=None):
     """A mesh2 with per-vertex display colours (srgb), one linear colour (rgb), or no texture (the
-    object placing it gives one); the winding is reversed with the handedness so the faces keep
-    facing out."""
+    object placing it gives one), smooth with per-vertex normals; the winding is reversed with the
+    handedness so the faces keep facing out."""
     text = [f"mesh2 {{ // {ifsforge.pov_comment(name)}\n  vertex_vectors {{ {len(positions)},\n",
             rows(positions, "    <%.7g, %.7g, %.7g>"), "  }\n"]
+    if normals is not None:  # indexed as the vertices (no normal_indices)
+        text += [f"  normal_vectors {{ {len(normals)},\n", rows(normals, "    <%.5f, %.5f, %.5f>"), "  }\n"]
     faces = triangles[:, ::-1]
     if colors is not None:
         text += [f"  texture_list {{ {len(colors)},\n",
@@ -353,20 +368,21 @@ def write_scene(path, context, width, height):
         if obj.type == 'MESH' and obj.ifsforge.kind in ('TERRAIN', 'MESH'):
             color, attribute = base_color(obj)
             mesh = inst.object.to_mesh()
-            positions, triangles, colors = mesh_arrays(mesh, inst.object.matrix_world, attribute)
+            positions, triangles, colors, normals = mesh_arrays(mesh, inst.object.matrix_world, attribute)
             inst.object.to_mesh_clear()
-            parts.append(mesh2(obj.name, positions, triangles, colors, color))
+            parts.append(mesh2(obj.name, positions, triangles, colors, color, normals))
             counts[obj.ifsforge.kind] = counts.get(obj.ifsforge.kind, 0) + 1
         elif obj.type == 'VOLUME' and obj.ifsforge.kind == 'VOLUME':
             parts.append(volume_media(obj, path, world))
             counts['VOLUME'] = counts.get('VOLUME', 0) + 1
     names = {name: ifsforge.pov_identifier("Prototype", name) for name in prototypes}
     colors = {parent: instance_colors(scene.objects[parent]) for parent in placements}
-    for name, ((positions, triangles, vertex_colors), color) in prototypes.items():
+    for name, ((positions, triangles, vertex_colors, normals), color) in prototypes.items():
         # Coloured per instance: the prototype has no texture of its own (it would win).
         plain = all(colors[p] is not None for p, placed in placements.items() if any(n == name for n, *_ in placed))
         parts.append(f"#declare {names[name]} = " +
-                     mesh2(name, positions, triangles, None if plain else vertex_colors, None if plain else color))
+                     mesh2(name, positions, triangles, None if plain else vertex_colors, None if plain else color,
+                           normals))
     for parent, placed in placements.items():
         parts.append(instances_union(parent, placed, names, colors[parent]))
         counts['INSTANCES'] = counts.get('INSTANCES', 0) + 1
