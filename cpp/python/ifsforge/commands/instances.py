@@ -2,6 +2,7 @@
 written as a POV-Ray scene (optionally rendered), SVG, glTF, numpy, address CSV or a PNG drawing."""
 import argparse
 import io
+import os
 import time
 
 import numpy as np
@@ -103,9 +104,10 @@ def run(args):
     print(f"{system.name}: {len(instances)} instances of {names}, depth {instances.addresses.depth}, "
           f"{time.perf_counter() - start:.2f} s")
 
-    # Several files: all of them or none (a failure or Ctrl-C on the last keeps no other), and
-    # the scene with ifsforge.inc beside it, rendered where it is written.
-    with common.all_or_none([f for f in outputs if f != args.pov]) as staged, common.scene_folder(args.pov) as scene:
+    # Several files: all of them or none (a failure or Ctrl-C on the last keeps no other). The
+    # scene is written and rendered in a private folder beside ifsforge.inc, joins the other
+    # outputs once they are all written, and ifsforge.inc follows it.
+    with common.scene_folder(args.pov) as scene, common.all_or_none(outputs) as staged:
         if args.pov:
             ifsforge.write_pov_scene(
                 scene, instances, width=width, height=height, view=view, orthographic=args.orthographic,
@@ -135,5 +137,7 @@ def run(args):
                                             background=list(args.background) + [1.0], threads=args.threads)
             ifsforge.write_png(staged[args.png], image)
             print(f"{args.png}: {width}x{height} drawing")
+        if args.pov:
+            os.replace(scene, staged[args.pov])
     if not outputs:
         print("no output asked: add --pov, --svg, --gltf, --npy, --csv or --png")

@@ -148,9 +148,12 @@ def run(args):
         width, height = terrain.columns, terrain.rows
     # Every output or none: a failed write or POV-Ray render leaves no file of this command
     # (a scene's height image included).
-    others = [p for p in args.output if p not in scenes] + list(filter(None, [args.preview, args.povray_render]))
-    with common.all_or_none(others) as staged, contextlib.ExitStack() as stack:
-        into = {**staged, **{p: stack.enter_context(common.scene_folder(p)) for p in scenes}}
+    # Each scene is written and rendered in a private folder beside its height image, joins the
+    # other outputs once they are all written, and its height image follows it.
+    with contextlib.ExitStack() as stack:
+        private = {p: stack.enter_context(common.scene_folder(p)) for p in scenes}
+        staged = stack.enter_context(common.all_or_none(args.output + list(filter(None, [args.preview, args.povray_render]))))
+        into = {**staged, **private}
         for path in args.output:
             ext = os.path.splitext(path)[1].lower()
             if ext == ".png":
@@ -180,3 +183,5 @@ def run(args):
             w, h = common.parse_size(args.povray_size)
             ifsforge.render_povray(into[scenes[0]], into[args.povray_render], w, h)
             print(f"{args.povray_render}: POV-Ray render {w}x{h} of {scenes[0]}")
+        for path, scene in private.items():
+            os.replace(scene, staged[path])
