@@ -179,8 +179,9 @@ def scene_folder(scene):
     """Yields where to write the POV-Ray scene `scene`: its own name in a private folder beside
     it, where the files the scene reads by name (ifsforge.inc, height images, .df3) are written
     too and POV-Ray renders it. When the block succeeds every file of the folder moves beside
-    `scene` (replacing its namesake); when it fails or is interrupted the folder goes with all of
-    them, so a failed render leaves none. None yields None."""
+    `scene` (replacing its namesake; a command may first hand the scene itself to all_or_none
+    with its other outputs); when it fails or is interrupted the folder goes with all of them, so
+    a failed render leaves none. None yields None."""
     if scene is None:
         yield None
         return
