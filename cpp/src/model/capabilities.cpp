@@ -64,9 +64,9 @@ std::vector<std::pair<std::string, bool>> capability_flags(const Capabilities& c
 std::string unhandled_reason(const Capabilities& c, const SystemFeatures& f, const std::string& system) {
   const std::string named = "system '" + system + "'";
   if (f.spatial_dims == 2 && !c.has(Capabilities::Plane))
-    return "needs 3 spatial dimensions, and " + named + " has 2";
+    return "needs a 3D system (layout xyz, xyz+rgb, ...), and " + named + " has 2 spatial dimensions";
   if (f.spatial_dims == 3 && !c.has(Capabilities::Space))
-    return "works on 2 spatial dimensions, and " + named + " has 3";
+    return "works on the image plane (a 2D system), and " + named + " has 3 spatial dimensions";
   if (f.recurrent && !c.has(Capabilities::Recurrent))
     return "does not follow transitions, and " + named + " is a recurrent IFS (3.3.1)";
   if (f.polar && !c.has(Capabilities::Polar))

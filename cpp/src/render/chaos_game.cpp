@@ -435,7 +435,7 @@ Raster ChaosGame::draw(const Ifs& ifs, const RenderOptions& options) const {
 }
 
 std::string ChaosGame::draw_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
-                                std::uint64_t last) const {
+                                 std::uint64_t last) const {
   const int threads = resolve_threads(options.threads);
   const ChaosSetup setup = chaos_setup(ifs, options, threads);
   last = std::min(last, setup.plan.jobs);

@@ -427,7 +427,7 @@ Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const 
 }
 
 std::string PointRecursive::draw_jobs(const Ifs& ifs, const RenderOptions& options, std::uint64_t first,
-                                     std::uint64_t last) const {
+                                      std::uint64_t last) const {
   if (ifs.polar()) return polar::point_recursive_jobs(ifs, options, *this, first, last);
   const PrrImage setup(ifs, options, *this);
   last = std::min(last, setup.plan.jobs);

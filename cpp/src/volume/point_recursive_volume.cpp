@@ -281,7 +281,7 @@ Volume PointRecursiveVolume::draw(const Ifs& ifs, const VolumeOptions& options) 
 }
 
 std::string PointRecursiveVolume::draw_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                                         std::uint64_t last) const {
+                                            std::uint64_t last) const {
   PrrJobs run = point_recursive_jobs(ifs, options, first, last, options.progress, false);
   int depth = 0;
   std::uint64_t points = 0;

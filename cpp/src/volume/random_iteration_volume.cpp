@@ -203,7 +203,7 @@ Volume RandomIterationVolume::draw(const Ifs& ifs, const VolumeOptions& options)
 }
 
 std::string RandomIterationVolume::draw_jobs(const Ifs& ifs, const VolumeOptions& options, std::uint64_t first,
-                                         std::uint64_t last) const {
+                                             std::uint64_t last) const {
   const VolumeSetup setup = prepare_volume(ifs, options);
   const int channels = ifs.dim() - 3;
   const MapChain chain(ifs);
