@@ -48,7 +48,7 @@ def test_a_border_surrounds_the_grid(tmp_path, volume):
 
 def test_a_volume_without_color_has_no_color_channel(tmp_path, samples):
     volume = ifsforge.render_volume(ifsforge.load(str(samples / "sierpinski_tetrahedron.json")), "prr", 8)
-    with pytest.raises(ifsforge.InputError, match="no colour"):
+    with pytest.raises(ifsforge.InputError, match="no colou?r"):
         ifsforge.write_df3(str(tmp_path / "r.df3"), volume, content="red")
     with pytest.raises(ifsforge.InputError, match="df3 content"):
         ifsforge.write_df3(str(tmp_path / "r.df3"), volume, content="alpha")
