@@ -18,7 +18,7 @@ class MeshGenerator(Generator):
 
     needs = ("render_volume", "volume_to_mesh", "srgb_to_linear")
     feature = "iso-surfaces"
-    default_sample = "menger_sponge.json"
+    default_sample = "sierpinski_tetrahedron.json"  # light: a Menger sponge is 6 M triangles at 256
 
     def draw(self, layout, settings, system):
         layout.prop(settings, "volume_resolution")
