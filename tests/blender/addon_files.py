@@ -147,6 +147,14 @@ def files_move_beside_the_blend_and_travel():
     # Copied: the originals stay while an undo step may name them (until this session ends).
     assert before.exists() and (project / "scene_ifsforge" / before.name).is_file()
     assert (project / "scene_ifsforge" / code.name).is_file()
+    # A later save deletes what nothing can name: a generated file of an earlier session that the
+    # saved state does not use; what this session made stays (an undo step may name it).
+    stale = project / "scene_ifsforge" / "Old_volume-0123456789ab.vdb"
+    stale.write_bytes(b"stale")
+    mine = project / "scene_ifsforge" / "notes.txt"  # not the add-on's: never touched
+    mine.write_text("the artist's")
+    bpy.ops.wm.save_mainfile()
+    assert not stale.exists() and mine.exists() and (project / "scene_ifsforge" / before.name).is_file()
     # The file on disk says so too (the handler saved again): copy the project and open the copy.
     elsewhere = OUT / "elsewhere" / "copied"
     shutil.rmtree(elsewhere.parent, ignore_errors=True)
