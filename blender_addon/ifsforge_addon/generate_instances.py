@@ -36,7 +36,7 @@ class InstancesGenerator(Generator):
         names = [p.name for p in instances.primitives]
         reach = np.asarray(instances.scales, np.float64)[:, None]  # a primitive fills about its scale
         positions = np.asarray(instances.positions, np.float64)
-        origin = mesh_data.centre((positions - reach).min(axis=0), (positions + reach).max(axis=0)) \
+        origin = mesh_data.center((positions - reach).min(axis=0), (positions + reach).max(axis=0)) \
             if len(positions) else (0.0,) * 3
         return {"path": None, "instances": instances, "origin": origin, "meshes": [p.mesh(SEGMENTS) for p in instances.primitives],
                 "names": names, "summary": f"{len(instances):,} instances of {', '.join(names)}, "
@@ -67,7 +67,7 @@ class InstancesGenerator(Generator):
 
 
 def material(name):
-    """Principled BSDF whose colour and alpha are each instance's "ifs_color"."""
+    """Principled BSDF whose color and alpha are each instance's "ifs_color"."""
     mat = bpy.data.materials.get(name) or bpy.data.materials.new(name)
     mat.use_nodes = True
     nodes, links = mat.node_tree.nodes, mat.node_tree.links

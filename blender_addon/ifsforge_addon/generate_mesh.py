@@ -38,7 +38,7 @@ class MeshGenerator(Generator):
                                                             normals=settings["custom_normals"],
                                                             progress=lambda fraction: progress(0.5 + 0.5 * fraction)))
         positions = np.asarray(mesh["positions"], np.float64)
-        origin = mesh_data.centre(positions.min(axis=0), positions.max(axis=0)) if len(positions) else (0.0,) * 3
+        origin = mesh_data.center(positions.min(axis=0), positions.max(axis=0)) if len(positions) else (0.0,) * 3
         mesh["positions"] = positions - origin
         return {"path": None, "mesh": mesh, "custom_normals": settings["custom_normals"], "origin": origin,
                 "summary": f"{len(mesh['positions']):,} vertices, {len(mesh['triangles']):,} triangles from "

@@ -66,7 +66,7 @@ class TerrainGenerator(Generator):
         if settings["terrain_source"] != 'RECIPE':  # a recipe's heights are the recipe's
             low, high = fit_height(mesh, settings["terrain_height"])
         positions = np.asarray(mesh["positions"], np.float64)
-        origin = mesh_data.centre(positions.min(axis=0), positions.max(axis=0), base=True)
+        origin = mesh_data.center(positions.min(axis=0), positions.max(axis=0), base=True)
         mesh["positions"] = positions - origin
         if terrain.grid == "circular":  # a fan at the centre: the generic pairing and edge search
             mesh = mesh_data.prepare(mesh)

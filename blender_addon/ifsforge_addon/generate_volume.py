@@ -42,18 +42,18 @@ class VolumeGenerator(Generator):
         lo = np.asarray(volume.origin, np.float64)
         dims_text = "x".join(str(d) for d in volume.dims)
         values = np.asarray(volume.density, np.float32)
-        return {"path": path, "voxels": len(volume), "coloured": volume.color_model != "none",
+        return {"path": path, "voxels": len(volume), "colored": volume.color_model != "none",
                 "density": settings["volume_strength"] * per_world_unit(volume),
                 # Blender skips voxels below its clipping value (0.001): a measure's shares are smaller.
                 "clipping": min(CLIPPING, 0.5 * float(values[values > 0].min())) if len(values) else CLIPPING,
-                "origin": mesh_data.centre(lo, lo + dims * volume.voxel_size),
+                "origin": mesh_data.center(lo, lo + dims * volume.voxel_size),
                 "summary": f"{len(volume):,} voxels in {dims_text} ({settings['volume_algorithm']})"}
 
     def apply(self, context, owner, result, name):
         if owner is None:
             owner = bpy.data.objects.new(name, bpy.data.volumes.new(name))
             link_object(context, owner)
-            owner.data.materials.append(material(name, result["coloured"]))
+            owner.data.materials.append(material(name, result["colored"]))
         volume = owner.data
         volume.grids.unload()  # the file may have the same name: forget what was read from it
         volume.filepath = outputs.stored(result["path"])
@@ -94,7 +94,7 @@ def set_density(owner, density):
 
 
 def place(owner, origin):
-    """A geometry-node modifier moving the grid by -origin: the object's origin is the centre of
+    """A geometry-node modifier moving the grid by -origin: the object's origin is the center of
     the grid's box (the transform written into the .vdb is the system's)."""
     tree = bpy.data.node_groups.get(ORIGIN_MODIFIER)
     if tree is None:
@@ -122,7 +122,7 @@ GLOW = 1.0  # a colour volume's emission per unit of density: where opaque it sh
 
 
 def material(name, coloured):
-    """Principled Volume reading the "density" grid, and for a colour volume the "color" grid as
+    """Principled Volume reading the "density" grid, and for a color volume the "color" grid as
     its scattering colour and as an emission proportional to the density: lit only by scattering,
     a coloured medium absorbs what it does not scatter and turns murky and dark; emitting its own
     colour where it is dense, it keeps the saturation its colours have (as the iso-surface shows

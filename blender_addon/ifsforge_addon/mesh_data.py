@@ -120,9 +120,9 @@ def set_colors(mesh, name, colors):
     attribute.data.foreach_set("color", linear_colors(colors).ravel())
 
 
-def centre(lo, hi, base=False):
-    """The point of the box (lo, hi) where a generated object's origin goes: its centre (pivot
-    where artists expect it), or with base=True the centre of its bottom face (a terrain stands
+def center(lo, hi, base=False):
+    """The point of the box (lo, hi) where a generated object's origin goes: its center (pivot
+    where artists expect it), or with base=True the center of its bottom face (a terrain stands
     on the 3D cursor)."""
     middle = (np.asarray(lo, np.float64) + np.asarray(hi, np.float64)) / 2
     if base:
