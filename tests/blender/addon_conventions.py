@@ -92,6 +92,10 @@ def shipped_presets():
 
 
 def menus_hold_the_entries():
+    # Tooltips say what happens: Bake writes .vdb sequences and meshes in the .blend (Debian's
+    # Blender has no Alembic), and the two POV-Ray exports are told apart.
+    assert "Alembic" not in bpy.types.IFSFORGE_OT_bake_animation.bl_rna.description
+    assert bpy.types.IFSFORGE_OT_export_povray.bl_rna.name != bpy.types.IFSFORGE_OT_export_povray_scene.bl_rna.name
     assert menus.draw_add in bpy.types.VIEW3D_MT_add._dyn_ui_initialize()
     assert menus.draw_import in bpy.types.TOPBAR_MT_file_import._dyn_ui_initialize()
     assert menus.draw_export in bpy.types.TOPBAR_MT_file_export._dyn_ui_initialize()
