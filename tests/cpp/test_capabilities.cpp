@@ -253,7 +253,7 @@ TEST(PieceWork, DeterministicAlgorithmsRefuseAnExpandingMapWithTheReason) {
       renderer(name).render(expanding, o);
       ADD_FAILURE() << name << " rendered an average-contractive system";
     } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("average-contractive (map 4 has spatial contraction factor 1.25)"), std::string::npos)
+      EXPECT_NE(std::string(e.what()).find("average-contractive (map 4 expands space by 1.25 per step)"), std::string::npos)
           << e.what();
       EXPECT_NE(std::string(e.what()).find("chaos"), std::string::npos) << e.what();
     }

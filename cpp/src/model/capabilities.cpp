@@ -16,6 +16,27 @@ std::string number(double v, const char* format = "%.3g") {
 
 }  // namespace
 
+double spatial_shrink(const AffineMap& m, int k) {
+  double a[9], b[9];
+  for (int r = 0; r < k; ++r)
+    for (int c = 0; c < k; ++c) a[r * k + c] = m.a(r, c);
+  double log_scale = 0.0;  // log of the factor taken out of a: A^(2^step) = e^log_scale a
+  for (int step = 0; step < 5; ++step) {
+    double largest = 0.0;
+    for (int r = 0; r < k; ++r)
+      for (int c = 0; c < k; ++c) {
+        double v = 0.0;
+        for (int j = 0; j < k; ++j) v += a[r * k + j] * a[j * k + c];
+        b[r * k + c] = v;
+        largest = std::max(largest, std::abs(v));
+      }
+    if (!(largest > 0.0)) return 0.0;  // nilpotent: the piece collapses
+    for (int j = 0; j < k * k; ++j) a[j] = b[j] / largest;
+    log_scale = 2.0 * log_scale + std::log(largest);
+  }
+  return std::exp(log_scale / 32.0);
+}
+
 SystemFeatures system_features(const Ifs& ifs) {
   SystemFeatures f;
   f.recurrent = ifs.recurrent();
@@ -23,16 +44,17 @@ SystemFeatures system_features(const Ifs& ifs) {
   f.condensation = !ifs.condensation().empty();
   f.spatial_dims = ifs.spatial_dims();
   f.classification = ifs.classify();
-  const auto s = ifs.spatial_contraction_factors();
   for (std::size_t i = 0; i < ifs.size(); ++i) {
     f.determinant_sum += std::abs(ifs.map(i).determinant(f.spatial_dims));
-    if (!(s[i] < 1.0) && f.expanding_map < 0) {
+    const double shrink = spatial_shrink(ifs.map(i), f.spatial_dims);
+    if (!(shrink < 1.0) && f.expanding_map < 0) {
       f.expanding_map = static_cast<int>(i);
-      f.expanding_factor = s[i];
+      f.expanding_factor = shrink;
     }
   }
-  // A map that expands in space (not only in its colour channels) keeps some pieces from ever
-  // shrinking: what the algorithms that split pieces down to the pixel cannot take.
+  // A map that expands in space in the long run (not only in its colour channels, nor for one
+  // step of a turn: volume_coral_6d's) keeps some pieces from ever shrinking: what the
+  // algorithms that split pieces down to the pixel cannot take.
   f.average_contractive = (f.classification == Classification::AverageContractive ||
                            f.classification == Classification::EventuallyContractive) &&
                           f.expanding_map >= 0;
@@ -76,7 +98,7 @@ std::string unhandled_reason(const Capabilities& c, const SystemFeatures& f, con
   if (f.average_contractive && !c.has(Capabilities::AverageContractive))
     return "needs every map to contract, and " + named + " is " +
            std::string(name_of(f.classification)) + " (map " + std::to_string(f.expanding_map + 1) +
-           " has spatial contraction factor " + number(f.expanding_factor) +
+           " expands space by " + number(f.expanding_factor) + " per step" +
            "): its pieces never shrink below a pixel, so the work has no bound";
   if (f.overlapping && !c.has(Capabilities::Overlapping))
     return "enumerates pieces down to the pixel, and the pieces of " + named + " overlap (sum of |det| = " +

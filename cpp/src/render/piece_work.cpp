@@ -7,42 +7,15 @@
 #include <vector>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/model/capabilities.h"
 
 namespace ifsforge {
-
-namespace {
-
-/// How much a map shrinks a piece per application in the long run: the spectral radius of its
-/// spatial block, ~ ||A^32||^(1/32) by repeated squaring (a turning, shearing map's norm
-/// overstates it: the spiral sample's main map has norm 0.987, radius 0.894).
-double shrink(const AffineMap& m, int k) {
-  double a[9], b[9];
-  for (int r = 0; r < k; ++r)
-    for (int c = 0; c < k; ++c) a[r * k + c] = m.a(r, c);
-  double log_scale = 0.0;  // log of the factor taken out of a: A^(2^step) = e^log_scale a
-  for (int step = 0; step < 5; ++step) {
-    double largest = 0.0;
-    for (int r = 0; r < k; ++r)
-      for (int c = 0; c < k; ++c) {
-        double v = 0.0;
-        for (int j = 0; j < k; ++j) v += a[r * k + j] * a[j * k + c];
-        b[r * k + c] = v;
-        largest = std::max(largest, std::abs(v));
-      }
-    if (!(largest > 0.0)) return 0.0;  // nilpotent: the piece collapses
-    for (int j = 0; j < k * k; ++j) a[j] = b[j] / largest;
-    log_scale = 2.0 * log_scale + std::log(largest);
-  }
-  return std::exp(log_scale / 32.0);
-}
-
-}  // namespace
 
 double estimated_pieces(const Ifs& ifs, double ratio, int max_depth) {
   const std::size_t n = ifs.size();
   if (!(ratio > 1.0)) return 1.0;
   std::vector<double> s;
-  for (const AffineMap& m : ifs.maps()) s.push_back(shrink(m, ifs.spatial_dims()));
+  for (const AffineMap& m : ifs.maps()) s.push_back(spatial_shrink(m, ifs.spatial_dims()));
   double shortest = std::numeric_limits<double>::infinity();  // smallest log(1/s_i) of a map that shrinks
   for (double f : s) {
     if (!(f < 1.0)) return std::numeric_limits<double>::infinity();
