@@ -23,7 +23,7 @@ PROBABILITY_MODES = ("explicit", "jacobian", "uniform")
 
 def default_map(index=0, count=1, layout="xy"):
     """A half-size copy placed on a circle. Colour channels follow c' = c / 2 + v / 2 with v
-    the map's piece colour, so a point's colour mixes the colours of its address with weights
+    the map's piece color, so a point's colour mixes the colours of its address with weights
     1/2, 1/4, ... and piece i averages (v_i + sum_j p_j v_j) / 2; a primitive index
     k' = index picks a primitive per map; alpha settles on 1."""
     channel_layout = ifsforge.ChannelLayout(layout)

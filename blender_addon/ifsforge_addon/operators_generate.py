@@ -258,10 +258,10 @@ def regenerate_now(context, owner, source=None):
 
 GENERATE_KINDS = (
     ('IMAGE', "Render the system to a PNG (any chapter-5 algorithm) and load it as an image"),
-    ('VOLUME', "Write an OpenVDB volume (density and colour grids) and add a Volume object with a "
+    ('VOLUME', "Write an OpenVDB volume (density and color grids) and add a Volume object with a "
                "Principled Volume material"),
     ('INSTANCES', "Add a collection of instanced CSG primitives, one per leaf of the vector IFS, with "
-                  "per-instance colour"),
+                  "per-instance color"),
     ('TERRAIN', "Add a fractal terrain mesh with the fractal palette as its material"),
     ('PALETTE', "Make a fractal palette texture (an image datablock)"),
     ('MESH', "Add the iso-surface of the system's volume as a mesh object"),

@@ -15,6 +15,6 @@ def recipe_path(settings):
 
 
 def make(path, entries):
-    """(recipe, palette) of a recipe file with `entries` colours."""
+    """(recipe, palette) of a recipe file with `entries` colors."""
     recipe = ifsforge.read_palette_recipe(path)
     return recipe, recipe.make(entries)

@@ -11,6 +11,8 @@ import ifsforge
 
 from . import codec
 
+TERRAIN = ifsforge.terrain_defaults  # the core's, as the command line's: one recipe, one terrain
+
 MAX_DIM = 8          # kMaxDim of the core
 MAX_EXTRA = 6        # channels beyond the 2 or 3 spatial ones
 # The core's settings structs: each default is written once, in C++.
@@ -80,13 +82,13 @@ class IFSFORGE_PG_map(PropertyGroup):
                                description="2D: h (first value). 3D: hxy, hxz, hyz")
     reflect: BoolVectorProperty(name="Reflect", size=3, update=_changed)
     probability: FloatProperty(name="Probability", default=1.0, min=0.0, soft_max=1.0, precision=4, step=1,
-                               update=_changed, description="Relative weight (normalised over the maps)")
+                               update=_changed, description="Relative weight (normalized over the maps)")
     channels: CollectionProperty(type=IFSFORGE_PG_channel_row)
     coupling: FloatVectorProperty(
         name="Coupling", size=3 * MAX_EXTRA, precision=4, step=1, update=_changed,
         description="How the extra channels feed back into the position (row per spatial axis)")
-    color: FloatVectorProperty(name="Piece colour", subtype='COLOR', size=4, get=_piece_color,
-                               description="The colour of this map's piece in the preview")
+    color: FloatVectorProperty(name="Piece color", subtype='COLOR', size=4, get=_piece_color,
+                               description="The color of this map's piece in the preview")
 
 
 class IFSFORGE_PG_morph(PropertyGroup):
@@ -135,9 +137,9 @@ class IFSFORGE_PG_settings(PropertyGroup):
     image_size: IntProperty(name="Size", min=16, max=16384, default=RENDER.width, description="Pixels per side")
     image_algorithm: EnumProperty(name="Algorithm", items=RENDERER_ITEMS)
     image_mode: EnumProperty(name="Mode", default=TONE.mode, items=(
-        ('auto', "Auto", "Shaded for 3D, colour when the layout has colour, else density"),
+        ('auto', "Auto", "Shaded for 3D, color when the layout has color, else density"),
         ('binary', "Binary", "Coverage"), ('density', "Density", "Log density"),
-        ('color', "Colour", "The colour channels"), ('shaded', "Shaded", "Lit z-buffer (3D systems)")))
+        ('color', "Color", "The color channels"), ('shaded', "Shaded", "Lit z-buffer (3D systems)")))
     view: FloatVectorProperty(name="View", size=2, default=tuple(DRAW.view),
                               description="Yaw and pitch in degrees (3D systems)")
     # Volumes (6.2.3.2, 6.5.3.1) and their iso-surfaces
@@ -167,12 +169,12 @@ class IFSFORGE_PG_settings(PropertyGroup):
         description="A primitive, or a comma list the k channel picks from: sphere, box, cone, cylinder, torus, "
                     "circle, square, triangle, line")
     instance_scale: FloatProperty(name="Scale factor", min=0.0, default=INSTANCE.scale_factor, description="sf of Eq. 60")
-    instance_color_by: EnumProperty(name="Colour", default=INSTANCE.color_source, items=(
-        ('auto', "Auto", "The colour channels if the layout has them, else the first map of the address"),
-        ('channels', "Channels", "The layout's colour channels (Eq. 101)"),
+    instance_color_by: EnumProperty(name="Color", default=INSTANCE.color_source, items=(
+        ('auto', "Auto", "The color channels if the layout has them, else the first map of the address"),
+        ('channels', "Channels", "The layout's color channels (Eq. 101)"),
         ('first-map', "First map", "The first map of each leaf's address"),
         ('last-map', "Last map", "The last map of each leaf's address"),
-        ('constant', "Constant", "One colour")))
+        ('constant', "Constant", "One color")))
     # Terrains (6.1.3.4) and fractal palettes (6.1.3.3)
     terrain_source: EnumProperty(name="Heights", default='ATTRACTOR', items=(
         ('ATTRACTOR', "Attractor", "Control heights sampled from the system's density image"),
@@ -182,18 +184,19 @@ class IFSFORGE_PG_settings(PropertyGroup):
     terrain_grid: EnumProperty(name="Grid", default='regular', items=(
         ('regular', "Regular", ""), ('irregular', "Irregular", "Displaced control points"),
         ('circular', "Circular", "Leading circles around a centre")))
-    terrain_controls: IntProperty(name="Control points", min=5, max=65, default=9,
+    terrain_controls: IntProperty(name="Control points", min=5, max=65, default=TERRAIN["controls"],
                                   description="Control heights along each side (circular: circles and angles)")
-    terrain_roughness: FloatVectorProperty(name="Roughness", size=2, min=-0.99, max=0.99, default=(0.3, 0.3),
+    terrain_roughness: FloatVectorProperty(name="Roughness", size=2, min=-0.99, max=0.99,
+                                           default=(TERRAIN["roughness"], TERRAIN["roughness"]),
                                            description="|a22| of Eq. 94 along and across the leading vectors")
-    terrain_resolution: IntProperty(name="Resolution", min=17, max=4097, default=257,
+    terrain_resolution: IntProperty(name="Resolution", min=17, max=4097, default=TERRAIN["samples"],
                                     description="Samples along each side")
-    terrain_size: FloatProperty(name="Size", min=0.01, default=4.0, subtype='DISTANCE')
+    terrain_size: FloatProperty(name="Size", min=0.01, default=ifsforge.TerrainControlsOptions().size_x, subtype='DISTANCE')
     terrain_height: FloatProperty(name="Height", min=0.0, default=1.0, subtype='DISTANCE',
                                   description="From the lowest to the highest point of the terrain")
     palette_recipe: StringProperty(name="Palette", subtype='FILE_PATH',
                                    description="A palette recipe (ifsforge-palette/1); empty: the sample 'earth'")
-    palette_entries: IntProperty(name="Entries", min=2, max=65536, default=256)
+    palette_entries: IntProperty(name="Entries", min=2, max=65536, default=ifsforge.PaletteRecipe().entries)
     palette_rows: IntProperty(name="Rows", min=1, max=4096, default=16, description="Palette image height")
 
 
@@ -222,10 +225,10 @@ class IFSFORGE_PG_generated(PropertyGroup):
 class IFSFORGE_PG_preview(PropertyGroup):
     show: BoolProperty(name="Preview", default=True, update=_changed, description="Draw the attractor in the viewport")
     count: IntProperty(name="Points", default=PREVIEW.count, min=1000, max=5000000, update=_changed)
-    coloring: EnumProperty(name="Colour", update=_changed, items=(
-        ('auto', "Auto", "The colour channels when the layout has them, else the pieces"),
-        ('pieces', "Pieces", "Each map's piece w_i(A) in its own colour: the collage"),
-        ('channels', "Channels", "The layout's colour channels")))
+    coloring: EnumProperty(name="Color", update=_changed, items=(
+        ('auto', "Auto", "The color channels when the layout has them, else the pieces"),
+        ('pieces', "Pieces", "Each map's piece w_i(A) in its own color: the collage"),
+        ('channels', "Channels", "The layout's color channels")))
     point_size: FloatProperty(name="Point size", default=2.0, min=1.0, max=10.0, update=_changed)
     show_frames: BoolProperty(name="Collage frames", default=True, update=_changed,
                               description="The bounding box and its image under each map")

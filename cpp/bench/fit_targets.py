@@ -81,7 +81,7 @@ SHAPES = {"tetrahedron (.vdb)": ("sierpinski_tetrahedron.json", 4, ".vdb"),
           "3D fern (.vdb)": ("volume_fern_3d.json", 4, ".vdb")}
 
 
-def colour_targets(size=256):
+def color_targets(size=256):
     """(name, RGB picture drawn as `render` draws the sample, maps)."""
     out = []
     for name, (file, maps) in COLOUR.items():
@@ -92,11 +92,11 @@ def colour_targets(size=256):
     return out
 
 
-def evaluate_colour(name, picture, maps, threads=2, seed=0, time_limit=60.0):
+def evaluate_color(name, picture, maps, threads=2, seed=0, time_limit=60.0):
     start = time.perf_counter()
-    shape = ifsforge.colour_foreground(picture)
+    shape = ifsforge.color_foreground(picture)
     result = ifsforge.fit(shape, maps=maps, time_limit=time_limit, seed=seed, threads=threads)
-    coloured = ifsforge.fit_colour(result["system"], picture, shape)
+    coloured = ifsforge.fit_color(result["system"], picture, shape)
     seconds = time.perf_counter() - start
     system = coloured["system"]
     h, w = shape.shape
@@ -105,7 +105,7 @@ def evaluate_colour(name, picture, maps, threads=2, seed=0, time_limit=60.0):
     covered = drawn.max(axis=2) > 0
     both = covered & shape
     return {"target": name, "maps": maps, "iou": float(both.sum() / (covered | shape).sum()),
-            "colour_error": float(np.abs(drawn - picture)[both].mean()), "collage_error": coloured["collage_error"],
+            "color_error": float(np.abs(drawn - picture)[both].mean()), "collage_error": coloured["collage_error"],
             "seconds": seconds, "time_limited": result["time_limited"], "system": system, "fit": drawn}
 
 
@@ -161,9 +161,9 @@ def report(args, out):
         out.print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['hausdorff_pixels']:12.2f} {r['collage_pixels']:10.2f} "
                   f"{r['seconds']:7.1f}" + (" (time limit)" if r["time_limited"] else ""))
     out.print(f"\n{'colour target':18} {'maps':>4} {'IoU':>6} {'colour error':>12} {'collage RMS r g b':>20} {'time s':>7}")
-    for name, picture, maps in colour_targets():
-        r = evaluate_colour(name, picture, maps, args.threads, args.seed)
-        out.print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['colour_error']:12.4f} "
+    for name, picture, maps in color_targets():
+        r = evaluate_color(name, picture, maps, args.threads, args.seed)
+        out.print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['color_error']:12.4f} "
                   f"{' '.join(f'{e:.3f}' for e in r['collage_error']):>20} {r['seconds']:7.1f}")
     out.print(f"\n{'3D target':24} {'maps':>4} {'IoU':>6} {'fit IoU':>7} {'time s':>7}")
     with tempfile.TemporaryDirectory() as folder:

@@ -41,8 +41,8 @@ void bind_core(py::module_& m) {
   m.def("check_memory", &check_memory, py::arg("bytes"), py::arg("what"),
         "MemoryBudgetError naming `what` when `bytes` exceeds memory_budget() (estimate before allocating).");
   m.def("srgb_to_linear", py::vectorize([](double c) { return srgb_to_linear<double>(c); }), py::arg("c"),
-        "Display (sRGB-encoded) colour values in [0, 1] to linear light (IEC 61966-2-1), clamped first: what "
-        "glTF COLOR_0/baseColorFactor, the .vdb colour grid and Blender colour attributes hold.");
+        "Display (sRGB-encoded) color values in [0, 1] to linear light (IEC 61966-2-1), clamped first: what "
+        "glTF COLOR_0/baseColorFactor, the .vdb color grid and Blender color attributes hold.");
   m.def("linear_to_srgb", py::vectorize([](double c) { return linear_to_srgb(c); }), py::arg("c"),
         "The inverse of srgb_to_linear on [0, 1].");
 }

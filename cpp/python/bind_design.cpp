@@ -21,7 +21,7 @@ py::array_t<T> view(const std::vector<T>& data, std::vector<py::ssize_t> shape, 
 void bind_design(py::module_& m) {
   add_choices<PreviewColoring>(m, "coloring");
   py::class_<PreviewCloud>(m, "PreviewCloud",
-                           "Points of the attractor with colours, and the collage frames, for a viewport preview.")
+                           "Points of the attractor with colors, and the collage frames, for a viewport preview.")
       .def_readonly("count", &PreviewCloud::count)
       .def_property_readonly("positions", [](py::object self) {
         const auto& c = self.cast<const PreviewCloud&>();
@@ -58,7 +58,7 @@ void bind_design(py::module_& m) {
       .def_readwrite("seed", &PreviewOptions::seed)
       .def_property("coloring", [](const PreviewOptions& o) { return std::string(name_of(o.coloring)); },
                     [](PreviewOptions& o, const std::string& c) { o.coloring = parse_name<PreviewColoring>(c); },
-                    "auto, pieces (the collage of Eq. 41) or channels (the layout's colour channels)")
+                    "auto, pieces (the collage of Eq. 41) or channels (the layout's color channels)")
       .def_readwrite("highlight", &PreviewOptions::highlight, "a map whose piece stays bright (-1: none)")
       .def_readwrite("threads", &PreviewOptions::threads, "0: every core; the cloud never depends on it");
   m.def("preview_cloud",
@@ -70,14 +70,14 @@ void bind_design(py::module_& m) {
           return preview_cloud(ifs, o);
         },
         py::arg("ifs"), py::arg("count") = py::none(),
-        "A seeded cloud of points on the attractor coloured by piece (the collage of Eq. 41) or by the "
-        "layout's colour channels, plus the collage frames: the PreviewOptions given as keywords. "
+        "A seeded cloud of points on the attractor colored by piece (the collage of Eq. 41) or by the "
+        "layout's color channels, plus the collage frames: the PreviewOptions given as keywords. "
         "Identical for any thread count.");
   m.def("piece_color", [](std::size_t index, bool dim) {
     float rgba[4];
     piece_color(index, dim, rgba);
     return py::make_tuple(rgba[0], rgba[1], rgba[2], rgba[3]);
-  }, py::arg("index"), py::arg("dim") = false, "The RGBA colour previews give map `index`'s piece.");
+  }, py::arg("index"), py::arg("dim") = false, "The RGBA color previews give map `index`'s piece.");
   m.def("morph", &morph, py::arg("from_system"), py::arg("to_system"), py::arg("t"),
         "The system at t in [0, 1] between two systems of one layout (parameters of Eq. 5 interpolated; "
         "continuous in t, so frames animate smoothly).");

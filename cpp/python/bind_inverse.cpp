@@ -5,7 +5,7 @@
 #include "ifsforge/inverse/collage.h"
 #include "ifsforge/inverse/fit.h"
 #include "ifsforge/inverse/fit_3d.h"
-#include "ifsforge/inverse/fit_colour.h"
+#include "ifsforge/inverse/fit_color.h"
 #include "ifsforge/render/tops.h"
 
 namespace ifsforge::python {
@@ -88,28 +88,28 @@ VoxelSet voxel_set_from_numpy(const py::array& mask, const std::array<double, 3>
 }
 
 void bind_fit_extensions(py::module_& m) {
-  options_class<ColourFitOptions>(m, "ColourFitOptions", "The settings of fit_colour() (keywords of the same names).")
-      .def_readwrite("max_contraction", &ColourFitOptions::max_contraction,
+  options_class<ColorFitOptions>(m, "ColorFitOptions", "The settings of fit_color() (keywords of the same names).")
+      .def_readwrite("max_contraction", &ColorFitOptions::max_contraction,
                      "every map's contraction factor on (x, y, r, g, b) stays at most this")
-      .def_readwrite("positional", &ColourFitOptions::positional, "colour rows may depend on x, y")
-      .def_readwrite("mixing", &ColourFitOptions::mixing, "a channel's row may read the other channels")
-      .def_readwrite("tolerance", &ColourFitOptions::tolerance,
-                     "colour_foreground: a channel difference from the border's colour above this is shape");
-  m.def("has_colour", [](const py::array& picture) { return has_colour(image_from_numpy(picture)); }, py::arg("picture"),
+      .def_readwrite("positional", &ColorFitOptions::positional, "color rows may depend on x, y")
+      .def_readwrite("mixing", &ColorFitOptions::mixing, "a channel's row may read the other channels")
+      .def_readwrite("tolerance", &ColorFitOptions::tolerance,
+                     "color_foreground: a channel difference from the border's color above this is shape");
+  m.def("has_color", [](const py::array& picture) { return has_color(image_from_numpy(picture)); }, py::arg("picture"),
         "True when the picture has three or more channels that are not all equal.");
-  m.def("colour_foreground", [](const py::array& picture, double tolerance) {
-    return pixel_set_to_numpy(colour_foreground(image_from_numpy(picture), tolerance));
-  }, py::arg("picture"), py::arg("tolerance") = ColourFitOptions().tolerance,
-        "bool (h, w): the pixels whose colour differs from the border's usual colour by more than `tolerance` "
+  m.def("color_foreground", [](const py::array& picture, double tolerance) {
+    return pixel_set_to_numpy(color_foreground(image_from_numpy(picture), tolerance));
+  }, py::arg("picture"), py::arg("tolerance") = ColorFitOptions().tolerance,
+        "bool (h, w): the pixels whose color differs from the border's usual color by more than `tolerance` "
         "in some channel.");
-  m.def("fit_colour", [](const Ifs& shape_system, const py::array& picture, const py::object& shape, const py::kwargs& kwargs) {
-    const ColourFitOptions o = options_from<ColourFitOptions>("fit_colour", kwargs);
+  m.def("fit_color", [](const Ifs& shape_system, const py::array& picture, const py::object& shape, const py::kwargs& kwargs) {
+    const ColorFitOptions o = options_from<ColorFitOptions>("fit_color", kwargs);
     const Image image = image_from_numpy(picture);
-    const PixelSet s = shape.is_none() ? colour_foreground(image, o.tolerance) : pixel_set_from_numpy(shape, 0.5);
-    ColourFitResult r;
+    const PixelSet s = shape.is_none() ? color_foreground(image, o.tolerance) : pixel_set_from_numpy(shape, 0.5);
+    ColorFitResult r;
     {
       py::gil_scoped_release release;
-      r = fit_colour(shape_system, image, s, o);
+      r = fit_color(shape_system, image, s, o);
     }
     py::dict d;
     d["system"] = r.system;
@@ -118,9 +118,9 @@ void bind_fit_extensions(py::module_& m) {
     return d;
   }, py::arg("shape_system"), py::arg("picture"), py::arg("shape") = py::none(),
         "Seed Fig. 4.3, one collage per channel: the xy system `shape_system` (fitted to the picture's shape) "
-        "extended to xy+rgb, each map's colour rows (C_i (r, g, b) + g_i . (x, y) + o_i) solved by least "
-        "squares so that the picture's colour at w_i(p) matches the colour map of its colour at p; colour maps "
-        "contractive. shape: bool (h, w), default colour_foreground(picture). The ColourFitOptions given as "
+        "extended to xy+rgb, each map's color rows (C_i (r, g, b) + g_i . (x, y) + o_i) solved by least "
+        "squares so that the picture's color at w_i(p) matches the color map of its color at p; color maps "
+        "contractive. shape: bool (h, w), default color_foreground(picture). The ColorFitOptions given as "
         "keywords. Returns a dict: system, collage_error (RMS per channel r, g, b, in [0, 1] units), samples.");
   options_class<Fit3dOptions>(m, "Fit3dOptions", "The settings of fit_3d(); its keywords are these fields, their defaults these.")
       .def_readwrite("maps", &Fit3dOptions::maps, "N, the number of maps")

@@ -123,7 +123,7 @@ void bind_io(py::module_& m) {
         "The up axis the reader of `path` expects by its extension: .glb/.gltf/.obj y, else (.ply) z.");
   options_class<MeshWriteOptions>(m, "MeshWriteOptions", "The settings of write_mesh() (keywords of the same names).")
       .def_readwrite("base_color_texture", &MeshWriteOptions::base_color_texture,
-                     "glTF: a PNG embedded as the material's base colour (needs uvs)")
+                     "glTF: a PNG embedded as the material's base color (needs uvs)")
       .def_readwrite("name", &MeshWriteOptions::name, "glTF: the mesh and node name")
       .def_property("up", [](const MeshWriteOptions& o) { return o.up; },
                     [](MeshWriteOptions& o, const py::object& up) { o.up = up_argument(up); },
@@ -263,7 +263,7 @@ void bind_io(py::module_& m) {
   options_class<GltfInstanceOptions>(m, "GltfInstanceOptions",
                                      "The settings of write_gltf_instances() (keywords of the same names).")
       .def_readwrite("segments", &GltfInstanceOptions::segments, "tessellation of the curved primitives")
-      .def_readwrite("color_levels", &GltfInstanceOptions::color_levels, "levels per channel of the colour classes")
+      .def_readwrite("color_levels", &GltfInstanceOptions::color_levels, "levels per channel of the color classes")
       .def_readwrite("extras", &GltfInstanceOptions::extras, "node extras: address, color, primitive")
       .def_readwrite("name", &GltfInstanceOptions::name, "the root node; default: the list's name")
       .def_property("up", [](const GltfInstanceOptions& o) { return o.up; },
@@ -277,7 +277,7 @@ void bind_io(py::module_& m) {
         },
         py::arg("path"), py::arg("instances"),
         "Binary glTF: each primitive's mesh stored once, one node per instance (Blender: linked duplicates); "
-        "materials hold the display colours as linear baseColorFactor; up: 'y' (None: glTF's) or 'z'.");
+        "materials hold the display colors as linear baseColorFactor; up: 'y' (None: glTF's) or 'z'.");
 
   m.def("write_df3",
         [](const std::string& path, const Volume& volume, int bits, const std::string& content, bool border) {
@@ -288,7 +288,7 @@ void bind_io(py::module_& m) {
         py::arg("path"), py::arg("volume"), py::arg("bits") = 8, py::arg("content") = "density", py::arg("border") = false,
         "Write one grid of the volume as a POV-Ray .df3 (atomically): big-endian uint16 sizes x, y, z, then "
         "8/16/32-bit big-endian voxels, x fastest, scaled to the full range. content: 'density' (density / max "
-        "density) or 'red', 'green', 'blue' (a channel of the linear colour, srgb_to_linear of the display one). border: one empty voxel around "
+        "density) or 'red', 'green', 'blue' (a channel of the linear color, srgb_to_linear of the display one). border: one empty voxel around "
         "the grid (POV-Ray's interpolation wraps round at the unit cube's faces).");
 }
 

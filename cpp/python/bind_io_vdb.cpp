@@ -59,7 +59,7 @@ void bind_io_vdb(py::module_& m) {
         },
         py::arg("path"), py::arg("volume"), py::arg("system") = py::none(),
         "Write an OpenVDB file (atomically): FloatGrid 'density', Vec3fGrid 'color' (RGB in [0, 1]) when the "
-        "layout has colour, FloatGrids 'gray', 'alpha', ...; the transform puts the voxels where the system "
+        "layout has color, FloatGrids 'gray', 'alpha', ...; the transform puts the voxels where the system "
         "puts them; metadata describes the volume and, when given, the system (its JSON). half: store the "
         "[0, 1] grids (and a binary density) as 16-bit halves (relative error <= 2^-11); compress: Blosc "
         "(about a third smaller, slower to write).");
@@ -151,7 +151,7 @@ void bind_io_vdb(py::module_& m) {
         },
         py::arg("volume"),
         "The iso-surface of the occupancy (or of the density) as a dict of arrays: positions, triangles, normals, "
-        "colors (RGBA from the colour grid, or None) -- ready for write_mesh(path, **mesh). normals=False leaves "
+        "colors (RGBA from the color grid, or None) -- ready for write_mesh(path, **mesh). normals=False leaves "
         "normals None; progress(fraction) returning False cancels.");
 }
 

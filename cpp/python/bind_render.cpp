@@ -50,7 +50,7 @@ void bind_render(py::module_& m) {
         return image_to_numpy(tone_map(r, options_from<ToneOptions>("to_image", given)));
       }, py::arg("mode") = py::none(), py::arg("gamma") = py::none(), py::arg("invert") = py::none(),
          "The picture (float32 (h, w[, c])) with the ToneOptions given as keywords (mode, gamma, invert). mode: "
-         "auto, binary, density, color (Eq. 101 normalisation; HSI converted to RGB) or shaded (3D).");
+         "auto, binary, density, color (Eq. 101 normalization; HSI converted to RGB) or shaded (3D).");
 
   options_class<ToneOptions>(m, "ToneOptions", "How Raster.to_image turns a raster into a picture.")
       .def_readwrite("mode", &ToneOptions::mode, "auto, binary, density, color or shaded")
@@ -86,13 +86,13 @@ void bind_render(py::module_& m) {
                       return image_to_numpy(*o.reference_image);
                     },
                     [](RenderOptions& o, const py::array& a) { o.reference_image = std::make_shared<Image>(image_from_numpy(a)); },
-                    "colour stealing (5.1.2): the picture colours are taken from")
+                    "color stealing (5.1.2): the picture colors are taken from")
       .def_property("reference_system", [](const RenderOptions& o) -> std::optional<Ifs> {
                       if (!o.reference_system) return std::nullopt;
                       return *o.reference_system;
                     },
                     [](RenderOptions& o, const Ifs& s) { o.reference_system = std::make_shared<Ifs>(s); },
-                    "colour stealing: the system that walks the reference image")
+                    "color stealing: the system that walks the reference image")
       .def_property("parameters", [](const RenderOptions& o) { return o.parameters; },
                     [](RenderOptions& o, const py::dict& parameters) {
                       // Algorithm settings: values may be given as numbers or text.

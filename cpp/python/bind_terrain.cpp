@@ -158,8 +158,8 @@ void bind_terrain(py::module_& m) {
       .def_property("grid", [](const TerrainControlsOptions& o) { return std::string(name_of(o.grid)); },
                     [](TerrainControlsOptions& o, const std::string& g) { o.grid = parse_name<TerrainGrid>(g); },
                     "regular, irregular or circular")
-      .def_readwrite("rows", &TerrainControlsOptions::rows, "control rows (circular: circles); 0: 9 (circular 6)")
-      .def_readwrite("columns", &TerrainControlsOptions::columns, "control columns (circular: per circle); 0: 9 (12)")
+      .def_readwrite("rows", &TerrainControlsOptions::rows, "control rows (circular: circles); 0: terrain_defaults")
+      .def_readwrite("columns", &TerrainControlsOptions::columns, "control columns (circular: per circle); 0: terrain_defaults")
       .def_readwrite("base", &TerrainControlsOptions::base, "random heights: base + amplitude (2 u - 1)")
       .def_readwrite("amplitude", &TerrainControlsOptions::amplitude)
       .def_property("height_map", [](const TerrainControlsOptions& o) -> py::object {
@@ -173,12 +173,19 @@ void bind_terrain(py::module_& m) {
       .def_readwrite("high", &TerrainControlsOptions::high, "height_map: the height of value 1")
       .def_readwrite("radii", &TerrainControlsOptions::radii, "circular: radii (empty: evenly to size_x / 2)")
       .def_readwrite("shift", &TerrainControlsOptions::shift, "random displacement amplitude (0: none)")
-      .def_readwrite("roughness", &TerrainControlsOptions::roughness, "(along, across) |a22|, or None: 0")
+      .def_readwrite("roughness", &TerrainControlsOptions::roughness, "(along, across) |a22|; (0, 0): bilinear")
       .def_property("signs", [](const TerrainControlsOptions& o) { return std::string(name_of(o.signs)); },
                     [](TerrainControlsOptions& o, const std::string& s) { o.signs = parse_name<SignPattern>(s); },
                     "random, alternating or constant")
       .def_readwrite("size_x", &TerrainControlsOptions::size_x)
       .def_readwrite("size_y", &TerrainControlsOptions::size_y);
+  py::dict defaults;
+  defaults["controls"] = kDefaultControls;
+  defaults["circles"] = kDefaultCircles;
+  defaults["circle_points"] = kDefaultCirclePoints;
+  defaults["roughness"] = kDefaultRoughness;
+  defaults["samples"] = kDefaultTerrainSamples;
+  m.attr("terrain_defaults") = defaults;
   m.def("make_terrain_controls", [](std::uint64_t seed, const py::kwargs& kwargs) {
     return make_terrain_controls(options_from<TerrainControlsOptions>("make_terrain_controls", kwargs), seed);
   }, py::arg("seed"),
@@ -227,7 +234,7 @@ void bind_terrain(py::module_& m) {
       .def_property("up", [](const TerrainMeshOptions& o) { return o.up; },
                     [](TerrainMeshOptions& o, const py::object& up) { o.up = up_argument(up); },
                     "write_terrain_mesh: the file's up axis ('y', 'z'; None: the format's, glTF/OBJ y, PLY z)")
-      .def_readwrite("palette", &TerrainMeshOptions::palette, "vertex colours by height (empty: none)");
+      .def_readwrite("palette", &TerrainMeshOptions::palette, "vertex colors by height (empty: none)");
   m.def("write_terrain_mesh", [](const std::string& path, const Terrain& t, const py::object& palette, int threads,
                                  const py::kwargs& kwargs) {
     py::dict given(kwargs);
@@ -236,7 +243,7 @@ void bind_terrain(py::module_& m) {
     py::gil_scoped_release release;
     write_terrain_mesh(path, t, o, threads);
   }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::kw_only(), py::arg("threads") = 0,
-     ".glb (palette strip embedded as base-colour texture), .obj or .ply; uv = (normalised height, 0.5): the "
+     ".glb (palette strip embedded as base-color texture), .obj or .ply; uv = (normalized height, 0.5): the "
      "TerrainMeshOptions given as keywords");
   options_class<TerrainPovOptions>(m, "TerrainPovOptions",
                                     "The settings of write_terrain_pov() (keywords of the same names).")
@@ -244,10 +251,10 @@ void bind_terrain(py::module_& m) {
                      "height_field (a 16-bit PNG beside the scene) or mesh2 (the triangles inlined)")
       .def_readwrite("camera", &TerrainPovOptions::camera,
                      "perspective (south-west, 35 degrees up) or top (orthographic, north up, the outline)")
-      .def_readwrite("flat", &TerrainPovOptions::flat, "no lights: every point shows its palette colour")
+      .def_readwrite("flat", &TerrainPovOptions::flat, "no lights: every point shows its palette color")
       .def_readwrite("aspect", &TerrainPovOptions::aspect, "the render's width / height (perspective camera)")
       .def_readwrite("title", &TerrainPovOptions::title, "first comment line and IFS_Title")
-      .def_readwrite("palette_name", &TerrainPovOptions::palette_name, "the colours are IFS_Palette_<name>");
+      .def_readwrite("palette_name", &TerrainPovOptions::palette_name, "the colors are IFS_Palette_<name>");
   m.def("write_terrain_pov", [](const std::string& path, const Terrain& t, std::optional<Palette> palette,
                                 int threads, const py::kwargs& kwargs) {
     const TerrainPovOptions o = options_from<TerrainPovOptions>("write_terrain_pov", kwargs);
@@ -255,7 +262,7 @@ void bind_terrain(py::module_& m) {
     py::gil_scoped_release release;
     return write_terrain_pov(path, t, p, o, threads);
   }, py::arg("path"), py::arg("terrain"), py::arg("palette") = py::none(), py::kw_only(), py::arg("threads") = 0,
-     "POV-Ray scene (height_field + its 16-bit PNG, or mesh2) coloured by the palette: the TerrainPovOptions "
+     "POV-Ray scene (height_field + its 16-bit PNG, or mesh2) colored by the palette: the TerrainPovOptions "
      "given as keywords; returns the files written");
 }
 

@@ -19,7 +19,7 @@ py::array_t<float> colors_to_numpy(const Palette& p) {
 Palette palette_from_numpy(const py::array& array) {
   auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(array);
   if (!a || a.ndim() != 2 || a.shape(1) != 3 || a.shape(0) < 1)
-    throw InputError("palette colours must be an array of shape (n, 3), RGB in [0, 1]");
+    throw InputError("palette colors must be an array of shape (n, 3), RGB in [0, 1]");
   Palette p;
   p.colors.resize(a.shape(0));
   std::memcpy(p.colors.data(), a.data(), p.size() * sizeof(p.colors[0]));
@@ -31,7 +31,7 @@ Palette palette_from_numpy(const py::array& array) {
 void bind_texture(py::module_& m) {
   add_choices<ColorSpace>(m, "space");
   py::class_<PaletteSpec>(m, "PaletteSpec",
-                          "Colour stops, their positions and the roughness (a22 per map) of each component.")
+                          "Color stops, their positions and the roughness (a22 per map) of each component.")
       .def(py::init([](const std::string& space, std::vector<std::array<double, 3>> stops, std::vector<double> positions,
                        std::optional<std::array<std::vector<double>, 3>> a22) {
              PaletteSpec s;
@@ -55,19 +55,20 @@ void bind_texture(py::module_& m) {
                " stops)";
       });
 
-  py::class_<Palette>(m, "Palette", "A colour lookup table: RGB in [0, 1], entry 0 for the lowest input.")
+  py::class_<Palette>(m, "Palette", "A color lookup table: RGB in [0, 1], entry 0 for the lowest input.")
       .def(py::init(&palette_from_numpy), py::arg("colors"), "From an (n, 3) array of RGB in [0, 1].")
       .def_property_readonly("colors", &colors_to_numpy, "(n, 3) float32 RGB")
       .def("__len__", &Palette::size)
-      .def("lookup", &Palette::lookup, py::arg("t"), "The colour at t in [0, 1], linear between entries.")
+      .def("lookup", &Palette::lookup, py::arg("t"), "The color at t in [0, 1], linear between entries.")
       .def("to_image", [](const Palette& p, int rows) { return image_to_numpy(palette_image(p, rows)); },
            py::arg("rows") = 1, "(rows, n, 3) float32: a strip (rows=1) or an n x rows texture")
       .def("color_map", &pov_color_map, py::arg("entries") = 256, py::arg("linear") = false,
-           "A POV-Ray color_map (at most 256 entries, colours as srgb, or as linear rgb).")
+           "A POV-Ray color_map (at most 256 entries, colors as srgb, or as linear rgb).")
       .def("pov_include", &pov_palette_include, py::arg("name"), py::arg("about") = "", py::arg("entries") = 256,
            "A POV-Ray include declaring IFS_Palette_<name> (linear rgb: parses without assumed_gamma).");
 
   py::class_<PaletteRecipe>(m, "PaletteRecipe", "A palette recipe file (ifsforge-palette/1).")
+      .def(py::init<>(), "A recipe with the defaults (its entries are every front end's default size)")
       .def_readwrite("name", &PaletteRecipe::name)
       .def_readwrite("description", &PaletteRecipe::description)
       .def_readwrite("spec", &PaletteRecipe::spec)
@@ -80,7 +81,7 @@ void bind_texture(py::module_& m) {
     py::gil_scoped_release release;
     return make_palette(spec, entries);
   }, py::arg("spec"), py::arg("entries") = 256,
-     "Fractal palette: each colour component interpolated through the stops by Eq. 94; exact.");
+     "Fractal palette: each color component interpolated through the stops by Eq. 94; exact.");
   m.def("read_palette_recipe", &read_palette_recipe, py::arg("path"));
   m.def("parse_palette_recipe", &parse_palette_recipe, py::arg("text"), py::arg("source") = "palette recipe");
   m.def("apply_palette", [](const py::array& image, const Palette& palette, int threads) {
@@ -92,7 +93,7 @@ void bind_texture(py::module_& m) {
     }
     return image_to_numpy(out);
   }, py::arg("image"), py::arg("palette"), py::arg("threads") = 0,
-     "Colour a gray (or RGB: by luminance) image through the palette; alpha is kept.");
+     "Color a gray (or RGB: by luminance) image through the palette; alpha is kept.");
   m.def("pov_color_map", &pov_color_map, py::arg("palette"), py::arg("entries") = 256, py::arg("linear") = false);
   m.def("hls_to_rgb", [](double h, double l, double s) {
     float rgb[3];

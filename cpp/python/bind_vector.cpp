@@ -75,7 +75,7 @@ std::optional<std::vector<double>> optional_vector(const py::object& o) {
 }  // namespace
 
 void bind_vector(py::module_& m) {
-  add_choices<Normalisation>(m, "normalisation");
+  add_choices<Normalization>(m, "normalization");
   add_choices<ColorSource>(m, "color_source");
   py::class_<Primitive>(m, "Primitive",
                         "A graphics primitive placed by vector IFS instances, in the instance's frame (x along the "
@@ -178,18 +178,26 @@ void bind_vector(py::module_& m) {
                     },
                     [](InstanceOptions& o, const py::object& spec) { o.primitives = primitives_from(spec); },
                     "'sphere', 'sphere,box,cone', a list of names or Primitives")
-      .def_property("normalisation", [](const InstanceOptions& o) { return std::string(name_of(o.normalisation)); },
-                    [](InstanceOptions& o, const std::string& n) { o.normalisation = parse_name<Normalisation>(n); },
+      .def_property("normalization", [](const InstanceOptions& o) { return std::string(name_of(o.normalization)); },
+                    [](InstanceOptions& o, const std::string& n) { o.normalization = parse_name<Normalization>(n); },
                     "proportional (Eq. 60) or constant")
+      .def_property("normalisation",  // the old spelling (deprecated), kept for one release
+                    [](const InstanceOptions& o) { return std::string(name_of(o.normalization)); },
+                    [](InstanceOptions& o, const std::string& n) {
+                      if (PyErr_WarnEx(PyExc_DeprecationWarning, "normalisation is deprecated; use normalization", 1) != 0)
+                        throw py::error_already_set();
+                      o.normalization = parse_name<Normalization>(n);
+                    },
+                    "deprecated spelling of normalization")
       .def_readwrite("scale_factor", &InstanceOptions::scale_factor, "sf of Eq. 60")
-      .def_readwrite("length", &InstanceOptions::length, "constant normalisation: the vector length (0: automatic)")
+      .def_readwrite("length", &InstanceOptions::length, "constant normalization: the vector length (0: automatic)")
       .def_readwrite("base_point", &InstanceOptions::base_point, "q0 (empty: the centre of the attractor's bounds)")
       .def_readwrite("base_vector", &InstanceOptions::base_vector, "q1 - q0 (empty: (R, 0[, 0]))")
       .def_readwrite("base_up", &InstanceOptions::base_up, "the frame's second axis before mapping (empty: y)")
       .def_property("color_source", [](const InstanceOptions& o) { return std::string(name_of(o.color_source)); },
                     [](InstanceOptions& o, const std::string& c) { o.color_source = parse_name<ColorSource>(c); },
                     "auto, channels, first-map, last-map or constant")
-      .def_readwrite("normalize_colors", &InstanceOptions::normalize_colors, "Eq. 101's stretch of each colour channel")
+      .def_readwrite("normalize_colors", &InstanceOptions::normalize_colors, "Eq. 101's stretch of each color channel")
       .def_readwrite("color", &InstanceOptions::color, "RGBA for color_source constant")
       .def_readwrite("threads", &InstanceOptions::threads, "0: every core; the list never depends on it")
       .def_property("progress", [](const InstanceOptions&) { return py::none(); },
@@ -208,9 +216,9 @@ void bind_vector(py::module_& m) {
         "The InstanceOptions given as keywords. "
         "Vector recursive rendering (5.8.2): the instance list of a system. depth=0 picks the largest L with "
         "N^L <= 50000. primitives: 'sphere', 'sphere,box,cone' or a list; the k channel (Eq. 99, 107) picks "
-        "one (rounded, modulo the list). normalisation: 'proportional' (d = sf |q1 - q0|, Eq. 60) or "
+        "one (rounded, modulo the list). normalization: 'proportional' (d = sf |q1 - q0|, Eq. 60) or "
         "'constant' (d = length). min_probability: pv of the TSA (5.7). color_source: auto, channels, "
-        "first-map, last-map or constant (color). normalize_colors: Eq. 101's stretch of each colour channel over "
+        "first-map, last-map or constant (color). normalize_colors: Eq. 101's stretch of each color channel over "
         "the attractor (False: the values as given, clamped to [0, 1]).");
   m.def("default_instance_depth", &default_instance_depth, py::arg("maps"), py::arg("max_instances") = 50000);
 

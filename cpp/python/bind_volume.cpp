@@ -94,7 +94,7 @@ void bind_volume(py::module_& m) {
         for (const auto& a : volume_attributes(v))
           if (a.name == "color") return attribute_array(a, v.size());
         return py::none();
-      }, "(n, 3) RGB in [0, 1], or None without colour")
+      }, "(n, 3) RGB in [0, 1], or None without color")
       .def("to_dense", [](const Volume& v, const std::string& what) {
         check_memory(v.grid.cells() * 4.0, "a dense " + std::to_string(v.grid.dims[0]) + "x" +
                                                std::to_string(v.grid.dims[1]) + "x" + std::to_string(v.grid.dims[2]) + " array");

@@ -57,7 +57,7 @@ TEST(Algorithms, RecurrentSquaresHaveDimensionLogThreeOverLogTwo) {
   const Ifs ifs = sample("recurrent_squares");
   ASSERT_TRUE(ifs.recurrent());
   const Raster pd = renderer("probabilistic-domain").render(ifs, on_window(ifs, 512));
-  EXPECT_NEAR(box_counting(pd).dimension, std::log(3.0) / std::log(2.0), 0.06);
+  EXPECT_NEAR(box_counting(pd, 2, 16).dimension, std::log(3.0) / std::log(2.0), 0.06);
   for (const char* name : {"chaos", "photocopy"}) {
     RenderOptions o = on_window(ifs, 512);
     if (std::string(name) == "photocopy") o.parameters["supersample"] = "2";

@@ -274,7 +274,7 @@ TEST(Algorithms, ConstantColorPerMapGivesAnalyticChannels) {
   }
 }
 
-TEST(Algorithms, ColorNormalisationAndSixteenBitOutput) {
+TEST(Algorithms, ColorNormalizationAndSixteenBitOutput) {
   // Eq. 101: display = (v - min) / (max - min) per channel; the PRR-level bounds are the maps' colours.
   const Ifs ifs = constant_color_sierpinski("xy+rgb");
   const Bounds b = color_bounds(ifs, 6);

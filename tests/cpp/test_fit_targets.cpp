@@ -11,7 +11,7 @@
 #include "ifsforge/inverse/collage.h"
 #include "ifsforge/inverse/distance_transform.h"
 #include "ifsforge/inverse/fit_3d.h"
-#include "ifsforge/inverse/fit_colour.h"
+#include "ifsforge/inverse/fit_color.h"
 #include "test_systems.h"
 
 namespace ifsforge {
@@ -28,7 +28,7 @@ Ifs sierpinski() {
   return ifs;
 }
 
-TEST(FitColour, RecoversTheRowsOfALinearColourField) {
+TEST(FitColor, RecoversTheRowsOfALinearColorField) {
   // A picture whose colour is affine in the position, f(p) = a . p + d per channel, satisfies
   // f(w_i(p)) = c f(p) + g_i . p + o_i exactly with c = 1/2, g_i = A_i^T a - a / 2 and
   // o_i = a . b_i + d / 2: the fit must find rows that close the collage to the pixel's size.
@@ -41,7 +41,7 @@ TEST(FitColour, RecoversTheRowsOfALinearColourField) {
     for (int x = 0; x < n; ++x)
       for (int c = 0; c < 3; ++c)
         picture.at(x, y, c) = static_cast<float>(a[c][0] * (x + 0.5) / n + a[c][1] * (1 - (y + 0.5) / n) + base[c]);
-  const ColourFitResult r = fit_colour(shape, picture, mask);
+  const ColorFitResult r = fit_color(shape, picture, mask);
   EXPECT_EQ(r.system.layout().text(), "xy+rgb");
   ASSERT_EQ(r.system.size(), 3u);
   EXPECT_GT(r.samples, std::size_t(n) * n);
@@ -54,7 +54,7 @@ TEST(FitColour, RecoversTheRowsOfALinearColourField) {
   }
 }
 
-TEST(FitColour, ClampsTheColourContraction) {
+TEST(FitColor, ClampsTheColorContraction) {
   // A colour that doubles from copy to copy asks for c = 2: it is held at max_contraction.
   const int n = 64;
   const Ifs shape = sierpinski();
@@ -62,32 +62,32 @@ TEST(FitColour, ClampsTheColourContraction) {
   Rng rng(3, 0);
   for (float& v : picture.pixels) v = static_cast<float>(rng.uniform());
   PixelSet mask{n, n, std::vector<std::uint8_t>(std::size_t(n) * n, 1)};
-  ColourFitOptions o;
+  ColorFitOptions o;
   o.max_contraction = 0.6;
-  const ColourFitResult r = fit_colour(shape, picture, mask, o);
+  const ColorFitResult r = fit_color(shape, picture, mask, o);
   for (const AffineMap& m : r.system.maps()) EXPECT_LE(m.contraction_factor(), 0.6 + 1e-9);
   EXPECT_EQ(r.system.classify(), Classification::Hyperbolic);
 }
 
-TEST(FitColour, RefusesBadInput) {
+TEST(FitColor, RefusesBadInput) {
   Image gray(16, 16, 1);
   PixelSet mask{16, 16, std::vector<std::uint8_t>(256, 1)};
-  EXPECT_THROW(fit_colour(sierpinski(), gray, mask), InputError);
+  EXPECT_THROW(fit_color(sierpinski(), gray, mask), InputError);
   Image rgb(16, 16, 3);
-  EXPECT_THROW(fit_colour(sierpinski(), rgb, PixelSet{8, 8, std::vector<std::uint8_t>(64, 1)}), InputError);
-  EXPECT_THROW(colour_foreground(rgb), InputError);  // uniform: no shape
+  EXPECT_THROW(fit_color(sierpinski(), rgb, PixelSet{8, 8, std::vector<std::uint8_t>(64, 1)}), InputError);
+  EXPECT_THROW(color_foreground(rgb), InputError);  // uniform: no shape
 }
 
-TEST(FitColour, ForegroundIsWhatDiffersFromTheBorder) {
+TEST(FitColor, ForegroundIsWhatDiffersFromTheBorder) {
   // Dark blue on black: below any luminance threshold, yet unlike the border.
   Image picture(20, 10, 3);
   for (int y = 3; y < 7; ++y)
     for (int x = 5; x < 15; ++x) picture.at(x, y, 2) = 0.3f;
-  const PixelSet s = colour_foreground(picture);
+  const PixelSet s = color_foreground(picture);
   EXPECT_EQ(s.count(), 40u);
   EXPECT_TRUE(s.cells[5 * 20 + 10]);
-  EXPECT_TRUE(has_colour(picture));
-  EXPECT_FALSE(has_colour(Image(4, 4, 3)));
+  EXPECT_TRUE(has_color(picture));
+  EXPECT_FALSE(has_color(Image(4, 4, 3)));
 }
 
 TEST(Fit3d, DistanceTransformIsExact) {

@@ -65,10 +65,10 @@ TEST(VectorInstances, PositionIsTheCompositionOfTheAddressAppliedToTheBasePoint)
                                              list.addresses.address(i), list.addresses.address(i) + 4));
 }
 
-TEST(VectorInstances, ConstantNormalisationGivesTheRequestedLength) {
+TEST(VectorInstances, ConstantNormalizationGivesTheRequestedLength) {
   const Ifs ifs = twisted_tetrahedron();
   InstanceOptions o = explicit_base(3);
-  o.normalisation = Normalisation::Constant;
+  o.normalization = Normalization::Constant;
   o.length = 0.125;
   const InstanceList list = instances(ifs, o);
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -92,7 +92,7 @@ TEST(VectorInstances, ConstantNormalisationGivesTheRequestedLength) {
   }
 }
 
-TEST(VectorInstances, ProportionalNormalisationIsEq60) {
+TEST(VectorInstances, ProportionalNormalizationIsEq60) {
   const Ifs ifs = twisted_tetrahedron();
   InstanceOptions o = explicit_base(3);
   o.scale_factor = 1.75;
@@ -309,7 +309,7 @@ TEST(VectorInstances, BadInputIsRefusedWithAClearMessage) {
   EXPECT_NE(message(o).find("base point needs 3"), std::string::npos);
   o = InstanceOptions{};
   o.color_source = ColorSource::Channels;
-  EXPECT_NE(message(o).find("no colour channels"), std::string::npos);
+  EXPECT_NE(message(o).find("no color channels"), std::string::npos);
   o = InstanceOptions{};
   o.scale_factor = 0;
   EXPECT_NE(message(o).find("scale factor"), std::string::npos);

@@ -138,7 +138,7 @@ def test_generators_in_blender(tmp_path):
     # builder (make_terrain_controls) and give the same height field, byte for byte.
     cli_png, python_png = tmp_path / "cli_terrain.png", tmp_path / "python_terrain.png"
     subprocess.run([sys.executable, "-m", "ifsforge", "terrain", "--grid", "irregular", "--controls", "9", "9",
-                    "--shift", "0.3", "--roughness", "0.375", "0.25", "--seed", "7", "--res", "65", "--size", "4", "4",
+                    "--shift", "0.3", "--roughness", "0.375", "0.25", "--seed", "7", "--res", "65", "--extent", "4", "4",
                     "-o", str(cli_png)], check=True, env=dict(os.environ, PYTHONPATH=str(BUILD_PYTHON)))
     controls = ifsforge.make_terrain_controls(7, grid="irregular", rows=9, columns=9, shift=0.3, roughness=(0.375, 0.25))
     ifsforge.write_png(str(python_png), ifsforge.make_terrain(controls, 65, 65).height_image(65, 65), 16)

@@ -8,7 +8,7 @@ import ifsforge
 SETTINGS = [
     (ifsforge.VolumeOptions, "density", "density"),
     (ifsforge.VolumeOptions, "escape_norm", "escape_norm"),
-    (ifsforge.InstanceOptions, "normalisation", "normalisation"),
+    (ifsforge.InstanceOptions, "normalization", "normalization"),
     (ifsforge.InstanceOptions, "color_source", "color_source"),
     (ifsforge.TerrainControlsOptions, "grid", "grid"),
     (ifsforge.TerrainControlsOptions, "signs", "signs"),

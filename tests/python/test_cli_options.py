@@ -175,3 +175,37 @@ def test_no_option_of_any_command_is_spelled_the_british_way():
                 continue  # a deprecated alias
             for word in [*action.option_strings, action.dest, str(action.help or ""), *(action.choices or [])]:
                 assert "colour" not in str(word).lower() and "normalis" not in str(word).lower(), (name, word)
+
+
+def british(text):
+    return "colour" in text.lower() or "normalis" in text.lower()
+
+
+def test_the_python_api_is_spelled_the_american_way():
+    assert not [name for name in dir(ifsforge) if british(name)]
+    for name in dir(ifsforge):
+        value = getattr(ifsforge, name)
+        if isinstance(value, type):
+            # InstanceOptions.normalisation is the one deprecated spelling left, for a release.
+            assert not [a for a in dir(value) if british(a) and a != "normalisation"], name
+    for old, new in (("fit_colour", "fit_color"), ("has_colour", "has_color"),
+                     ("colour_foreground", "color_foreground"), ("ColourFitOptions", "ColorFitOptions")):
+        with pytest.warns(DeprecationWarning, match=new):
+            assert getattr(ifsforge, old) is getattr(ifsforge, new)
+
+
+def test_the_addon_properties_are_spelled_the_american_way():
+    # Every bpy property the add-on declares: its identifier, label and description.
+    import re
+    declared = re.compile(r"^\s*(\w+)\s*:\s*\w+Property\((.*)$")
+    found = 0
+    for path in (ROOT / "blender_addon" / "ifsforge_addon").glob("*.py"):
+        lines = path.read_text().splitlines()
+        for n, line in enumerate(lines):
+            m = declared.match(line)
+            if not m:
+                continue
+            found += 1
+            text = " ".join([m.group(1), m.group(2), *lines[n + 1:n + 3]])
+            assert not british(text), f"{path.name}:{n + 1}: {line.strip()}"
+    assert found > 50

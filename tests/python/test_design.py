@@ -43,7 +43,7 @@ def test_preview_cloud_errors():
     with pytest.raises(ifsforge.DivergentSystemError, match="grow"):
         ifsforge.preview_cloud(grow)
     triangle = ifsforge.parse_json(json.dumps(TRIANGLE))
-    with pytest.raises(ifsforge.InputError, match="colour"):
+    with pytest.raises(ifsforge.InputError, match="color"):
         ifsforge.preview_cloud(triangle, coloring="channels")
     with pytest.raises(ifsforge.InputError, match="rainbow"):
         ifsforge.preview_cloud(triangle, coloring="rainbow")

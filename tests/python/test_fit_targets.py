@@ -15,50 +15,50 @@ COLOUR_ERROR_BAR = 0.01
 COLOUR_COLLAGE_BAR = 0.01
 
 
-def colour_error(target, drawn):
+def color_error(target, drawn):
     """Mean |colour difference| (over r, g, b) on the pixels both pictures cover, and their IoU."""
-    t, d = ifsforge.colour_foreground(target), drawn[..., :3].max(axis=2) > 0
+    t, d = ifsforge.color_foreground(target), drawn[..., :3].max(axis=2) > 0
     both = t & d
     return float(np.abs(target[..., :3] - drawn[..., :3])[both].mean()), float(both.sum() / (t | d).sum())
 
 
-def test_fit_colours_a_colour_sierpinski(cli, tmp_path):
+def test_fit_colors_a_colour_sierpinski(cli, tmp_path):
     cli("render", SAMPLES / "colour5d_sierpinski_rgb.json", "-o", "t.png", "--size", "128", check=True)
     summary = json.loads(cli("fit", "t.png", "-o", "fit.json", "--restarts", "2", "--seed", "1", "--json",
                              check=True).stdout)
     system = ifsforge.read_json(str(tmp_path / "fit.json"))
     assert system.layout == "xy+rgb" and summary["layout"] == "xy+rgb" and len(system) == 3
-    assert set(summary["colour_collage_error"]) == {"r", "g", "b"}
-    assert max(summary["colour_collage_error"].values()) < COLOUR_COLLAGE_BAR
+    assert set(summary["color_collage_error"]) == {"r", "g", "b"}
+    assert max(summary["color_collage_error"].values()) < COLOUR_COLLAGE_BAR
     assert max(system.contraction_factors()) <= 0.9 + 1e-9  # colour maps contract too
     # `render` draws it (chaos game, colours by Eq. 101) like the target.
     cli("render", "fit.json", "-o", "fit.png", check=True)
-    error, iou = colour_error(ifsforge.read_png(str(tmp_path / "t.png")), ifsforge.read_png(str(tmp_path / "fit.png")))
+    error, iou = color_error(ifsforge.read_png(str(tmp_path / "t.png")), ifsforge.read_png(str(tmp_path / "fit.png")))
     assert iou > 0.95 and error < COLOUR_ERROR_BAR, (iou, error)
 
 
-def test_fit_colour_follows_the_picture_not_the_shape_alone():
+def test_fit_color_follows_the_picture_not_the_shape_alone():
     # The same shape with the colours swapped round the copies: the rows follow the picture.
     system = ifsforge.load(str(SAMPLES / "colour5d_sierpinski_rgb.json"))
     picture = np.asarray(ifsforge.render(system, "mpa", 96, 96, window=[-0.03, -0.03, 1.03, 1.03]).to_image(), np.float32)
-    shape = ifsforge.fit(ifsforge.colour_foreground(picture), maps=3, restarts=1, seed=2)["system"]
-    a = ifsforge.fit_colour(shape, picture)
-    b = ifsforge.fit_colour(shape, np.ascontiguousarray(picture[..., ::-1]))  # r and b exchanged
+    shape = ifsforge.fit(ifsforge.color_foreground(picture), maps=3, restarts=1, seed=2)["system"]
+    a = ifsforge.fit_color(shape, picture)
+    b = ifsforge.fit_color(shape, np.ascontiguousarray(picture[..., ::-1]))  # r and b exchanged
     assert max(a["collage_error"]) < 0.02 and max(b["collage_error"]) < 0.02
     ra, rb = ifsforge.to_json(a["system"]), ifsforge.to_json(b["system"])
     assert ra != rb
     # Diagonal colour maps without a gradient fit worse: the sample's blue grows with height.
-    plain = ifsforge.fit_colour(shape, picture, positional=False, mixing=False)
+    plain = ifsforge.fit_color(shape, picture, positional=False, mixing=False)
     assert plain["collage_error"][2] > a["collage_error"][2]
 
 
-def test_fit_colour_refuses_bad_input(cli, tmp_path):
+def test_fit_color_refuses_bad_input(cli, tmp_path):
     shape = ifsforge.parse_json('{"format": "ifsforge/1", "name": "s", "layout": "xy", "maps": ['
                                 '{"scale": 0.5, "translation": [0, 0]}, {"scale": 0.5, "translation": [0.5, 0.5]}]}')
     with pytest.raises(ifsforge.InputError, match="RGB"):
-        ifsforge.fit_colour(shape, np.zeros((8, 8), np.float32), np.ones((8, 8), bool))
+        ifsforge.fit_color(shape, np.zeros((8, 8), np.float32), np.ones((8, 8), bool))
     with pytest.raises(ifsforge.InputError, match="no shape"):
-        ifsforge.colour_foreground(np.zeros((8, 8, 3), np.float32))
+        ifsforge.color_foreground(np.zeros((8, 8, 3), np.float32))
     ifsforge.write_png(str(tmp_path / "flat.png"), np.full((16, 16, 3), (0.2, 0.4, 0.6), np.float32))
     result = cli("fit", "flat.png", "-o", "x.json")
     assert result.returncode != 0 and "flat.png" in result.stderr and "no shape" in result.stderr
@@ -88,6 +88,12 @@ def test_fit_recovers_a_sierpinski_tetrahedron_from_a_vdb(cli, tmp_path):
     assert drawn["mask"].shape == target["mask"].shape
     both = (drawn["mask"] & target["mask"]).sum() / (drawn["mask"] | target["mask"]).sum()
     assert both >= 0.8, both
+    # The IoU printed is the one `volume` gives on the printed --bounds at the target's voxel count.
+    boxed = ifsforge.render_volume(system, "prr", resolution=64, bounds=summary["bounds"])
+    seen = np.zeros((64, 64, 64), bool)
+    seen[tuple(np.asarray(boxed.coords).T)] = True
+    assert boxed.dims == [64, 64, 64] or tuple(boxed.dims) == (64, 64, 64)
+    assert summary["iou"] == pytest.approx((seen & target["mask"]).sum() / (seen | target["mask"]).sum(), abs=1e-12)
 
 
 def test_fit_3d_is_identical_for_any_thread_count():

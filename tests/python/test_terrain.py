@@ -140,7 +140,8 @@ def test_cli_terrain_without_recipe(cli, tmp_path):
 
 def test_cli_terrain_refuses_bad_input_and_writes_nothing(cli, tmp_path):
     cases = [
-        (["--grid", "regular", "--roughness", "1.2", "-o", "a.png"], "|a22| < 1"),
+        (["--grid", "regular", "--roughness", "1.2", "-o", "a.png"], "argument --roughness: expects a number in [-1, 1]"),
+        (["--grid", "regular", "--roughness", "1", "-o", "a.png"], "|a22| < 1"),
         (["--grid", "regular", "--controls", "4", "4", "-o", "a.png"], "at least 5 x 5"),
         (["--grid", "regular", "-o", "a.stl"], "terrain outputs end in"),
         (["--grid", "regular", "-o", "missing/a.png"], "does not exist"),
@@ -235,3 +236,31 @@ def test_blender_imports_the_glb(tmp_path):
                         "--", *map(str, args)], capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
     assert "OK 2049 vertices" in r.stdout
+
+
+def test_the_command_line_default_terrain_is_the_cores(cli, tmp_path):
+    # Each default lives once, in the core: the command's terrain without options is the one
+    # make_terrain_controls and terrain_defaults describe (the add-on's panel reads the same).
+    cli("terrain", "-o", "cli.png", "--seed", "3", check=True)
+    defaults = ifsforge.terrain_defaults
+    controls = ifsforge.make_terrain_controls(3)
+    assert np.shape(controls.heights) == (defaults["controls"], defaults["controls"])
+    # Rough, not the bilinear sheet through the controls that no roughness gives.
+    assert controls.a22_u and all(abs(a) == pytest.approx(defaults["roughness"]) for a in controls.a22_u)
+    n = defaults["samples"]
+    ifsforge.write_png(str(tmp_path / "core.png"), ifsforge.make_terrain(controls, n, n).height_image(n, n), 16)
+    assert (tmp_path / "cli.png").read_bytes() == (tmp_path / "core.png").read_bytes()
+    assert ifsforge.read_png(str(tmp_path / "cli.png")).shape[:2] == (n, n)
+
+
+def test_terrain_extent_has_its_own_name(cli, tmp_path):
+    # --size is pixels in every other command; a terrain's world extent is --extent (--size stays
+    # one release as a deprecated spelling).
+    new = cli("terrain", "-o", "a.obj", "--res", "17", "--extent", "8", "2", check=True)
+    old = cli("terrain", "-o", "b.obj", "--res", "17", "--size", "8", "2", check=True)
+    assert "deprecated" in old.stderr and "deprecated" not in new.stderr
+    def vertices(name):
+        return [line for line in (tmp_path / name).read_text().splitlines() if line.startswith("v ")]
+    assert vertices("a.obj") == vertices("b.obj")
+    xs = [float(line.split()[1]) for line in vertices("a.obj")]
+    assert max(xs) - min(xs) == pytest.approx(8.0)

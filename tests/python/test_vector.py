@@ -27,7 +27,7 @@ def test_instance_arrays_are_compositions_of_the_address(samples):
     system = ifsforge.read_json(str(samples / "vector_csg_pyramid.json"))
     base = [0.4, 0.3, 0.2, 0.1, 0.2, 0.3, 0.0]
     inst = ifsforge.instances(system, depth=3, primitives="sphere,box,cone", base_point=base,
-                              base_vector=[0, 0, 0.5], normalisation="constant", length=0.05)
+                              base_vector=[0, 0, 0.5], normalization="constant", length=0.05)
     assert len(inst) == 5 ** 3
     digits = inst.addresses.digits
     assert digits.shape == (125, 3) and digits.dtype == np.uint16

@@ -25,7 +25,10 @@ from ifsforge._core import (  # noqa: F401
     read_json,
     read_png,
     render,
+    renderer_capabilities,
     renderers,
+    sampler_capabilities,
+    volume_renderer_capabilities,
     seed_reference,
     to_json,
     write_json,
@@ -42,7 +45,7 @@ from ifsforge._core import Up, default_up, linear_to_srgb, srgb_to_linear  # noq
 from ifsforge._core import PreviewCloud, morph, pad_maps, piece_color, preview_cloud  # noqa: F401  (design)
 from ifsforge._core import (  # noqa: F401  (terrain: fractal interpolation, terrains, palettes)
     FractalInterpolation, Palette, PaletteRecipe, PaletteSpec, Terrain, TerrainControls, TerrainControlsOptions,
-    TerrainRecipe, make_terrain_controls, set_roughness,
+    TerrainRecipe, make_terrain_controls, set_roughness, terrain_defaults,
     apply_palette, hls_to_rgb, make_palette, make_terrain, parse_palette_recipe, parse_terrain_recipe,
     pov_color_map, random_heights, random_shifts, read_palette_recipe, read_terrain_recipe,
     sample_heights, vertical_scaling, write_terrain_mesh, write_terrain_pov,
@@ -65,8 +68,8 @@ from ifsforge._core import (  # noqa: F401  (pifs: fractal image compression, se
     PifsCode, pifs_encode, pifs_from_bytes, read_pifs, write_pifs,
 )
 from ifsforge._core import (  # noqa: F401  (inverse problem: collage theorem, fitting)
-    CollageTarget, ColourFitOptions, Fit3dOptions, FitOptions, attractor_iou, attractor_iou_3d, collage_distance, collage_mask,
-    colour_foreground, fit, fit_3d, fit_colour, foreground, has_colour, hausdorff_distance, tops, tops_warp,
+    CollageTarget, ColorFitOptions, Fit3dOptions, FitOptions, attractor_iou, attractor_iou_3d, collage_distance, collage_mask,
+    color_foreground, fit, fit_3d, fit_color, foreground, has_color, hausdorff_distance, tops, tops_warp,
 )
 from ifsforge._core import (  # noqa: F401  (the settings structs: every default lives in C++, once)
     DrawOptions, GltfInstanceOptions, InstanceOptions, MeshWriteOptions, PifsDecodeOptions, PifsEncodeOptions,
@@ -90,7 +93,17 @@ _VDB_NAMES = ("IsoSurfaceOptions", "VdbWriteOptions", "VoxelTargetOptions", "rea
               "render_volume_to_vdb", "volume_to_mesh", "write_vdb")
 
 
+# Old spellings, kept for one release: the API writes color and normalize, as glTF, Blender and
+# OpenVDB do.
+_DEPRECATED = {"fit_colour": "fit_color", "has_colour": "has_color", "colour_foreground": "color_foreground",
+               "ColourFitOptions": "ColorFitOptions"}
+
+
 def __getattr__(name):
+    if name in _DEPRECATED:
+        import warnings
+        warnings.warn(f"ifsforge.{name} is deprecated; use ifsforge.{_DEPRECATED[name]}", DeprecationWarning, stacklevel=2)
+        return globals()[_DEPRECATED[name]]
     if name in ("read_vdb_info", "read_voxel_target"):
         from ifsforge import vdb_reader  # a .vdb is read in a child process: see its docstring
         return getattr(vdb_reader, name)

@@ -2,12 +2,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
 #include "ifsforge/core/pages.h"
 
 namespace ifsforge {
 
 Image::Image(int w, int h, int c) : width(w), height(h), channels(c) {
+  // Every image of the core is allocated here: its size is checked against the budget before
+  // a byte is touched, whatever made the request (a reader, a decoder, a palette, a renderer).
+  if (w < 0 || h < 0 || c < 0) throw InputError("an image cannot have a negative size");
+  check_memory(4.0 * w * h * c, "a " + std::to_string(w) + "x" + std::to_string(h) + " image of " +
+                                    std::to_string(c) + " channel(s)");
   resize_large(pixels, std::size_t(w) * h * c);
 }
 

@@ -200,7 +200,7 @@ PreviewCloud preview_cloud(const Ifs& ifs, const PreviewOptions& options) {
   if (cloud.coloring == PreviewColoring::Auto)
     cloud.coloring = cc.model == ColorModel::None ? PreviewColoring::Pieces : PreviewColoring::Channels;
   if (cloud.coloring == PreviewColoring::Channels && cc.model == ColorModel::None)
-    throw InputError("layout '" + ifs.layout().text() + "' has no colour channels to colour the preview with");
+    throw InputError("layout '" + ifs.layout().text() + "' has no color channels to color the preview with");
 
   cloud.colors.resize(count * 4);
   if (cloud.coloring == PreviewColoring::Pieces) {

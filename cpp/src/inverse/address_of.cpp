@@ -25,6 +25,8 @@ PointAddresses address_of(const Ifs& ifs, const std::vector<double>& point, int 
   if (static_cast<int>(point.size()) != d)
     throw InputError("system '" + ifs.name() + "' is " + std::to_string(d) + "D in space; got a point of " +
                      std::to_string(point.size()) + " coordinates");
+  for (double v : point)
+    if (!std::isfinite(v)) throw InputError("the point's coordinates must be finite numbers, got " + std::to_string(v));
   if (depth < 1 || depth > kMaxAddressDepth)
     throw InputError("the address depth must be 1.." + std::to_string(kMaxAddressDepth) + ", got " + std::to_string(depth));
   if (ifs.classify() != Classification::Hyperbolic)

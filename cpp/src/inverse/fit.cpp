@@ -50,6 +50,7 @@ std::vector<double> initial_collage(const Boxes& boxes) {
 
 FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   if (o.maps < 1 || o.maps > 64) throw InputError("--maps must be 1..64, got " + std::to_string(o.maps));
+  if (o.restarts < 1) throw InputError("restarts: at least one CMA-ES run, got " + std::to_string(o.restarts));
   if (o.raster < 8 || o.raster > 1024) throw InputError("the fit raster must be 8..1024 cells, got " + std::to_string(o.raster));
   if (!(o.max_contraction > 0 && o.max_contraction < 1))
     throw InputError("the largest contraction must lie in (0, 1), got " + std::to_string(o.max_contraction));

@@ -52,6 +52,7 @@ std::vector<double> initial_collage(const Clusters<3>& boxes) {
 
 FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
   if (o.maps < 1 || o.maps > 64) throw InputError("--maps must be 1..64, got " + std::to_string(o.maps));
+  if (o.restarts < 1) throw InputError("restarts: at least one CMA-ES run, got " + std::to_string(o.restarts));
   if (o.raster < 8 || o.raster > 256) throw InputError("the 3D fit raster must be 8..256 voxels, got " + std::to_string(o.raster));
   if (o.refine_raster < 8 || o.refine_raster > 512)
     throw InputError("the 3D refinement raster must be 8..512 voxels, got " + std::to_string(o.refine_raster));

@@ -1,4 +1,4 @@
-#include "ifsforge/inverse/fit_colour.h"
+#include "ifsforge/inverse/fit_color.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,25 +17,25 @@ using Free = std::array<bool, kUnknowns>;
 
 /// One pixel pair of map i: the picture's colour at p, where p lies in the plane, and the
 /// picture's colour at w_i(p).
-struct ColourPair {
+struct ColorPair {
   std::array<float, 3> from, to;
   std::array<double, 2> at;
 };
 
-double predict(const Row& r, const ColourPair& p) {
+double predict(const Row& r, const ColorPair& p) {
   return r[0] * p.from[0] + r[1] * p.from[1] + r[2] * p.from[2] + r[3] * p.at[0] + r[4] * p.at[1] + r[5];
 }
 
 /// Least squares of to = c . from + gx x + gy y + o over the pairs, the unknowns flagged free
 /// solved and the others held at `fixed` (normal equations with a tiny ridge, which only
 /// matters when the pairs leave an unknown undetermined, e.g. a copy of uniform colour).
-Row solve_channel(const std::vector<ColourPair>& pairs, int channel, const Free& free, const Row& fixed) {
+Row solve_channel(const std::vector<ColorPair>& pairs, int channel, const Free& free, const Row& fixed) {
   std::vector<int> idx;  // the free unknowns, in order
   for (int k = 0; k < kUnknowns; ++k)
     if (free[k]) idx.push_back(k);
   const int m = static_cast<int>(idx.size());
   double n[kUnknowns][kUnknowns + 1] = {};  // the normal equations on the free unknowns
-  for (const ColourPair& p : pairs) {
+  for (const ColorPair& p : pairs) {
     const double row[kUnknowns] = {p.from[0], p.from[1], p.from[2], p.at[0], p.at[1], 1.0};
     double rhs = p.to[channel];
     for (int k = 0; k < kUnknowns; ++k)
@@ -84,7 +84,7 @@ AffineMap colour_map(const AffineMap& spatial, const std::array<Row, 3>& rows) {
 
 }  // namespace
 
-bool has_colour(const Image& image) {
+bool has_color(const Image& image) {
   if (image.channels < 3) return false;
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)
@@ -92,12 +92,12 @@ bool has_colour(const Image& image) {
   return false;
 }
 
-PixelSet colour_foreground(const Image& image, double tolerance) {
+PixelSet color_foreground(const Image& image, double tolerance) {
   if (image.width < 1 || image.height < 1 || image.channels < 1) throw InputError("the target picture is empty");
-  if (!(tolerance >= 0 && tolerance < 1)) throw InputError("the colour tolerance must lie in [0, 1), got " + std::to_string(tolerance));
+  if (!(tolerance >= 0 && tolerance < 1)) throw InputError("the color tolerance must lie in [0, 1), got " + std::to_string(tolerance));
   const int c = image.channels;
   // The border's usual colour: the median of each channel over the border pixels.
-  std::vector<float> border_colour(c);
+  std::vector<float> border_color(c);
   for (int ch = 0; ch < c; ++ch) {
     std::vector<float> v;
     for (int x = 0; x < image.width; ++x)
@@ -105,28 +105,28 @@ PixelSet colour_foreground(const Image& image, double tolerance) {
     for (int y = 1; y + 1 < image.height; ++y)
       for (int x : {0, image.width - 1}) v.push_back(image.at(x, y, ch));
     std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    border_colour[ch] = v[v.size() / 2];
+    border_color[ch] = v[v.size() / 2];
   }
   PixelSet out{image.width, image.height, std::vector<std::uint8_t>(std::size_t(image.width) * image.height)};
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
       bool unlike = false;
-      for (int ch = 0; ch < c && !unlike; ++ch) unlike = std::abs(image.at(x, y, ch) - border_colour[ch]) > tolerance;
+      for (int ch = 0; ch < c && !unlike; ++ch) unlike = std::abs(image.at(x, y, ch) - border_color[ch]) > tolerance;
       out.cells[std::size_t(y) * image.width + x] = unlike;
     }
   const std::size_t n = out.count();
   if (n == 0 || n == out.cells.size())
-    throw InputError("the target picture has no shape: no pixel's colour differs from the border's by more than " +
+    throw InputError("the target picture has no shape: no pixel's color differs from the border's by more than " +
                      std::to_string(tolerance));
   return out;
 }
 
-ColourFitResult fit_colour(const Ifs& shape_system, const Image& picture, const PixelSet& shape,
-                           const ColourFitOptions& o) {
+ColorFitResult fit_color(const Ifs& shape_system, const Image& picture, const PixelSet& shape,
+                           const ColorFitOptions& o) {
   if (shape_system.layout().text() != "xy")
-    throw InputError("fit_colour extends a planar xy system; '" + shape_system.name() + "' has layout " +
+    throw InputError("fit_color extends a planar xy system; '" + shape_system.name() + "' has layout " +
                      shape_system.layout().text());
-  if (picture.channels < 3) throw InputError("a colour fit needs an RGB or RGBA picture, got " +
+  if (picture.channels < 3) throw InputError("a color fit needs an RGB or RGBA picture, got " +
                                              std::to_string(picture.channels) + " channel(s)");
   if (shape.width != picture.width || shape.height != picture.height)
     throw InputError("the shape (" + std::to_string(shape.width) + "x" + std::to_string(shape.height) +
@@ -141,12 +141,12 @@ ColourFitResult fit_colour(const Ifs& shape_system, const Image& picture, const 
   auto colour = [&](int x, int y) {
     return std::array<float, 3>{picture.at(x, y, 0), picture.at(x, y, 1), picture.at(x, y, 2)};
   };
-  ColourFitResult result;
+  ColorFitResult result;
   std::vector<AffineMap> out;
   std::array<double, 3> squared{};
   for (std::size_t i = 0; i < maps.size(); ++i) {
     // The collage per channel: pairs (p, w_i(p)) with both in the shape.
-    std::vector<ColourPair> pairs;
+    std::vector<ColorPair> pairs;
     const PixelMap& m = maps[i];
     for (int y = 0; y < shape.height; ++y)
       for (int x = 0; x < shape.width; ++x) {
@@ -188,7 +188,7 @@ ColourFitResult fit_colour(const Ifs& shape_system, const Image& picture, const 
       }
       w = colour_map(shape_system.map(i), rows);
     }
-    for (const ColourPair& p : pairs)
+    for (const ColorPair& p : pairs)
       for (int ch = 0; ch < 3; ++ch) {
         const double e = p.to[ch] - predict(rows[ch], p);
         squared[ch] += e * e;

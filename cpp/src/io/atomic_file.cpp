@@ -1,11 +1,14 @@
 #include "ifsforge/io/atomic_file.h"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
+#include <random>
 
 #include "ifsforge/core/error.h"
 
@@ -39,15 +42,35 @@ void check_writable(const std::string& path) {
 
 AtomicFile::AtomicFile(const std::string& path) : path_(path) {
   check_writable(path);
-  static std::atomic<unsigned> counter{0};
-  temporary_ = path + ".tmp-" + std::to_string(getpid()) + "-" + std::to_string(counter++);
-  file_ = std::fopen(temporary_.c_str(), "wb");
-  if (!file_) throw FileError("cannot write '" + path + "': " + std::strerror(errno));
+  // A name nobody can guess, created only if nothing (not even a symbolic link) stands there:
+  // a link planted at a predictable name would have redirected the write to another file.
+  static std::atomic<std::uint64_t> counter{0};
+  std::random_device entropy;
+  for (int attempt = 0; attempt < 64 && !file_; ++attempt) {
+    const std::uint64_t mark = (std::uint64_t(entropy()) << 32 ^ entropy()) + counter++;
+    char suffix[24];
+    std::snprintf(suffix, sizeof suffix, ".tmp-%016llx", static_cast<unsigned long long>(mark));
+    temporary_ = path + suffix;
+    const int fd = open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd < 0) {
+      temporary_.clear();  // never ours to remove
+      if (errno == EEXIST) continue;
+      throw FileError("cannot write '" + path + "': " + std::strerror(errno));
+    }
+    file_ = fdopen(fd, "wb");
+    if (!file_) {
+      const int saved = errno;
+      close(fd);
+      std::remove(temporary_.c_str());
+      throw FileError("cannot write '" + path + "': " + std::strerror(saved));
+    }
+  }
+  if (!file_) throw FileError("cannot write '" + path + "': no free temporary name beside it");
 }
 
 AtomicFile::~AtomicFile() {
   if (file_) std::fclose(file_);
-  if (!committed_) std::remove(temporary_.c_str());
+  if (!committed_ && !temporary_.empty()) std::remove(temporary_.c_str());
 }
 
 void AtomicFile::commit() {

@@ -37,7 +37,7 @@ void write_df3(const std::string& path, const Volume& volume, int bits, Df3Conte
     for (VolumeAttribute& a : volume_attributes(volume))
       if (a.name == "color") color = std::move(a.values);
     if (color.empty())
-      throw InputError("df3 '" + path + "': the volume has no colour (its layout has no colour channels)");
+      throw InputError("df3 '" + path + "': the volume has no color (its layout has no color channels)");
     channel = content == Df3Content::Red ? 0 : content == Df3Content::Green ? 1 : 2;
     top = 1.0f;
   }

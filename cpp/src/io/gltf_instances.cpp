@@ -86,7 +86,7 @@ void write_gltf_instances(const std::string& path, const InstanceList& list, con
   // The columns of C: where our unit axes land in the file's axes.
   const std::array<float, 3> axes[3] = {oriented(1, 0, 0, up), oriented(0, 1, 0, up), oriented(0, 0, 1, up)};
   if (options.color_levels < 0 || options.color_levels == 1 || options.color_levels > 256)
-    throw InputError("colour levels must be 0 (no per-colour meshes) or 2..256");
+    throw InputError("color levels must be 0 (no per-color meshes) or 2..256");
   check_writable(path);
 
   // Geometry: one set of accessors per primitive.

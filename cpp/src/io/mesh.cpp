@@ -39,7 +39,7 @@ void validate(const TriangleMesh& mesh) {
                        std::to_string(n) + " vertices");
   };
   check(mesh.normals.size(), "normals");
-  check(mesh.colors.size(), "colours");
+  check(mesh.colors.size(), "colors");
   check(mesh.uvs.size(), "uvs");
   for (const auto& t : mesh.triangles)
     for (std::uint32_t v : t)
@@ -170,7 +170,7 @@ void write_glb(const std::string& path, const TriangleMesh& mesh, const MeshWrit
   material.pbrMetallicRoughness.roughnessFactor = 0.8;
   material.doubleSided = true;
   if (!options.base_color_texture.empty()) {
-    if (mesh.uvs.empty()) throw InputError("a base colour texture needs texture coordinates (uvs)");
+    if (mesh.uvs.empty()) throw InputError("a base color texture needs texture coordinates (uvs)");
     // The PNG's bytes go into the binary buffer as they are (image/png), no re-encoding.
     const std::string png = read_text_file(options.base_color_texture);
     tinygltf::Buffer& buffer = model.buffers[0];

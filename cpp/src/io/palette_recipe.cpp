@@ -20,9 +20,9 @@ PaletteRecipe parse_palette_recipe(const std::string& text, const std::string& s
       r.fail("/space", e.what());
     }
   }
-  if (!j.contains("stops")) r.fail("/stops", "missing: a palette needs at least 3 colour stops");
+  if (!j.contains("stops")) r.fail("/stops", "missing: a palette needs at least 3 color stops");
   const detail::json& stops = j["stops"];
-  if (!stops.is_array() || stops.size() < 3) r.fail("/stops", "expected an array of at least 3 colour stops");
+  if (!stops.is_array() || stops.size() < 3) r.fail("/stops", "expected an array of at least 3 color stops");
   for (std::size_t k = 0; k < stops.size(); ++k) {
     const std::vector<double> c = r.numbers(stops[k], "/stops/" + std::to_string(k), 3);
     recipe.spec.stops.push_back({c[0], c[1], c[2]});
@@ -42,10 +42,10 @@ PaletteRecipe parse_palette_recipe(const std::string& text, const std::string& s
       }
     }
     if (rough.contains("seed")) seed = r.seed(rough["seed"], "/roughness/seed");
-    if (!rough.contains("components")) r.fail("/roughness/components", "missing: one roughness per colour component");
+    if (!rough.contains("components")) r.fail("/roughness/components", "missing: one roughness per color component");
     const detail::json& comps = rough["components"];
     if (!comps.is_array() || comps.size() != 3)
-      r.fail("/roughness/components", "expected 3 entries (one per colour component), found " + r.describe(comps));
+      r.fail("/roughness/components", "expected 3 entries (one per color component), found " + r.describe(comps));
     for (int c = 0; c < 3; ++c) {
       const std::string path = "/roughness/components/" + std::to_string(c);
       try {

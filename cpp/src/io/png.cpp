@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
 #include "ifsforge/io/atomic_file.h"
 
 namespace ifsforge {
@@ -42,12 +43,25 @@ Image read_png(const std::string& path) {
   } cleanup{&png, &info};
   png_init_io(png, file.get());
   png_set_sig_bytes(png, 8);
-  png_read_png(png, info, PNG_TRANSFORM_EXPAND | PNG_TRANSFORM_PACKING, nullptr);
+  // The header's size is checked against the budget before a row is inflated: a few hundred
+  // bytes of PNG may declare 10^12 pixels, and a small file may inflate to gigabytes.
+  png_set_user_limits(png, 1u << 20, 1u << 20);
+  png_read_info(png, info);
+  png_set_expand(png);
+  png_set_packing(png);
+  png_set_interlace_handling(png);
+  png_read_update_info(png, info);
   const int width = static_cast<int>(png_get_image_width(png, info));
   const int height = static_cast<int>(png_get_image_height(png, info));
   const int channels = png_get_channels(png, info);
   const int depth = png_get_bit_depth(png, info);
-  png_bytepp rows = png_get_rows(png, info);
+  const double row_bytes = static_cast<double>(png_get_rowbytes(png, info));
+  check_memory(row_bytes * height + 4.0 * width * height * channels,
+               "reading '" + path + "' (" + std::to_string(width) + "x" + std::to_string(height) + " pixels)");
+  std::vector<png_byte> data(static_cast<std::size_t>(row_bytes) * height);
+  std::vector<png_bytep> rows(height);
+  for (int y = 0; y < height; ++y) rows[y] = data.data() + std::size_t(y) * std::size_t(row_bytes);
+  png_read_image(png, rows.data());
   Image image(width, height, channels);
   const double top = depth == 16 ? 65535.0 : 255.0;
   for (int y = 0; y < height; ++y)

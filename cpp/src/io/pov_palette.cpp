@@ -34,7 +34,7 @@ std::string pov_color_map(const Palette& palette, std::size_t entries, bool line
 std::string pov_palette_include(const Palette& palette, const std::string& name, const std::string& about,
                                 std::size_t entries) {
   return "// ifsforge fractal palette " + pov_comment(name) + "\n" + pov_comment_lines(about) +
-         "// Colours as linear rgb (exact under assumed_gamma 1.0): this file parses before or without\n"
+         "// Colors as linear rgb (exact under assumed_gamma 1.0): this file parses before or without\n"
          "// any assumed_gamma. Use: pigment { gradient y color_map { " + pov_identifier("Palette", name) + " } }\n" +
          "#declare " + pov_identifier("Palette", name) + " = " + pov_color_map(palette, entries, true) + "\n";
 }

@@ -26,7 +26,7 @@ ChannelLayout::ChannelLayout(const std::string& text) : text_(text) {
   }
   spatial_ = dim();
   auto set_color = [&](ColorModel model) {
-    if (color_ != ColorModel::None) throw InputError(bad + "more than one colour group");
+    if (color_ != ColorModel::None) throw InputError(bad + "more than one color group");
     color_ = model;
     color_index_ = dim();
   };

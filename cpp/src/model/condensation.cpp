@@ -63,7 +63,7 @@ void Ifs::set_condensation(Condensation c) {
       for (int col = 2; col < dim(); ++col)
         if (maps_[i].a(r, col) != 0.0)
           throw InputError(what + ": map " + std::to_string(i + 1) +
-                           " moves points by their colour; condensation needs spatial rows that read x and y only");
+                           " moves points by their color; condensation needs spatial rows that read x and y only");
   for (double s : spatial_contraction_factors())
     if (!(s < 1.0)) throw InputError(what + ": Theorem 2 needs a hyperbolic IFS (every map contracting)");
   for (const auto& path : c.polylines)

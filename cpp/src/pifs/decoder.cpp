@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/deblock.h"
 #include "ifsforge/pifs/planes.h"
@@ -119,16 +120,27 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
   if (width <= 0 || height <= 0) {
     if (!(options.scale > 0) || !std::isfinite(options.scale))
       throw InputError("PIFS decode: scale must be a positive number");
-    width = std::max(1, int(std::lround(code.width * options.scale)));
-    height = std::max(1, int(std::lround(code.height * options.scale)));
+    const double w = std::max(1.0, std::round(code.width * options.scale));
+    const double h = std::max(1.0, std::round(code.height * options.scale));
+    if (w > kMaxImageSide || h > kMaxImageSide)
+      throw InputError("PIFS decode: scale " + std::to_string(options.scale) + " makes a " + std::to_string(w) + "x" +
+                       std::to_string(h) + " image; at most " + std::to_string(kMaxImageSide) + " pixels per side");
+    width = int(w);
+    height = int(h);
   }
-  if (double(width) * height > 1.0e9) throw InputError("PIFS decode: output size too large");
+  if (width > kMaxImageSide || height > kMaxImageSide)
+    throw InputError("PIFS decode: at most " + std::to_string(kMaxImageSide) + " pixels per side, got " +
+                     std::to_string(width) + "x" + std::to_string(height));
   // The smallest power-of-two scale covering the request; other sizes are resampled from it.
   int m = -code.min_log;
   while ((double(code.width) * std::ldexp(1.0, m) < width || double(code.height) * std::ldexp(1.0, m) < height))
     ++m;
   const int full_w = int(std::ceil(code.width * std::ldexp(1.0, m)));
   const int full_h = int(std::ceil(code.height * std::ldexp(1.0, m)));
+  // Each plane is decoded at the power-of-two size (its raster and the iteration's second
+  // buffer), then resampled; the image holds every channel of the output.
+  check_memory(double(full_w) * full_h * 4.0 * (code.planes.size() + 2) + double(width) * height * code.channels * 8.0,
+               "decoding a " + std::to_string(width) + "x" + std::to_string(height) + " image");
   std::vector<PifsRaster> planes;
   for (std::size_t k = 0; k < code.planes.size(); ++k) {
     const PifsPlane& plane = code.planes[k];

@@ -68,8 +68,14 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   }
 
   std::size_t target = o.bytes;
-  if (target == 0 && o.ratio > 0)
-    target = std::size_t(double(image.width) * image.height * image.channels / o.ratio);
+  if (target == 0 && o.ratio > 0) {
+    // A ratio is honoured or refused: one that asks for less than a byte is not a quality request.
+    const double raw = double(image.width) * image.height * image.channels;
+    if (raw / o.ratio < 1.0)
+      throw InputError("PIFS encode: ratio " + std::to_string(o.ratio) + " asks for under one byte of a " +
+                       std::to_string(std::size_t(raw)) + "-byte image");
+    target = std::size_t(raw / o.ratio);
+  }
   if (target == 0) {
     for (std::size_t k = 0; k < planes.size(); ++k) code.planes[k].leaves = partition_threshold(code, cands[k], o.quality);
     return code;

@@ -47,8 +47,15 @@ BoxCounting box_counting(const std::vector<std::uint8_t>& mask, int width, int h
     h = nh;
     size *= 2;
   }
+  // A slope through two or three sizes is mostly the pixel grid's: a set spanning a few hundred
+  // pixels reads 1.15 for a dimension of 1.46. Fewer than four sizes is refused, with what would do.
   const std::size_t n = result.box_sizes.size();
-  if (n < 2) throw InputError("box counting needs at least two box sizes");
+  if (n < kMinBoxSizes)
+    throw InputError("box counting needs at least " + std::to_string(kMinBoxSizes) + " box sizes (" +
+                     std::to_string(min_box) + " to " + std::to_string(min_box << (kMinBoxSizes - 1)) +
+                     " pixels), but boxes above " + std::to_string(max_box) +
+                     " pixels (1/32 of the set's extent) bend the slope: render the set at least " +
+                     std::to_string(32 * (min_box << (kMinBoxSizes - 1))) + " pixels across");
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const double x = -std::log(static_cast<double>(result.box_sizes[i]));

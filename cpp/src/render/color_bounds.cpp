@@ -9,7 +9,7 @@
 namespace ifsforge {
 
 Bounds color_bounds(const Ifs& ifs, int levels) {
-  if (levels < 0) throw InputError("colour bounds need levels >= 0");
+  if (levels < 0) throw InputError("color bounds need levels >= 0");
   ifs.require_attractor();
   const int k = ifs.spatial_dims(), n = ifs.dim();
   Bounds b{std::vector<double>(n - k, std::numeric_limits<double>::infinity()),

@@ -35,7 +35,7 @@ Capabilities ColorStealing::capabilities() const {
 
 Raster ColorStealing::draw(const Ifs& ifs, const RenderOptions& options) const {
   if (!options.reference_image || options.reference_image->width < 1)
-    throw InputError("colour stealing needs a reference image");
+    throw InputError("color stealing needs a reference image");
   const Image& picture = *options.reference_image;
   const Ifs reference = options.reference_system ? *options.reference_system
                                                  : grid_reference_system(ifs.size());
@@ -44,7 +44,7 @@ Raster ColorStealing::draw(const Ifs& ifs, const RenderOptions& options) const {
   if (reference.size() != ifs.size())
     throw InputError("the reference system has " + std::to_string(reference.size()) +
                      " maps but the system has " + std::to_string(ifs.size()) +
-                     "; colour stealing pairs them one to one");
+                     "; color stealing pairs them one to one");
   if (reference.dim() != 2) throw InputError("the reference system must be 2D (xy)");
   ifs.require_attractor();
   reference.require_attractor();

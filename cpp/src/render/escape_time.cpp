@@ -159,7 +159,7 @@ Raster EscapeTime::draw(const Ifs& ifs, const RenderOptions& options) const {
   const ParameterValues params(*this, options);
   const PixelSpace space = make_pixel_space(ifs, options, name());
   if (space.spatial_reads_channels)
-    throw InputError("escape time inverts the spatial maps, so their rows must not read the colour channels (system '" +
+    throw InputError("escape time inverts the spatial maps, so their rows must not read the color channels (system '" +
                      ifs.name() + "')");
   const bool linear = params.choice("norm", {"euclidean", "linear"}) == "linear";
   const bool smallest_first = params.choice("rule", {"min", "max"}) == "min";

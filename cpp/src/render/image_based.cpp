@@ -82,7 +82,7 @@ Raster ImageBased::draw(const Ifs& ifs, const RenderOptions& options) const {
   const PixelSpace space = make_pixel_space(ifs, options, name(), supersample);
   if (space.channels && space.spatial_reads_channels)
     throw InputError("image-based rendering maps textures: the spatial rows of system '" + ifs.name() +
-                     "' must not read its colour channels");
+                     "' must not read its color channels");
   const bool measure = params.choice("weights", {"attractor", "measure"}) == "measure";
   const int iterations = params.automatic("iterations") ? image_based_iterations(ifs, space.width, space.height)
                                                         : static_cast<int>(params.integer("iterations", 1, 100000));

@@ -167,7 +167,7 @@ Image tone_map(const Raster& raster, const ToneOptions& options) {
   if (mode == "density") return density_image(raster, options, false);
   if (mode == "color" || mode == "colour") {
     if (raster.color_model == ColorModel::None)
-      throw InputError("the image has no colour channels; use mode binary or density");
+      throw InputError("the image has no color channels; use mode binary or density");
     return color_image(raster);
   }
   throw InputError("unknown tone mode '" + options.mode + "'; choose auto, binary, density, color or shaded");

@@ -91,8 +91,8 @@ void sample_heights(TerrainControls& c, int rows, int columns, const Image& map,
 TerrainControls make_terrain_controls(const TerrainControlsOptions& options, std::uint64_t seed) {
   TerrainControlsOptions o = options;
   const bool circular = o.grid == TerrainGrid::Circular;
-  if (o.rows == 0) o.rows = circular ? 6 : 9;
-  if (o.columns == 0) o.columns = circular ? 12 : 9;
+  if (o.rows == 0) o.rows = circular ? kDefaultCircles : kDefaultControls;
+  if (o.columns == 0) o.columns = circular ? kDefaultCirclePoints : kDefaultControls;
   TerrainControls c;
   c.grid = o.grid;
   c.size_x = o.size_x;

@@ -46,7 +46,7 @@ std::array<float, 3> Palette::lookup(double t) const {
 Palette make_palette(const PaletteSpec& spec, std::size_t entries) {
   const std::size_t stops = spec.stops.size();
   if (stops < 3)
-    throw InputError("a fractal palette needs at least 3 colour stops (2 interpolation maps), got " +
+    throw InputError("a fractal palette needs at least 3 color stops (2 interpolation maps), got " +
                      std::to_string(stops));
   if (entries < 2 || entries > (std::size_t(1) << 24))
     throw InputError("a palette has 2 to 16777216 entries, got " + std::to_string(entries));

@@ -59,7 +59,7 @@ constexpr std::size_t kPaletteSize = sizeof(kPalette) / sizeof(kPalette[0]);
 /// and how to normalise the vector.
 struct LeafRules {
   int spatial = 3;
-  Normalisation normalisation = Normalisation::Proportional;
+  Normalization normalization = Normalization::Proportional;
   double scale_factor = 1.0, length = 0.0;
   ColorSource color_source = ColorSource::FirstMap;
   ColorModel color_model = ColorModel::None;
@@ -240,10 +240,10 @@ InstanceList instances(const Ifs& ifs, const InstanceOptions& options) {
 
   LeafRules rules;
   rules.spatial = k;
-  rules.normalisation = options.normalisation;
+  rules.normalization = options.normalization;
   rules.scale_factor = options.scale_factor;
   rules.length = options.length;
-  if (rules.normalisation == Normalisation::Constant && rules.length == 0.0) {
+  if (rules.normalization == Normalization::Constant && rules.length == 0.0) {
     double log_sum = 0.0;
     int counted = 0;
     for (double s : ifs.spatial_contraction_factors())
@@ -267,7 +267,7 @@ InstanceList instances(const Ifs& ifs, const InstanceOptions& options) {
   rules.color_source = options.color_source;
   if (rules.color_source == ColorSource::Auto) rules.color_source = has_color ? ColorSource::Channels : ColorSource::FirstMap;
   if (rules.color_source == ColorSource::Channels && !has_color)
-    throw InputError("layout '" + layout.text() + "' has no colour channels to colour instances with");
+    throw InputError("layout '" + layout.text() + "' has no color channels to color instances with");
 
   // Where each job writes; then everything is allocated once.
   const std::vector<std::uint64_t> offsets = detail::job_offsets(ifs, shape, options.threads);
@@ -306,7 +306,7 @@ InstanceList instances(const Ifs& ifs, const InstanceOptions& options) {
       out.positions[slot] = {static_cast<float>(p[0]), static_cast<float>(p[1]), k == 3 ? static_cast<float>(p[2]) : 0.0f};
       frame_from_tangents(k, t1, t2, out.frames[slot].data());
       // Eq. 60: d = sf |q1' - q0'| (proportional) or the constant length.
-      out.scales[slot] = static_cast<float>(rules.normalisation == Normalisation::Constant
+      out.scales[slot] = static_cast<float>(rules.normalization == Normalization::Constant
                                                 ? rules.length
                                                 : rules.scale_factor * std::sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2]));
       out.primitive[slot] = rules.primitive(p);

@@ -1,6 +1,6 @@
 #pragma once
 /// @file The one colour rule. Colour channels everywhere in ifsforge are display values:
-/// sRGB-encoded, in [0, 1] (after the Eq. 101 normalisation). A writer whose reader expects
+/// sRGB-encoded, in [0, 1] (after the Eq. 101 normalization). A writer whose reader expects
 /// linear light (glTF COLOR_0 and baseColorFactor, the OpenVDB "color" grid that Blender's
 /// Principled Volume reads, Blender colour attributes) converts with srgb_to_linear; PNG, PLY
 /// vertex colours and POV-Ray `srgb` take the display values as they are.

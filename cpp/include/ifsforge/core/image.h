@@ -6,6 +6,9 @@
 
 namespace ifsforge {
 
+/// @brief The largest side of any image ifsforge makes or reads back (PNG's practical limit).
+constexpr int kMaxImageSide = 65535;
+
 struct Image {
   int width = 0, height = 0, channels = 0;  ///< 1 gray, 2 gray+alpha, 3 RGB, 4 RGBA
   LargeVector<float> pixels;

@@ -21,7 +21,7 @@ namespace ifsforge {
 enum class PreviewColoring { Auto, Pieces, Channels };
 template <>
 struct EnumNames<PreviewColoring> {
-  static constexpr const char* what = "preview colouring";
+  static constexpr const char* what = "preview coloring";
   static constexpr NamedValue<PreviewColoring> values[] = {
       {PreviewColoring::Auto, "auto"},
       {PreviewColoring::Pieces, "pieces"},

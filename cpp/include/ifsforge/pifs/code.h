@@ -30,7 +30,7 @@ struct PifsPlane {
 enum class PifsColor : std::uint8_t { Direct = 0, YCbCr420 = 1 };
 template <>
 struct EnumNames<PifsColor> {
-  static constexpr const char* what = "colour coding";
+  static constexpr const char* what = "color coding";
   static constexpr NamedValue<PifsColor> values[] = {
       {PifsColor::Direct, "direct"},
       {PifsColor::YCbCr420, "ycbcr420"}};

@@ -12,7 +12,7 @@ class ColorStealing : public Renderer {
  public:
   std::string name() const override { return "color-stealing"; }
   std::string description() const override {
-    return "color-stealing random iteration (5.1.2): colours taken from a reference image";
+    return "color-stealing random iteration (5.1.2): colors taken from a reference image";
   }
   Capabilities capabilities() const override;
 

@@ -25,7 +25,7 @@ class ConstantMass : public Renderer {
   }
   Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override {
-    return {{"threshold", "0.001", "stop when the L1 change of the normalised mass falls below this"},
+    return {{"threshold", "0.001", "stop when the L1 change of the normalized mass falls below this"},
             {"iterations", "1000", "most iterations"},
             spread_parameter(),
             supersample_parameter()};

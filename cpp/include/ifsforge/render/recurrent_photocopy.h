@@ -22,7 +22,7 @@ class RecurrentPhotocopy : public Renderer {
   Capabilities capabilities() const override;
   std::vector<RendererParameter> parameters() const override {
     return {{"component", "", "show only image I_j of map j (0-based); default: every component superimposed"},
-            {"threshold", "0.001", "stop when the L1 change of the normalised images falls below this"},
+            {"threshold", "0.001", "stop when the L1 change of the normalized images falls below this"},
             {"iterations", "1000", "most iterations"},
             spread_parameter(),
             supersample_parameter()};

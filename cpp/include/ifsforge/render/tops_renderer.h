@@ -12,7 +12,7 @@ class TopsRenderer : public Renderer {
  public:
   std::string name() const override { return "tops"; }
   std::string description() const override {
-    return "fractal tops (3.3.5): colours of a reference image at the top address of each pixel";
+    return "fractal tops (3.3.5): colors of a reference image at the top address of each pixel";
   }
   Capabilities capabilities() const override;
 

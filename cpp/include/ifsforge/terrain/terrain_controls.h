@@ -34,9 +34,17 @@ void sample_heights(TerrainControls& controls, int rows, int columns, const Imag
 /// @brief The controls of a terrain described by settings rather than a recipe file: what the
 /// CLI's `terrain` options and the add-on's panel fill in, so that one seed gives one terrain in
 /// both (make_terrain_controls draws every random number).
+/// The defaults of a terrain made without a recipe, the same in every front end (the command
+/// line, the Blender add-on and Python read them from here).
+constexpr int kDefaultControls = 9;        ///< regular and irregular grids: 9 x 9 control heights
+constexpr int kDefaultCircles = 6;         ///< circular grids: 6 leading circles ...
+constexpr int kDefaultCirclePoints = 12;   ///< ... of 12 control heights each
+constexpr double kDefaultRoughness = 0.3;  ///< |a22| along and across: ridges, not a bilinear sheet
+constexpr int kDefaultTerrainSamples = 257;  ///< samples per side (circular: the height image's side)
+
 struct TerrainControlsOptions {
   TerrainGrid grid = TerrainGrid::Regular;
-  /// The control lattice (circular: circles, points per circle); 0: 9 x 9, circular 6 x 12.
+  /// The control lattice (circular: circles, points per circle); 0: the defaults above.
   int rows = 0, columns = 0;
   double base = 0.5, amplitude = 0.5;  ///< random heights: base + amplitude (2 u - 1)
   /// Sample the heights from this map (first channel) instead: its `window` in [0, 1] image
@@ -47,8 +55,8 @@ struct TerrainControlsOptions {
   /// Circular: the leading circles' radii; empty: `rows` radii evenly from 0 to size_x / 2.
   std::vector<double> radii;
   double shift = 0.0;  ///< irregular and circular: random displacement amplitude (0: none)
-  /// |a22| along and across the leading vectors (none: 0, a piecewise bilinear terrain).
-  std::optional<std::array<double, 2>> roughness;
+  /// |a22| along and across the leading vectors (none, or 0: a piecewise bilinear terrain).
+  std::optional<std::array<double, 2>> roughness = std::array<double, 2>{kDefaultRoughness, kDefaultRoughness};
   SignPattern signs = SignPattern::Random;
   double size_x = 4.0, size_y = 4.0;  ///< the horizontal extent (heights around 0..1)
 };

@@ -17,7 +17,7 @@ namespace ifsforge {
 enum class ColorSpace { Rgb, Hls, Hsi };
 template <>
 struct EnumNames<ColorSpace> {
-  static constexpr const char* what = "colour space";
+  static constexpr const char* what = "color space";
   static constexpr NamedValue<ColorSpace> values[] = {
       {ColorSpace::Rgb, "rgb"},
       {ColorSpace::Hls, "hls"},

@@ -22,13 +22,13 @@ namespace ifsforge {
 ///  - Proportional: d = sf |q1' - q0'|, the literal Eq. 60: every instance keeps the size of
 ///    its piece of the attractor (times sf).
 ///  - Constant: d = length for every instance, whatever the contraction along its address.
-enum class Normalisation { Proportional, Constant };
+enum class Normalization { Proportional, Constant };
 template <>
-struct EnumNames<Normalisation> {
-  static constexpr const char* what = "normalisation";
-  static constexpr NamedValue<Normalisation> values[] = {
-      {Normalisation::Proportional, "proportional"},
-      {Normalisation::Constant, "constant"}};
+struct EnumNames<Normalization> {
+  static constexpr const char* what = "normalization";
+  static constexpr NamedValue<Normalization> values[] = {
+      {Normalization::Proportional, "proportional"},
+      {Normalization::Constant, "constant"}};
 };
 
 /// Where instance colours come from. Auto: Channels when the layout has colour channels
@@ -36,7 +36,7 @@ struct EnumNames<Normalisation> {
 enum class ColorSource { Auto, Channels, FirstMap, LastMap, Constant };
 template <>
 struct EnumNames<ColorSource> {
-  static constexpr const char* what = "colour source";
+  static constexpr const char* what = "color source";
   static constexpr NamedValue<ColorSource> values[] = {
       {ColorSource::Auto, "auto"},
       {ColorSource::Channels, "channels"},
@@ -51,7 +51,7 @@ struct InstanceOptions {
   /// The primitives the index channel k chooses from (Eq. 99, 107): round(k') wrapped modulo
   /// the list length. Without a k channel every instance takes the first.
   std::vector<Primitive> primitives = {Primitive{}};
-  Normalisation normalisation = Normalisation::Proportional;
+  Normalization normalization = Normalization::Proportional;
   double scale_factor = 1.0;     ///< sf of Eq. 60 (proportional)
   /// Constant: the vector length; 0 takes |q1 - q0| s^L, s the geometric mean of the (non-zero)
   /// spatial contraction factors: about the size of a piece at depth L.

@@ -31,7 +31,7 @@ struct EnumNames<VolumeDensity> {
 enum class ColorScale { Auto, Range, Clamp };
 template <>
 struct EnumNames<ColorScale> {
-  static constexpr const char* what = "colour scale";
+  static constexpr const char* what = "color scale";
   static constexpr NamedValue<ColorScale> values[] = {
       {ColorScale::Auto, "auto"},
       {ColorScale::Range, "range"},

@@ -22,7 +22,7 @@ SHAPE_EXTENSIONS = (".vdb", ".obj", ".ply", ".stl", ".off")  # 3D targets
 
 def register(subparsers):
     # Every default is the core's (FitOptions, Fit3dOptions, ColorFitOptions, VoxelTargetOptions), written once in C++.
-    o, o3, color = ifsforge.FitOptions(), ifsforge.Fit3dOptions(), ifsforge.ColourFitOptions()
+    o, o3, color = ifsforge.FitOptions(), ifsforge.Fit3dOptions(), ifsforge.ColorFitOptions()
     p = subparsers.add_parser("fit", help="fit an IFS to a target picture or 3D shape (collage theorem, CMA-ES)",
                               description=__doc__.split("\n\n")[1].replace("\n", " "))
     p.add_argument("target", help="a PNG picture (its shape is the pixels unlike the border; gray: thresholded; "
@@ -83,10 +83,10 @@ def common_options(args, defaults):
 
 def run_picture(args, bar):
     picture = ifsforge.read_png(args.target)
-    color = not args.no_color and ifsforge.has_colour(picture)
+    color = not args.no_color and ifsforge.has_color(picture)
     # A color picture's shape is what differs from the border's color (a dark blue on black is
     # shape although its luminance is below any threshold); a gray one's, what crosses the threshold.
-    shape = ifsforge.colour_foreground(picture, args.color_tolerance) if color else picture
+    shape = ifsforge.color_foreground(picture, args.color_tolerance) if color else picture
     maps = args.maps or str(ifsforge.FitOptions().maps)
     result = fit_picture(shape, maps, args.threshold, time_limit=args.time_limit, progress=bar,
                          **common_options(args, ifsforge.FitOptions()))
@@ -101,7 +101,7 @@ def run_picture(args, bar):
             f"{collage['distance_pixels']:.2f} px (attractor within {collage['bound_pixels']:.2f} px), "
             f"s = {collage['contraction']:.3f}, {result['evaluations']} evaluations")
     if color:
-        fitted = ifsforge.fit_colour(system, picture, shape, max_contraction=args.max_contraction)  # None: its default
+        fitted = ifsforge.fit_color(system, picture, shape, max_contraction=args.max_contraction)  # None: its default
         system = fitted["system"]
         summary["layout"] = "xy+rgb"
         summary["color_collage_error"] = dict(zip("rgb", fitted["collage_error"]))
@@ -119,16 +119,32 @@ def run_shape(args, bar):
     system = result["system"]
     system.name = f"fit of {args.target}"
     size = target["voxel_size"]
-    box = list(target["origin"]) + [o + n * size for o, n in zip(target["origin"], target["mask"].shape)]
-    summary = {"output": args.output, "maps": result["maps"], "iou": result["iou"], "proxy": result["proxy"],
-               "voxels": list(target["mask"].shape), "bounds": box,
+    shape = target["mask"].shape
+    box = list(target["origin"]) + [o + n * size for o, n in zip(target["origin"], shape)]
+    iou = volume_iou(system, target["mask"], box, args.threads)
+    summary = {"output": args.output, "maps": result["maps"], "iou": iou, "search_iou": result["iou"],
+               "proxy": result["proxy"], "voxels": list(shape), "bounds": box,
                "contraction": max(system.contraction_factors()), "evaluations": result["evaluations"],
                "restarts": result["restarts"], "time_limited": result["time_limited"]}
-    text = (f"{args.output}: {result['maps']} maps, attractor IoU {result['iou']:.3f} on the "
-            f"{'x'.join(map(str, target['mask'].shape))} target, s = {summary['contraction']:.3f}, "
-            f"{result['evaluations']} evaluations; `ifsforge volume` frames it on --bounds "
-            + " ".join(f"{v:.6g}" for v in box))
+    bounds = " ".join(f"{v:.6g}" for v in box)
+    text = (f"{args.output}: {result['maps']} maps, attractor IoU {iou:.3f} on the {'x'.join(map(str, shape))} "
+            f"target as `ifsforge volume {args.output} --bounds {bounds} --res {max(shape)}` renders it "
+            f"(the search's estimate {result['iou']:.3f}), s = {summary['contraction']:.3f}, "
+            f"{result['evaluations']} evaluations")
     return system, summary, text, result["time_limited"]
+
+
+def volume_iou(system, mask, box, threads):
+    """The IoU the user sees: `ifsforge volume` (PRR) on the target's own box and voxel count, whose
+    grid is the target's voxel for voxel, against the target."""
+    import numpy as np
+    volume = ifsforge.render_volume(system, "prr", resolution=max(mask.shape), bounds=box, threads=threads)
+    drawn = np.zeros(mask.shape, bool)
+    ijk = np.asarray(volume.coords)
+    inside = np.all((ijk >= 0) & (ijk < np.asarray(mask.shape)), axis=1)
+    drawn[tuple(ijk[inside].T)] = True
+    union = np.count_nonzero(drawn | mask)
+    return float(np.count_nonzero(drawn & mask) / union) if union else 0.0
 
 
 def run(args):

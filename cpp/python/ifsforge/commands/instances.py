@@ -26,7 +26,7 @@ def register(subparsers):
     g.add_argument("--primitive", default=",".join(d.primitives),
                    help="primitive, or a comma list the k channel picks from: line, circle, triangle, square "
                    "(each also -outline), sphere, box, cone, cylinder, torus, mesh:PATH (default %(default)s)")
-    normalization = g.add_argument("--normalization", choices=ifsforge.choices["normalisation"], default=d.normalisation,
+    normalization = g.add_argument("--normalization", choices=ifsforge.choices["normalization"], default=d.normalization,
                                    help="proportional: d = sf |q1 - q0| (Eq. 60); constant: d = --length for all")
     common.add_deprecated_alias(g, "--normalisation", normalization)
     g.add_argument("--scale-factor", type=common.float_option(0, 1e6, low_open=True), default=d.scale_factor, help="sf of Eq. 60 (default %(default)s)")
@@ -95,7 +95,7 @@ def run(args):
 
     start = time.perf_counter()
     instances = ifsforge.instances(
-        system, depth=args.depth, primitives=args.primitive, normalisation=args.normalization,
+        system, depth=args.depth, primitives=args.primitive, normalization=args.normalization,
         scale_factor=args.scale_factor, length=args.length, base_point=args.base_point,
         base_vector=args.base_vector, base_up=args.base_up, min_probability=args.min_probability,
         color_source=args.color_by, color=list(args.color) + [1.0] * (4 - len(args.color)),

@@ -26,7 +26,7 @@ def register(subparsers):
                    help="|a22| of each component (overrides the recipe's)")
     p.add_argument("--signs", choices=ifsforge.choices["signs"], default="random")
     p.add_argument("--seed", type=common.SEED, default=0, help="seed of the random signs")
-    p.add_argument("--entries", type=common.int_option(2, 65536), help="palette entries (default the recipe's, or 256)")
+    p.add_argument("--entries", type=common.int_option(2, 65536), help=f"palette entries (default the recipe's, or {ifsforge.PaletteRecipe().entries})")
     p.add_argument("--rows", type=common.count_option(4096), default=1, help="PNG rows: 1 for a strip, more for an N x M texture")
     p.add_argument("--bits", type=int, choices=[8, 16], default=8)
     p.add_argument("--apply", nargs=2, metavar=("GRAY.png", "OUT.png"),
@@ -69,7 +69,7 @@ def run(args):
         if not args.stops:
             raise ifsforge.InputError("give a palette recipe or --stops")
         spec = ifsforge.PaletteSpec(args.space or "rgb", [parse_stop(s) for s in args.stops], args.positions or [])
-        name, entries, description = "palette", 256, ""
+        name, entries, description = "palette", ifsforge.PaletteRecipe().entries, ""
     if args.roughness:
         maps = len(spec.stops) - 1
         spec.a22 = [ifsforge.vertical_scaling(maps, r, args.signs, args.seed, k) for k, r in enumerate(args.roughness)]

@@ -14,6 +14,7 @@ OUTPUTS = (".png", ".pov") + MESHES
 def register(subparsers):
     # The defaults are the core's (controls, POV-Ray scene and render): written once, in C++.
     t, pov, render = ifsforge.TerrainControlsOptions(), ifsforge.TerrainPovOptions(), ifsforge.PovRenderOptions()
+    d = ifsforge.terrain_defaults
     p = subparsers.add_parser(
         "terrain", help="a fractal-interpolation terrain: 16-bit height PNG, mesh, POV-Ray scene",
         description="Interpolate control heights into a terrain: leading vectors first, then every "
@@ -26,7 +27,8 @@ def register(subparsers):
     g = p.add_argument_group("controls (without a recipe)")
     g.add_argument("--grid", choices=ifsforge.choices["grid"], help=f"default {t.grid}")
     g.add_argument("--controls", type=common.int_option(2, 4097), nargs=2, metavar=("ROWS", "COLUMNS"),
-                   help="control lattice (default 9 9; circular: 6 circles of 12)")
+                   help=f"control lattice (default {d['controls']} {d['controls']}; circular: {d['circles']} circles "
+                   f"of {d['circle_points']})")
     g.add_argument("--amplitude", type=common.float_option(0, 1e6), default=t.amplitude, help=f"random heights: {t.base} +- amplitude")
     g.add_argument("--heights-from", metavar="MAP.png", help="sample the control heights from a height map (an insert)")
     g.add_argument("--window", type=common.NUMBER, nargs=4, metavar=("X0", "Y0", "X1", "Y1"), default=list(t.window),
@@ -35,17 +37,20 @@ def register(subparsers):
     g.add_argument("--high", type=common.NUMBER, default=t.high, help="height of map value 1")
     g.add_argument("--radii", type=common.float_option(0, 1e6), nargs="+", help="circular: leading circle radii, from 0 (default to 2)")
     g.add_argument("--shift", type=common.float_option(0, 0.5), help="irregular/circular: random displacement amplitude (< 0.5 spacing)")
-    g.add_argument("--size", type=common.float_option(0, 1e9, low_open=True), nargs=2, metavar=("X", "Y"),
-                   help="horizontal extent (default 4 4, for heights around 0..1)")
+    extent = g.add_argument("--extent", type=common.float_option(0, 1e9, low_open=True), nargs=2, metavar=("X", "Y"),
+                            help=f"horizontal extent in world units (default {t.size_x:g} {t.size_y:g}, for heights "
+                            "around 0..1)")
+    common.add_deprecated_alias(g, "--size", extent)  # --size is pixels in every other command
     r = p.add_argument_group("roughness (overrides the recipe's)")
     r.add_argument("--roughness", type=common.float_option(-1, 1), nargs="+", metavar="A22",
-                   help="|a22| along the leading vectors, then across them (one value: both)")
+                   help="|a22| along the leading vectors, then across them (one value: both; default "
+                   f"{d['roughness']:g}; 0: a bilinear surface through the controls)")
     r.add_argument("--signs", choices=ifsforge.choices["signs"], default=t.signs,
                    help="signs of the a22 factors (default random)")
     r.add_argument("--seed", type=common.SEED, default=0, help="seed of random controls, shifts and signs")
     o = p.add_argument_group("output")
     o.add_argument("--res", help="samples: N or WxH along x/y (circular: the height image's side; "
-                   "default the recipe's or 1025)")
+                   f"default the recipe's or {d['samples']})")
     o.add_argument("--palette", metavar="PALETTE.json", help="palette recipe (default: the recipe's)")
     o.add_argument("--preview", metavar="IMAGE.png", help="also write the height image colored by the palette")
     o.add_argument("--solid", action="store_true", help="meshes: close with walls and a floor (watertight)")
@@ -67,8 +72,8 @@ def controls_from_options(args):
     if args.heights_from:
         options.update(height_map=ifsforge.read_png(args.heights_from), window=args.window, low=args.low,
                        high=args.high)
-    if args.size:
-        options["size_x"], options["size_y"] = args.size
+    if args.extent:
+        options["size_x"], options["size_y"] = args.extent
     if args.roughness:
         options["roughness"] = roughness(args)
     return ifsforge.make_terrain_controls(args.seed, **options)
@@ -88,7 +93,7 @@ def sample_counts(grid, controls, res, recipe):
         if circular:
             return (columns, rows), (2 * rows - 1, 2 * rows - 1)
         return (columns, rows), (columns, rows)
-    width, height = common.parse_size(res or "1025", "--res")
+    width, height = common.parse_size(res or str(ifsforge.terrain_defaults["samples"]), "--res")
     if circular:
         # The radius spans half the image; a circle gets at least pi * side angles, a multiple
         # of the controls per circle so that every control height is a sample.
@@ -112,7 +117,7 @@ def run(args):
 
     recipe = None
     if args.recipe:
-        given = [name for name in ("grid", "controls", "heights_from", "radii", "shift", "size")
+        given = [name for name in ("grid", "controls", "heights_from", "radii", "shift", "extent")
                  if getattr(args, name) is not None]
         if given:
             raise ifsforge.InputError(f"--{given[0].replace('_', '-')} describes a terrain without a recipe; "
