@@ -36,18 +36,8 @@ def outside_blender():
     result = subprocess.run([args.blender, "-b", "--factory-startup", "--python", __file__, "--",
                              str(Path(args.build) / "python"), str(args.repeat), str(int(args.big)), str(out)],
                             capture_output=True, text=True)
-    lines = [line for line in result.stdout.splitlines() if line.startswith(("BENCH", "|"))]
-    if not lines:
-        sys.exit(f"the benchmark did not run:\n{result.stdout[-3000:]}\n{result.stderr[-3000:]}")
-    with results.Section("bench_blender_addon.py", args.results,
-                          "Blender add-on at production sizes (bench_blender_addon.py)") as section:
-        for k, line in enumerate(lines):
-            if line.startswith("BENCH"):
-                print(line[len("BENCH "):])  # the figures as JSON, for other programs
-                continue
-            if section.lines and k + 1 < len(lines) and lines[k + 1].startswith("|---"):
-                section.print()  # a blank line between two tables
-            section.print(line)
+    results.record_blender_tables("bench_blender_addon.py", args.results,
+                                  "Blender add-on at production sizes (bench_blender_addon.py)", result)
 
 
 def inside_blender(python_path, repeat, big, out):

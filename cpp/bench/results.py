@@ -133,6 +133,23 @@ class Section:
         return False
 
 
+def record_blender_tables(key, path, title, result):
+    """The section `key` from what a benchmark run inside Blender printed (`result`: its
+    CompletedProcess): its markdown tables ('|' lines) go to the section, its BENCH lines (the
+    figures as JSON, for other programs) to stdout; exits when Blender printed neither."""
+    lines = [line for line in result.stdout.splitlines() if line.startswith(("BENCH", "|"))]
+    if not lines:
+        sys.exit(f"the benchmark did not run:\n{result.stdout[-3000:]}\n{result.stderr[-3000:]}")
+    with Section(key, path, title) as section:
+        for k, line in enumerate(lines):
+            if line.startswith("BENCH"):
+                print(line[len("BENCH "):])
+                continue
+            if section.lines and k + 1 < len(lines) and lines[k + 1].startswith("|---"):
+                section.print()  # a blank line between two tables
+            section.print(line)
+
+
 def google_benchmark_table(program, arguments, build):
     """Runs a Google Benchmark program with `arguments` and returns its rows as Markdown."""
     path = Path(build) / "cpp" / "bench" / program

@@ -48,6 +48,13 @@ def corner(points):
     return (points[:, 0] < 0.45) & (points[:, 1] < 0.45)
 
 
+def corner_of_bounds(points):
+    """corner() in the frame of the points' own box: the add-on puts an object's origin at the
+    centre of its bounds, so its local coordinates are the system's shifted."""
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    return corner((points - lo) / np.maximum(hi - lo, 1e-12))
+
+
 def attribute_by_vertex(mesh, attribute):
     """(vertex positions, linear RGB) of a colour attribute on points or face corners."""
     values = np.empty(4 * len(attribute.data), np.float32)
@@ -77,11 +84,11 @@ def addon():
     settings.volume_resolution, settings.mesh_iso, settings.mesh_adaptivity = 32, 0.5, 0.0
     mesh = generate("mesh").data
     co, colours = attribute_by_vertex(mesh, mesh.attributes["ifs_color"])
-    same_color(colours[corner(co)], "addon_iso")
+    same_color(colours[corner_of_bounds(co)], "addon_iso")
     settings.instance_depth, settings.instance_color_by = 2, 'channels'
     points = generate("instances").data
     co, colours = attribute_by_vertex(points, points.attributes["ifs_color"])
-    same_color(colours[corner(co)], "addon_instances")
+    same_color(colours[corner_of_bounds(co)], "addon_instances")
     settings.volume_density = 'binary'
     volume = generate("volume")
     checks.values["addon_vdb"] = bpy.path.abspath(volume.data.filepath)

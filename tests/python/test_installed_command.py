@@ -69,7 +69,12 @@ def test_sigterm_stops_like_ctrl_c_and_leaves_nothing(tmp_path, args):
 
 
 def test_ctrl_c_stops_a_local_cluster_without_a_traceback(tmp_path):
-    code, err, stop = stop_after(tmp_path, signal.SIGINT, 12.0, "volume", SAMPLES / "menger_sponge.json",
+    code, err, stop = stop_after(tmp_path, signal.SIGINT, 10.0, "volume", SAMPLES / "menger_sponge.json",
                                  "--res", "729", "-o", "v.vdb", "--cluster", "local:2")
     assert code == 130 and "interrupted" in err and "Traceback" not in err, err
-    assert not any(tmp_path.iterdir()), list(tmp_path.iterdir())
+    # The interrupt lands while the cluster starts, works or shuts down (on a busy machine the
+    # file may already be committed): never a temporary or a partial file.
+    assert [p.name for p in tmp_path.iterdir() if p.name != "v.vdb"] == []
+    if (tmp_path / "v.vdb").exists():
+        import ifsforge
+        assert ifsforge.read_vdb_info(str(tmp_path / "v.vdb"))["grids"], "a partial .vdb"

@@ -62,11 +62,7 @@ std::string Renderer::draw_jobs(const Ifs&, const RenderOptions&, std::uint64_t,
 }
 
 const std::vector<std::pair<std::string, Capabilities>>& renderer_capabilities() {
-  static const std::vector<std::pair<std::string, Capabilities>> all = [] {
-    std::vector<std::pair<std::string, Capabilities>> out;
-    for (const auto& entry : registry()) out.emplace_back(entry.renderer->name(), entry.renderer->capabilities());
-    return out;
-  }();
+  static const std::vector<std::pair<std::string, Capabilities>> all = capability_table(registry());
   return all;
 }
 

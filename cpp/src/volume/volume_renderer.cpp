@@ -52,11 +52,7 @@ std::string VolumeRenderer::draw_jobs(const Ifs&, const VolumeOptions&, std::uin
 }
 
 const std::vector<std::pair<std::string, Capabilities>>& volume_renderer_capabilities() {
-  static const std::vector<std::pair<std::string, Capabilities>> all = [] {
-    std::vector<std::pair<std::string, Capabilities>> out;
-    for (const auto& entry : registry()) out.emplace_back(entry.renderer->name(), entry.renderer->capabilities());
-    return out;
-  }();
+  static const std::vector<std::pair<std::string, Capabilities>> all = capability_table(registry());
   return all;
 }
 

@@ -72,6 +72,15 @@ void require_handles(const std::string& kind, const std::string& name, const Cap
 void require_handles(const std::string& kind, const std::string& name, const Capabilities& c, const Ifs& ifs,
                      const SystemFeatures& f, const std::vector<std::pair<std::string, Capabilities>>& all);
 
+/// @brief (name, capabilities) of every entry of a renderer registry (entries hold `renderer`),
+/// in registration order: the table refusals name the alternatives from.
+template <typename Registry>
+std::vector<std::pair<std::string, Capabilities>> capability_table(const Registry& registry) {
+  std::vector<std::pair<std::string, Capabilities>> out;
+  for (const auto& entry : registry) out.emplace_back(entry.renderer->name(), entry.renderer->capabilities());
+  return out;
+}
+
 /// @brief The samplers of random iteration (5.1.1) and what they handle: sample_points
 /// (sample_attractor) and preview_cloud.
 const std::vector<std::pair<std::string, Capabilities>>& sampler_capabilities();
