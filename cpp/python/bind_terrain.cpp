@@ -39,6 +39,8 @@ py::dict mesh_to_dict(const TriangleMesh& mesh) {
 void bind_terrain(py::module_& m) {
   add_choices<TerrainGrid>(m, "grid");
   add_choices<SignPattern>(m, "signs");
+  add_choices<TerrainPovShape>(m, "pov_shape");
+  add_choices<TerrainPovCamera>(m, "pov_camera");
   py::class_<FractalInterpolation>(m, "FractalInterpolation",
                                    "The continuous function through (x_i, F_i) whose graph is the attractor of the "
                                    "maps of Eq. 94; a22 are the vertical scaling factors (|a22| < 1).")
@@ -247,10 +249,12 @@ void bind_terrain(py::module_& m) {
      "TerrainMeshOptions given as keywords");
   options_class<TerrainPovOptions>(m, "TerrainPovOptions",
                                     "The settings of write_terrain_pov() (keywords of the same names).")
-      .def_readwrite("shape", &TerrainPovOptions::shape,
-                     "height_field (a 16-bit PNG beside the scene) or mesh2 (the triangles inlined)")
-      .def_readwrite("camera", &TerrainPovOptions::camera,
-                     "perspective (south-west, 35 degrees up) or top (orthographic, north up, the outline)")
+      .def_property("shape", [](const TerrainPovOptions& o) { return std::string(name_of(o.shape)); },
+                    [](TerrainPovOptions& o, const std::string& n) { o.shape = parse_name<TerrainPovShape>(n); },
+                    "height_field (a 16-bit PNG beside the scene) or mesh2 (the triangles inlined)")
+      .def_property("camera", [](const TerrainPovOptions& o) { return std::string(name_of(o.camera)); },
+                    [](TerrainPovOptions& o, const std::string& n) { o.camera = parse_name<TerrainPovCamera>(n); },
+                    "perspective (south-west, 35 degrees up) or top (orthographic, north up, the outline)")
       .def_readwrite("flat", &TerrainPovOptions::flat, "no lights: every point shows its palette color")
       .def_readwrite("aspect", &TerrainPovOptions::aspect, "the render's width / height (perspective camera)")
       .def_readwrite("title", &TerrainPovOptions::title, "first comment line and IFS_Title")

@@ -12,6 +12,8 @@ SETTINGS = [
     (ifsforge.InstanceOptions, "color_source", "color_source"),
     (ifsforge.TerrainControlsOptions, "grid", "grid"),
     (ifsforge.TerrainControlsOptions, "signs", "signs"),
+    (ifsforge.TerrainPovOptions, "shape", "pov_shape"),
+    (ifsforge.TerrainPovOptions, "camera", "pov_camera"),
     (lambda: ifsforge.VdbWriteOptions(), "color_scale", "color_scale"),
 ]
 
@@ -30,7 +32,8 @@ def test_every_choice_is_accepted_and_read_back(make, prop, key):
 @pytest.mark.parametrize("command, option, key", [
     ("volume", "--density", "density"), ("volume", "--escape-norm", "escape_norm"),
     ("volume", "--color-scale", "color_scale"), ("instances", "--color-by", "color_source"),
-    ("terrain", "--signs", "signs"), ("decompress", "--decoder", "decoder")])
+    ("terrain", "--signs", "signs"), ("terrain", "--pov-shape", "pov_shape"),
+    ("terrain", "--pov-camera", "pov_camera"), ("decompress", "--decoder", "decoder")])
 def test_cli_offers_the_core_names(cli, command, option, key):
     result = cli(command, "--help", check=True)
     assert "{" + ",".join(ifsforge.choices[key]) + "}" in result.stdout.replace("\n", "").replace(" ", "")

@@ -52,10 +52,6 @@ std::string file_stem(const std::string& stem) {
 
 std::vector<std::string> write_terrain_pov(const std::string& path, const Terrain& t, const Palette& palette,
                                            const TerrainPovOptions& o, int threads) {
-  if (o.shape != "height_field" && o.shape != "mesh2")
-    throw InputError("POV-Ray terrain: the shape is height_field or mesh2, not '" + o.shape + "'");
-  if (o.camera != "perspective" && o.camera != "top")
-    throw InputError("POV-Ray terrain: the camera is perspective or top, not '" + o.camera + "'");
   if (!(o.aspect > 0 && std::isfinite(o.aspect))) throw InputError("POV-Ray terrain: the aspect must be positive");
   check_writable(path);
 
@@ -75,7 +71,7 @@ std::vector<std::string> write_terrain_pov(const std::string& path, const Terrai
   s.raw("#declare IFS_Title = " + pov_string(o.title) + ";\n");
   const std::string color_map = pov_identifier("Palette", o.palette_name);
   s.raw("#declare " + color_map + " = " + pov_color_map(colours) + "\n");
-  if (o.camera == "top") {
+  if (o.camera == TerrainPovCamera::Top) {
     s.line("camera { orthographic location <%.9g, %.9g, %.9g> direction <0, -1, 0>", 0.5 * (box[0] + box[2]),
            hi + range + span, 0.5 * (box[1] + box[3]));
     s.line("  up <0, 0, %.9g> right <%.9g, 0, 0> }", sy, sx);
@@ -94,7 +90,7 @@ std::vector<std::string> write_terrain_pov(const std::string& path, const Terrai
   }
 
   std::vector<std::string> written;
-  if (o.shape == "height_field") {
+  if (o.shape == TerrainPovShape::HeightField) {
     // POV-Ray maps the image onto the unit square: column -> x, row 0 -> z = 1 (north), gray -> y.
     const std::filesystem::path scene(path);
     const std::string png_name = file_stem(scene.stem().string()) + "_height.png";

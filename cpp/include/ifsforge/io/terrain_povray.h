@@ -4,18 +4,35 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/terrain/terrain.h"
 #include "ifsforge/texture/palette.h"
 
 namespace ifsforge {
 
+/// HeightField: the scene reads `<scene stem>_height.png` (written beside it, 16 bit);
+/// Mesh2: the triangles are inlined (any grid without resampling; large files).
+enum class TerrainPovShape { HeightField, Mesh2 };
+template <>
+struct EnumNames<TerrainPovShape> {
+  static constexpr const char* what = "POV-Ray terrain shape";
+  static constexpr NamedValue<TerrainPovShape> values[] = {
+      {TerrainPovShape::HeightField, "height_field"}, {TerrainPovShape::Mesh2, "mesh2"}};
+};
+
+/// Perspective: from the south-west, 35° above the horizon; Top: orthographic, straight down,
+/// north up, framing exactly the outline (render at the outline's aspect ratio).
+enum class TerrainPovCamera { Perspective, Top };
+template <>
+struct EnumNames<TerrainPovCamera> {
+  static constexpr const char* what = "POV-Ray terrain camera";
+  static constexpr NamedValue<TerrainPovCamera> values[] = {
+      {TerrainPovCamera::Perspective, "perspective"}, {TerrainPovCamera::Top, "top"}};
+};
+
 struct TerrainPovOptions {
-  /// "height_field": the scene reads `<scene stem>_height.png` (written beside it, 16 bit);
-  /// "mesh2": the triangles are inlined (any grid without resampling; large files).
-  std::string shape = "height_field";
-  /// "perspective": from the south-west, 35° above the horizon; "top": orthographic, straight
-  /// down, north up, framing exactly the outline (render at the outline's aspect ratio).
-  std::string camera = "perspective";
+  TerrainPovShape shape = TerrainPovShape::HeightField;
+  TerrainPovCamera camera = TerrainPovCamera::Perspective;
   /// No lights: every point shows its palette colour unshaded (maps, and tests against
   /// apply_palette); otherwise a sun and a sky.
   bool flat = false;
