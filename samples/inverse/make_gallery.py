@@ -73,15 +73,15 @@ def make(out):
         print(f"  {out / (stem + '.png')}: IoU {r['iou']:.3f}")
     lines += ["", "| colour target | maps | IoU | colour error per pixel | collage RMS r, g, b | time (s) |",
               "| --- | ---: | ---: | ---: | ---: | ---: |"]
-    for name, picture, maps in module.colour_targets():
-        r = module.evaluate_colour(name, picture, maps)
+    for name, picture, maps in module.color_targets():
+        r = module.evaluate_color(name, picture, maps)
         stem = "colour_" + name.replace(" ", "_")
         ifsforge.write_png(str(out / f"{stem}.png"), colour_panel(picture, r["fit"]))
         r["system"].name = f"fit of {name}"
         ifsforge.write_json(str(out / f"{stem}.json"), r["system"])
-        lines.append(f"| {name} | {maps} | {r['iou']:.3f} | {r['colour_error']:.4f} | "
+        lines.append(f"| {name} | {maps} | {r['iou']:.3f} | {r['color_error']:.4f} | "
                      f"{', '.join(f'{e:.3f}' for e in r['collage_error'])} | {r['seconds']:.1f} |")
-        print(f"  {out / (stem + '.png')}: colour error {r['colour_error']:.4f}")
+        print(f"  {out / (stem + '.png')}: colour error {r['color_error']:.4f}")
     lines += ["", "| 3D target | maps | voxels | IoU | time (s) |", "| --- | ---: | --- | ---: | ---: |"]
     with tempfile.TemporaryDirectory() as folder:
         for name, (file, maps, extension) in module.SHAPES.items():

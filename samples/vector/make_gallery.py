@@ -14,7 +14,7 @@ SYSTEMS = HERE.parent / "systems"
 # name, system, instance options, scene options
 SCENES = [
     ("sphere_tree", "vector_sphere_tree.json",
-     dict(depth=6, primitives="sphere", normalisation="constant", length=0.011, normalize_colors=False),
+     dict(depth=6, primitives="sphere", normalization="constant", length=0.011, normalize_colors=False),
      dict(view=(30, 10), fov=35)),
     ("cone_spiral", "vector_cone_spiral.json",
      dict(depth=60, min_probability=3e-4, primitives="cone"),
