@@ -5,12 +5,14 @@ import bpy
 import numpy as np
 
 import ifsforge
+from ifsforge.media import per_world_unit
 
 from . import mesh_data, outputs
 from .generators import Generator, link_object, node_material, register_generator
 
 CLIPPING = 0.001  # Blender's default: grid values below it count as empty space
-ORIGIN_MODIFIER = "ifsforge origin"  # moves the grid (in the system's coordinates) around the origin
+# Files made before the grid was written centred carried this modifier; Regenerate removes it.
+ORIGIN_MODIFIER = "ifsforge origin"
 
 
 def render_volume(system, settings, progress):
@@ -37,16 +39,20 @@ class VolumeGenerator(Generator):
         if system.spatial_dims != 3:
             raise ifsforge.InputError(f"'{system.name}' is planar ({system.layout}): volumes need an xyz layout")
         volume = render_volume(system, settings, progress)
-        ifsforge.write_vdb(path, volume, system)
         dims = np.asarray(volume.dims, np.float64)
         lo = np.asarray(volume.origin, np.float64)
+        origin = mesh_data.center(lo, lo + dims * volume.voxel_size)
+        # The file's own transform puts the grid box's centre at the object's origin: what Blender
+        # reads is where it renders, with no modifier moving Blender's shared grid (which a
+        # Transform node would move again at every evaluation), here or on a farm without ifsforge.
+        ifsforge.write_vdb(path, volume, system, translation=[0.0 - c for c in origin])
         dims_text = "x".join(str(d) for d in volume.dims)
         values = np.asarray(volume.density, np.float32)
         return {"path": path, "voxels": len(volume), "colored": volume.color_model != "none",
                 "density": settings["volume_strength"] * per_world_unit(volume),
                 # Blender skips voxels below its clipping value (0.001): a measure's shares are smaller.
                 "clipping": min(CLIPPING, 0.5 * float(values[values > 0].min())) if len(values) else CLIPPING,
-                "origin": mesh_data.center(lo, lo + dims * volume.voxel_size),
+                "origin": origin,
                 "summary": f"{len(volume):,} voxels in {dims_text} ({settings['volume_algorithm']})"}
 
     def apply(self, context, owner, result, name):
@@ -65,18 +71,9 @@ class VolumeGenerator(Generator):
         result["summary"] += f", grids {', '.join(names)}"
         volume.render.clipping = result["clipping"]
         set_density(owner, result["density"])
-        place(owner, result["origin"])
+        if ORIGIN_MODIFIER in owner.modifiers:
+            owner.modifiers.remove(owner.modifiers[ORIGIN_MODIFIER])
         return owner
-
-
-def per_world_unit(volume):
-    """The factor that turns the grid's values into a density whose average over the grid's box
-    is 1 per world unit: (voxels of the box) / (sum of the values). A fractal fills a smaller
-    share of its box at every finer resolution (binary), and each voxel gets a smaller share of
-    the points (hits, measure): without it, the same Material density would render fainter at
-    every resolution, and hits or measure near invisible."""
-    total = float(np.sum(np.asarray(volume.density, np.float64)))
-    return float(np.prod(np.asarray(volume.dims, np.float64))) / total if total > 0 else 1.0
 
 
 def set_density(owner, density):
@@ -91,30 +88,6 @@ def set_density(owner, density):
                     node.inputs["Density"].default_value = density
             if EMISSION in nodes:
                 nodes[EMISSION].inputs[1].default_value = density * GLOW
-
-
-def place(owner, origin):
-    """A geometry-node modifier moving the grid by -origin: the object's origin is the center of
-    the grid's box (the transform written into the .vdb is the system's)."""
-    tree = bpy.data.node_groups.get(ORIGIN_MODIFIER)
-    if tree is None:
-        tree = bpy.data.node_groups.new(ORIGIN_MODIFIER, 'GeometryNodeTree')
-        tree.inputs.new('NodeSocketGeometry', "Geometry")
-        tree.inputs.new('NodeSocketVector', "Offset")
-        tree.outputs.new('NodeSocketGeometry', "Geometry")
-        group_in, group_out = tree.nodes.new('NodeGroupInput'), tree.nodes.new('NodeGroupOutput')
-        move = tree.nodes.new('GeometryNodeTransform')
-        tree.links.new(group_in.outputs["Geometry"], move.inputs["Geometry"])
-        tree.links.new(group_in.outputs["Offset"], move.inputs["Translation"])
-        tree.links.new(move.outputs["Geometry"], group_out.inputs["Geometry"])
-        group_out.location = (400, 0)
-        move.location = (200, 0)
-    modifier = owner.modifiers.get(ORIGIN_MODIFIER) or owner.modifiers.new(ORIGIN_MODIFIER, 'NODES')
-    modifier.node_group = tree  # makes the modifier's input properties, of the sockets' types
-    offset = modifier[tree.inputs["Offset"].identifier]
-    for k in range(3):  # element by element: a list would replace the float array by doubles
-        offset[k] = -origin[k]
-    owner.update_tag()
 
 
 EMISSION = "ifsforge emission"  # the node scaling a colour volume's emission with its density

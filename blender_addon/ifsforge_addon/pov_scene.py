@@ -23,10 +23,10 @@ import os
 import numpy as np
 
 import ifsforge
+from ifsforge import media
 
 SWAP = np.array([[1, 0, 0], [0, 0, 1], [0, 1, 0]], np.float64)  # Blender (x, y, z) -> POV-Ray (x, z, y)
 GRAY = (0.8, 0.8, 0.8)  # Principled BSDF's default base colour (linear)
-MEDIA_SAMPLES = 16  # per interval of POV-Ray's adaptive media sampling (method 3); fewer render lit media too bright
 
 
 def swap_yz(v):
@@ -214,15 +214,16 @@ def linked(socket):
     return socket.links[0].from_node if socket.is_linked else None
 
 
-def volume_settings(obj):
+def volume_settings(obj, volume):
     """What the object's Principled Volume makes of its grids, as Cycles reads it: (density scale,
     linear Color, whether the "color" grid multiplies it, emission). Emission is (constant
     linear RGB, per-density factor, colour or None for the "color" grid): the factor is set where
     Emission Strength is the "density" attribute times a number (the add-on's colour volumes),
     else the constant is emitted wherever the grid has voxels."""
     shader = principled(obj, 'PRINCIPLED_VOLUME')
-    if shader is None:
-        return obj.ifsforge.settings.volume_strength, np.full(3, 0.5), False, (np.zeros(3), 0.0, None)
+    if shader is None:  # no add-on material: the density it would have given, per world unit
+        return (obj.ifsforge.settings.volume_strength * media.per_world_unit(volume), np.full(3, 0.5), False,
+                (np.zeros(3), 0.0, None))
     inputs = shader.inputs
     source = linked(inputs["Emission Color"])
     emission_color = (None if source is not None and source.type == 'ATTRIBUTE' and source.attribute_name == "color"
@@ -248,16 +249,16 @@ def df3_density(name, interpolate=1, color_map=None):
 
 
 def grid_matrix(obj, volume):
-    """Blender's voxel index -> object space of the evaluated volume (its modifiers, e.g. the
-    add-on's origin offset, applied), else the grid's own placement; voxel i spans [i, i + 1]
-    of index space."""
+    """Blender's voxel index -> object space of the evaluated volume (the file's transform, which
+    centres the grid's box on the object's origin, and any modifiers), else the grid's own
+    placement moved by that centre; voxel i spans [i, i + 1] of index space."""
     import bpy
     evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
     grid = evaluated.grids.get("density") if evaluated.grids.is_loaded else None
     if grid is not None:
         return np.array(grid.matrix_object, np.float64)
     m = np.diag([volume.voxel_size] * 3 + [1.0])
-    m[:3, 3] = np.asarray(volume.origin, np.float64)
+    m[:3, 3] = np.asarray(volume.origin, np.float64) - np.asarray(obj.ifsforge.origin, np.float64)
     return m
 
 
@@ -277,7 +278,7 @@ def volume_media(obj, path, world):
     volume = render_volume(state.system_of(obj.ifsforge.system), generators.get('VOLUME').resolve(dict(values)), None)
     stem = f"{os.path.splitext(path)[0]}_{ifsforge.pov_name(obj.name)}"
     ifsforge.write_df3(f"{stem}.df3", volume, bits=16, border=True)
-    strength, base, by_grid, (constant, per_density, emission_color) = volume_settings(obj)
+    strength, base, by_grid, (constant, per_density, emission_color) = volume_settings(obj, volume)
     top = float(np.max(volume.density)) if len(volume) else 0.0  # the .df3 holds density / top
     sigma = strength * top
     density = f"density {{ {df3_density(os.path.basename(stem) + '.df3')} }}"
@@ -285,9 +286,10 @@ def volume_media(obj, path, world):
     glows = per_density > 0 and emission_color is None and volume.color is not None
     if by_grid or glows:
         maps = []
-        for channel, axis in (("red", "<3, 0, 0>"), ("green", "<0, 3, 0>"), ("blue", "<0, 0, 3>")):
-            ifsforge.write_df3(f"{stem}_{channel}.df3", volume, bits=16, content=channel, border=True)
-            maps.append((os.path.basename(f"{stem}_{channel}.df3"), axis))
+        for channel, axis in zip(media.CHANNELS, ("<3, 0, 0>", "<0, 3, 0>", "<0, 0, 3>")):
+            name = media.channel_path(f"{stem}.df3", channel)
+            ifsforge.write_df3(name, volume, bits=16, content=channel, border=True)
+            maps.append((os.path.basename(name), axis))
 
     def tint(reverse=False):
         """The colour grid c (or 1 - c) as an RGB density: three channels averaged, each x 3."""
@@ -297,35 +299,35 @@ def volume_media(obj, path, world):
         return "density { average density_map {\n" + entries + "    } }"
 
     def medium(comment, body, *densities):
-        return (f"    media {{ // {comment}\n      method 3 intervals 1 samples {MEDIA_SAMPLES}\n      {body}\n"
+        return (f"    media {{ // {comment}\n      method 3 intervals 1 samples {media.MEDIA_SAMPLES}\n      {body}\n"
                 + "".join(f"      {d}\n" for d in densities) + "    }\n")
 
     # Cycles: scattering Color x c x density, absorption (1 - Color x c) x density.
     glow_here = glows and by_grid  # the colour's emission rides on the scattering medium's c
-    media = [medium("scattering: the lights, and the world as emission",
+    interior = [medium("scattering: the lights, and the world as emission",
                     f"scattering {{ 1, rgb {vec(base * sigma / 4)} extinction 4 }}\n      emission rgb "
                     f"{vec(base * sigma * np.asarray(world) + (per_density * top if glow_here else 0.0))}",
                     density, *([tint()] if by_grid else []))]
     if (1.0 - base).max() > 0:
-        media.append(medium("absorption", f"absorption rgb {vec((1.0 - base) * sigma)}", density))
+        interior.append(medium("absorption", f"absorption rgb {vec((1.0 - base) * sigma)}", density))
     if by_grid:
-        media.append(medium("absorption of what the colour does not scatter",
+        interior.append(medium("absorption of what the colour does not scatter",
                             f"absorption rgb {vec(base * sigma)}", density, tint(reverse=True)))
     if glows and not by_grid:
-        media.append(medium("emission of the colour", f"emission rgb {vec(np.full(3, per_density * top))}",
+        interior.append(medium("emission of the colour", f"emission rgb {vec(np.full(3, per_density * top))}",
                             density, tint()))
     if per_density > 0 and emission_color is not None:
-        media.append(medium("emission", f"emission rgb {vec(emission_color * per_density * top)}", density))
+        interior.append(medium("emission", f"emission rgb {vec(emission_color * per_density * top)}", density))
     if constant.max() > 0:  # a constant emission, where the grid has voxels
         occupied = df3_density(os.path.basename(stem) + '.df3', 1, '[0 rgb 0] [0.00001 rgb 1] [1 rgb 1]')
-        media.append(medium("emission", f"emission rgb {vec(constant)}", f"density {{ {occupied} }}"))
+        interior.append(medium("emission", f"emission rgb {vec(constant)}", f"density {{ {occupied} }}"))
     unit = np.diag([*(np.array(volume.dims, np.float64) + 2), 1.0])
     unit[:3, 3] = -0.5  # file voxel j: grid voxel j - 1, whose centre is at index j - 1/2
     m = np.array(obj.matrix_world, np.float64) @ grid_matrix(obj, volume) @ unit
     p, t = SWAP @ m[:3, :3], swap_yz(m[:3, 3])  # file axes are the volume's own x, y, z
     values = ", ".join("%.7g" % v for v in [*p[:, 0], *p[:, 1], *p[:, 2], *t])
     return (f"box {{ 0, 1 // {ifsforge.pov_comment(obj.name)}\n  pigment {{ rgbt 1 }} hollow\n"
-            f"  interior {{\n{''.join(media)}  }}\n  matrix <{values}>\n}}\n")
+            f"  interior {{\n{''.join(interior)}  }}\n  matrix <{values}>\n}}\n")
 
 
 def instance_colors(owner):

@@ -8,6 +8,7 @@ from bpy.props import (BoolProperty, BoolVectorProperty, CollectionProperty, Enu
 from bpy.types import PropertyGroup
 
 import ifsforge
+from ifsforge import media
 
 from . import codec
 
@@ -150,7 +151,7 @@ class IFSFORGE_PG_settings(PropertyGroup):
         ('binary', "Binary", "1 in every occupied voxel"), ('hits', "Hits", "Points or leaves per voxel"),
         ('measure', "Measure", "The voxel's share of the invariant measure")))
     volume_strength: FloatProperty(
-        name="Material density", min=0.0, default=2.0,
+        name="Material density", min=0.0, default=media.DENSITY,
         description="The volume's average density over its box, per world unit: the same look at any "
                     "resolution and density mode (Regenerate applies it to the material)")
     mesh_iso: FloatProperty(name="Iso value", min=0.0, max=1.0, default=ISO.iso,

@@ -47,6 +47,8 @@ void bind_io_vdb(py::module_& m) {
       .def_readwrite("half", &VdbWriteOptions::half, "16-bit halves for the [0, 1] grids")
       .def_readwrite("compress", &VdbWriteOptions::compress, "Blosc-compress the leaf buffers")
       .def_readwrite("threads", &VdbWriteOptions::threads, "threads that write (0: every core); the file never depends on it")
+      .def_readwrite("translation", &VdbWriteOptions::translation,
+                     "(x, y, z) added to the grids' transform: the file's coordinates are the system's plus it")
       .def_property("progress", [](const VdbWriteOptions&) { return py::none(); },
                     [](VdbWriteOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
                     "progress(fraction) returning False cancels (write-only)");
@@ -62,7 +64,8 @@ void bind_io_vdb(py::module_& m) {
         "layout has color, FloatGrids 'gray', 'alpha', ...; the transform puts the voxels where the system "
         "puts them; metadata describes the volume and, when given, the system (its JSON). half: store the "
         "[0, 1] grids (and a binary density) as 16-bit halves (relative error <= 2^-11); compress: Blosc "
-        "(about a third smaller, slower to write).");
+        "(about a third smaller, slower to write); translation (x, y, z): added to the transform (minus the box's "
+        "centre centres the grid on the file's origin).");
 
   m.def("render_volume_to_vdb",
         [](const std::string& path, const Ifs& ifs, const std::string& algorithm, const py::object& distribute,

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import bpy
 import numpy as np
+from mathutils import Vector
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from addon_harness import Checks, arguments, close, enable_addon, expect_report, render_alpha  # noqa: E402
@@ -69,8 +70,27 @@ def volume():
     # Blender's idea of the volume: its evaluated bounding box is the grid's, the unit cube, centred
     # on the object's origin (the pivot artists expect), which is the system's point (1/2, 1/2, 1/2).
     box = np.array(obj.evaluated_get(context.evaluated_depsgraph_get()).bound_box)
-    close([box[:, 2].min(), box[:, 2].max()], [-0.5, 0.5], 0.05)
+    close(box.min(axis=0), [-0.5] * 3, 0.05)
+    close(box.max(axis=0), [0.5] * 3, 0.05)
+    close(box.min(axis=0) + box.max(axis=0), [0.0] * 3, 1e-6)  # the box's centre is the origin
     close(obj.ifsforge.origin, [0.5, 0.5, 0.5], 0.05)
+    # The file's transform centres the grid (no modifier moves Blender's shared grid): the box
+    # stays put however often the scene is evaluated, across frame changes, and in world space
+    # it sits around the object's location.
+    assert not obj.modifiers, [m.name for m in obj.modifiers]
+    obj.location = (2.0, -1.0, 0.5)
+    boxes = []
+    for frame in (1, 2, 3, 1, 5):
+        scene.frame_set(frame)
+        depsgraph = context.evaluated_depsgraph_get()
+        depsgraph.update()
+        evaluated = obj.evaluated_get(depsgraph)
+        boxes.append([tuple(evaluated.matrix_world @ Vector(c)) for c in evaluated.bound_box])
+    checks.values["volume_world_boxes"] = [np.array(b).min(axis=0).tolist() for b in boxes]
+    for b in boxes:
+        close(b, boxes[0], 0.0)
+    close(np.array(boxes[0]).mean(axis=0), obj.location, 1e-6)
+    obj.location = (0.0, 0.0, 0.0)
     # Regenerate after a change of the stored system: without the copy at (0, 0, 1/2) the
     # tetrahedron is the Sierpinski triangle in the plane z = 0: fewer voxels, a new file, and
     # Blender shows it (its box is then a few voxels thick, whatever margin the grid keeps).

@@ -63,10 +63,6 @@ def build():
         "isosurface": generate("mesh", "volume_sierpinski_pyramid_rgb.json", volume_resolution=32),
         "volume": generate("volume", "volume_sierpinski_pyramid_rgb.json", volume_resolution=32),
     }
-    # The add-on's origin offset (a Transform node) moves Blender 3.4's shared grid again at every
-    # evaluation: this scene keeps the grid where the system puts it.
-    for modifier in list(objects["volume"].modifiers):
-        objects["volume"].modifiers.remove(modifier)
     for name, obj in objects.items():
         place(obj, *PLACES[name])
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", 'SUN'))

@@ -26,6 +26,7 @@ std::vector<detail::StreamGrid> stream_grids(const Volume& header, const VdbWrit
   auto make = [&](openvdb::GridBase::Ptr grid, const std::string& name, bool half) {
     grid->setName(name);
     grid->setTransform(detail::transform_of(header.grid));
+    grid->transform().postTranslate(openvdb::Vec3d(options.translation[0], options.translation[1], options.translation[2]));
     grid->setSaveFloatAsHalf(half);
     return grid;
   };
@@ -76,6 +77,9 @@ openvdb::MetaMap file_metadata(const Volume& volume, const VdbWriteOptions& opti
       volume.grid.origin[0], volume.grid.origin[1], volume.grid.origin[2])));
   meta.insertMeta("ifsforge_dims", openvdb::Vec3IMetadata(openvdb::Vec3i(
       volume.grid.dims[0], volume.grid.dims[1], volume.grid.dims[2])));
+  const auto& t = options.translation;
+  if (t[0] != 0.0 || t[1] != 0.0 || t[2] != 0.0)
+    meta.insertMeta("ifsforge_translation", openvdb::Vec3DMetadata(openvdb::Vec3d(t[0], t[1], t[2])));
   std::string ranges;
   for (int c = 0; c < volume.channel_count(); ++c)
     ranges += (c ? " " : "") + volume.channel_names[c] + "=[" + text(volume.channel_lo[c]) + "," +

@@ -32,13 +32,18 @@ struct VdbWriteOptions {
   ProgressCallback progress;
   /// Threads that write (0: every core); the file never depends on it.
   int threads = 0;
+  /// Added to every position of the grids' transform: the file's coordinates are the system's
+  /// plus this (minus the grid box's centre puts the box around the file's origin, where a
+  /// Blender object's pivot sits). Recorded as ifsforge_translation when not zero.
+  std::array<double, 3> translation{0.0, 0.0, 0.0};
 };
 
 /// @brief Writes `volume` as a .vdb: FloatGrid "density" (a fog volume), Vec3fGrid "color"
 /// (linear RGB: srgb_to_linear of the display colour) when the layout has colour, FloatGrids
 /// for the other channels ("gray", "alpha", ...; see volume_attributes). Every grid has the
 /// same active voxels and a transform that puts voxel (i, j, k)'s centre at
-/// origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size in the system's coordinates. File metadata describes the volume (algorithm, depth, points,
+/// origin + (i + 1/2, j + 1/2, k + 1/2) * voxel_size + options.translation in the system's
+/// coordinates. File metadata describes the volume (algorithm, depth, points,
 /// density, grid origin, voxel size and dimensions, channel ranges), the source system when
 /// given, and options.metadata. The grids' leaves are built in parallel (the file does not
 /// depend on the thread count). Atomic; FileError when it cannot write.

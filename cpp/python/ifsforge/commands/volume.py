@@ -5,6 +5,7 @@ import time
 import ifsforge
 from ifsforge import cli_common as common
 from ifsforge import distributed
+from ifsforge import media
 from ifsforge.progress import ProgressBar
 
 MESH_EXTENSIONS = (".ply", ".obj", ".glb")
@@ -22,8 +23,14 @@ def register(subparsers):
     common.add_system_argument(p)
     p.add_argument("-o", "--output", help="the .vdb file to write")
     p.add_argument("--mesh", help="also write the iso-surface as .ply, .obj or .glb")
-    p.add_argument("--df3", help="also write the density as a POV-Ray density file (.df3, for media)")
+    p.add_argument("--df3", help="also write the density as a POV-Ray density file (.df3, for media); a colour "
+                   "volume also gets its linear red, green and blue beside it (V_red.df3, V_green.df3, V_blue.df3)")
     p.add_argument("--df3-bits", type=int, default=8, choices=[8, 16, 32], help="bits per .df3 voxel (default 8)")
+    p.add_argument("--pov", metavar="SCENE.pov", help="a POV-Ray scene of the --df3 files as media (coloured "
+                   "emission where the volume has colour), seen from its box's diagonal")
+    p.add_argument("--pov-density", type=common.float_option(0, 1e6), default=media.DENSITY,
+                   help="the media's average density over the box, per world unit (default %(default)s)")
+    p.add_argument("--pov-size", default="320x240", help="WxH the --pov camera is framed for (default %(default)s)")
     p.add_argument("--res", type=common.count_option(16384), default=o.resolution,
                    help="voxels along the longest side of the grid (default %(default)s)")
     p.add_argument("--bounds", type=common.NUMBER, nargs=6, metavar=("XMIN", "YMIN", "ZMIN", "XMAX", "YMAX", "ZMAX"),
@@ -66,6 +73,13 @@ def run(args):
         if not args.df3.lower().endswith(".df3"):
             raise ifsforge.InputError(f"--df3 expects a .df3 file, got '{args.df3}'")
         common.ensure_output_folder(args.df3)
+    if args.pov:
+        if not args.df3:
+            raise ifsforge.InputError("--pov renders the --df3 files: give --df3 V.df3 too")
+        if not args.pov.lower().endswith(".pov"):
+            raise ifsforge.InputError(f"--pov expects a .pov file, got '{args.pov}'")
+        common.ensure_output_folder(args.pov)
+        width, height = common.parse_size(args.pov_size, "--pov-size")
     if args.output:
         if not args.output.lower().endswith(".vdb"):
             raise ifsforge.InputError(f"-o expects a .vdb file, got '{args.output}'")
@@ -82,7 +96,8 @@ def run(args):
     if args.output:
         # Only what shapes the volume: no thread count (the bytes never depend on it), no path.
         shown = {k: v for k, v in sorted(vars(args).items())
-                 if k not in ("run", "command", "threads", "output", "mesh", "df3", *distributed.CLUSTER_OPTIONS)}
+                 if k not in ("run", "command", "threads", "output", "mesh", "df3", "pov", "pov_density", "pov_size",
+                              *distributed.CLUSTER_OPTIONS)}
         vdb = dict(metadata={"ifsforge_resolution": str(args.res),
                              "ifsforge_command": "ifsforge volume " + " ".join(f"{k}={v}" for k, v in shown.items())},
                    color_scale=args.color_scale, half=not args.full_precision, compress=args.compress)
@@ -104,7 +119,8 @@ def run(args):
     if args.mesh:
         mesh = ifsforge.volume_to_mesh(volume, iso=args.iso, adaptivity=args.adaptivity, color_scale=args.color_scale,
                                        progress=ProgressBar(f"mesh {system.name}"))
-    with common.all_or_none([path for path in (args.output, args.mesh, args.df3) if path]) as staged:
+    df3_files = media.df3_paths(args.df3, volume) if args.df3 else []
+    with common.all_or_none([path for path in (args.output, args.mesh, *df3_files, args.pov) if path]) as staged:
         if args.output:
             start = time.perf_counter()
             ifsforge.write_vdb(staged[args.output], volume, system=system, threads=args.threads, **vdb)
@@ -114,5 +130,13 @@ def run(args):
                                 colors=mesh["colors"], name=system.name, up=args.up)
             print(f"{args.mesh}: {len(mesh['positions']):,} vertices, {len(mesh['triangles']):,} triangles")
         if args.df3:
-            ifsforge.write_df3(staged[args.df3], volume, bits=args.df3_bits)
-            print(f"{args.df3}: {os.path.getsize(staged[args.df3]):,} bytes")
+            media.write_df3_files(args.df3, volume, bits=args.df3_bits, targets=staged)
+            for path in df3_files:
+                print(f"{path}: {os.path.getsize(staged[path]):,} bytes")
+        if args.pov:
+            folder = os.path.dirname(os.path.abspath(args.pov))
+            names = [os.path.relpath(os.path.abspath(path), folder) for path in df3_files]
+            density = args.pov_density * media.per_world_unit(volume)
+            text = media.scene(volume, names, density, width, height, title=system.name)
+            ifsforge.write_bytes(staged[args.pov], text.encode("utf-8"))
+            print(f"{args.pov}: media reading {', '.join(names)}")
