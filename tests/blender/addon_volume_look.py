@@ -70,6 +70,27 @@ def same_at_every_resolution():
     assert (high - low) / high <= 0.05, looks
 
 
+def thin_fractal_at_every_resolution():
+    """The tetrahedron (dimension 2: its mass lies on ever thinner sheets) at 128, 256 and 512:
+    the same mass at every resolution, yet finer sheets put it on fewer lines of sight, where the
+    opacity saturates, so it fades somewhat per doubling (the renders' mean alpha and brightness
+    are recorded; the bound is what the mass rule gives, wider than the pyramid's 5%)."""
+    looks, brightness, box = {}, {}, None
+    for resolution in (128, 256, 512):
+        obj = generate("volume", "sierpinski_tetrahedron.json", volume_resolution=resolution,
+                       volume_density='binary', volume_strength=DEFAULT_STRENGTH)
+        if box is None:
+            corners = np.array(obj.evaluated_get(context.evaluated_depsgraph_get()).bound_box)
+            box = (corners.min(axis=0), corners.max(axis=0))
+        looks[resolution], rgba = look(obj, f"tetrahedron_{resolution}", box=box)
+        brightness[resolution] = float(rgba[..., :3].mean())
+        obj.hide_render = True
+    checks.values["tetrahedron_opacity_by_resolution"] = looks
+    checks.values["tetrahedron_brightness_by_resolution"] = brightness
+    low, high = min(looks.values()), max(looks.values())
+    assert low > 0.05 and (high - low) / high <= 0.12, looks
+
+
 def every_density_mode_visible():
     opacity = {}
     for mode in ('binary', 'hits', 'measure'):
@@ -113,6 +134,7 @@ def colour_keeps_saturation():
 
 
 checks.run("same_at_every_resolution", same_at_every_resolution)
+checks.run("thin_fractal_at_every_resolution", thin_fractal_at_every_resolution)
 checks.run("every_density_mode_visible", every_density_mode_visible)
 checks.run("regenerate_applies_material_density", regenerate_applies_material_density)
 checks.run("colour_keeps_saturation", colour_keeps_saturation)

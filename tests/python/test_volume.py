@@ -82,6 +82,31 @@ def test_vdb_read_back_by_pyopenvdb(tmp_path, samples, half, compress, tolerance
     assert meta["ifsforge_algorithm"] == "prr" and meta["ifsforge_layout"] == "xyz+rgb"
 
 
+def test_vdb_translation_moves_every_grid(tmp_path, samples):
+    """translation is added to the transform of every grid (what centres a Blender volume on its
+    origin), is recorded in the metadata, and leaves the voxels and their values alone."""
+    system = ifsforge.load(str(samples / "volume_sierpinski_pyramid_rgb.json"))
+    volume = ifsforge.render_volume(system, "prr", 16)
+    lo, hi = np.asarray(volume.bounds[:3]), np.asarray(volume.bounds[3:])
+    shift = -(lo + hi) / 2
+    plain, moved = tmp_path / "plain.vdb", tmp_path / "moved.vdb"
+    ifsforge.write_vdb(str(plain), volume, system=system)
+    ifsforge.write_vdb(str(moved), volume, system=system, translation=list(shift))
+    for name in ("density", "color"):
+        a, b = pyopenvdb.read(str(plain), name), pyopenvdb.read(str(moved), name)
+        assert a.activeVoxelCount() == b.activeVoxelCount() == len(volume)
+        for index in (0, len(volume) - 1):
+            ijk = tuple(int(c) for c in volume.coords[index])
+            assert np.allclose(b.transform.indexToWorld(ijk), np.asarray(volume.positions[index]) + shift, atol=1e-12)
+            assert a.getConstAccessor().getValue(ijk) == b.getConstAccessor().getValue(ijk)
+    meta = pyopenvdb.readAll(str(moved))[1]
+    assert np.allclose(meta["ifsforge_translation"], shift) and "ifsforge_translation" not in pyopenvdb.readAll(str(plain))[1]
+    # The grid's box is centred on the file's origin: its first and last voxel centres are opposite.
+    first, last = (np.asarray(pyopenvdb.read(str(moved), "density").transform.indexToWorld(ijk))
+                   for ijk in ((0, 0, 0), tuple(int(d) - 1 for d in volume.dims)))
+    assert np.allclose(first, -last, atol=1e-12)
+
+
 @pytest.mark.parametrize("name, grids", [("volume_tetrahedron_alpha", {"density", "alpha"}),
                                          ("volume_menger_gray", {"density", "color", "gray"}),
                                          ("volume_hsi_tower", {"density", "color"})])
