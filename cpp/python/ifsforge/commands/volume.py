@@ -23,11 +23,11 @@ def register(subparsers):
     common.add_system_argument(p)
     p.add_argument("-o", "--output", help="the .vdb file to write")
     p.add_argument("--mesh", help="also write the iso-surface as .ply, .obj or .glb")
-    p.add_argument("--df3", help="also write the density as a POV-Ray density file (.df3, for media); a colour "
+    p.add_argument("--df3", help="also write the density as a POV-Ray density file (.df3, for media); a color "
                    "volume also gets its linear red, green and blue beside it (V_red.df3, V_green.df3, V_blue.df3)")
     p.add_argument("--df3-bits", type=int, default=8, choices=[8, 16, 32], help="bits per .df3 voxel (default 8)")
-    p.add_argument("--pov", metavar="SCENE.pov", help="a POV-Ray scene of the --df3 files as media (coloured "
-                   "emission where the volume has colour), seen from its box's diagonal")
+    p.add_argument("--pov", metavar="SCENE.pov", help="a POV-Ray scene of the --df3 files as media (colored "
+                   "emission where the volume has color), seen from its box's diagonal")
     p.add_argument("--pov-density", type=common.float_option(0, 1e6), default=media.DENSITY,
                    help="the media's average density over the box, per world unit (default %(default)s)")
     p.add_argument("--pov-size", default="320x240", help="WxH the --pov camera is framed for (default %(default)s)")
