@@ -82,6 +82,8 @@ def volume():
     boxes = []
     for frame in (1, 2, 3, 1, 5):
         scene.frame_set(frame)
+        obj.update_tag()  # evaluated again, its modifiers included (a grid moved by one drifts)
+        obj.data.update_tag()
         depsgraph = context.evaluated_depsgraph_get()
         depsgraph.update()
         evaluated = obj.evaluated_get(depsgraph)
