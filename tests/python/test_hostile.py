@@ -138,7 +138,7 @@ def test_ply_declaring_four_billion_vertices(tmp_path):
     # OpenMesh's OBJ reader aborts the process on a corner without a vertex index (CI's fuzzer).
     ("slash.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf /1 2 3\n", r"slash\.obj':4: face corner '/1' is not"),
     ("zero.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", r"zero\.obj':4: face corner '0'"),
-    ("ahead.obj", b"v 0 0 0\nf 1 2 3\nv 1 0 0\nv 0 1 0\n", r"ahead\.obj':2: face corner '2'.* the 1 vertices"),
+    ("ahead.obj", b"v 0 0 0\nf 1 2 3\nv 1 0 0\nv 0 1 0\n", r"ahead\.obj':2: face 0 refers to vertex 2 but the file has 1 vertices before it"),
     ("texture.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n", r"texture\.obj':5: face corner '2/2'"),
     ("edge.obj", b"v 0 0 0\nv 1 0 0\nf 1 2\n", r"edge\.obj':3: a face needs three corners"),
 ])
