@@ -140,9 +140,11 @@ def test_python_instances_refuse_the_same_tree(monkeypatch):
     monkeypatch.setenv("IFSFORGE_MEMORY_BUDGET_MB", str(BUDGET_MB))
     fern = ifsforge.load(str(FERN))
     with pytest.raises(ifsforge.MemoryBudgetError, match="min-probability"):
+        ifsforge.instances(fern, depth=60, min_probability=1e-9)
+    with pytest.raises(ifsforge.InputError, match="more than 10\\^12"):
         ifsforge.instances(fern, depth=60, min_probability=1e-12)
     with pytest.raises(ifsforge.InputError, match="more than 10\\^12"):
-        ifsforge.count_leaves(fern, 60, 1e-15)
+        ifsforge.count_leaves(fern, 60, 1e-13)
     # A tree the budget holds is built, with exactly the leaves counted.
     small = ifsforge.instances(fern, depth=60, min_probability=1e-4)
     assert len(small) == ifsforge.count_leaves(fern, 60, 1e-4)

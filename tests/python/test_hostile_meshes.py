@@ -42,11 +42,11 @@ def test_a_file_of_vertices_only_says_so(tmp_path, capfd):
 
 
 def test_openmesh_lines_are_captured_not_printed(tmp_path, capfd):
-    # The same triangle twice: OpenMesh refuses the second (a complex edge) and says so on its
-    # error stream; the mesh is read, and nothing reaches stderr.
-    (tmp_path / "twice.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 3\n")
-    mesh = ifsforge.read_mesh(str(tmp_path / "twice.obj"))
-    assert len(mesh["triangles"]) == 1
+    # Three triangles on one edge: OpenMesh prints "PolyMeshT::add_face: complex edge" on its
+    # error stream and duplicates the vertices; the mesh is read, and nothing reaches stderr.
+    (tmp_path / "fin.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 1 2 4\nf 1 2 3\n")
+    mesh = ifsforge.read_mesh(str(tmp_path / "fin.obj"))
+    assert len(mesh["triangles"]) == 3
     assert capfd.readouterr().err == ""
 
 

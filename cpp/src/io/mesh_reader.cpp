@@ -291,6 +291,18 @@ void check_declared_counts(const std::string& path) {
   } else if (named(".obj", ".OBJ")) {
     in.seekg(0);
     check_obj_faces(in, path);
+  } else if (named(".stl", ".STL") && line.compare(0, 5, "solid") == 0) {
+    // ASCII STL: OpenMesh's parser takes "nan" for a number it cannot read. Its vertices are
+    // the facets' corners, counted in the file's order.
+    double corner = 0;
+    while (std::getline(in, line)) {
+      std::istringstream words(line);
+      std::string key, word;
+      if (!(words >> key) || key != "vertex") continue;
+      for (int c = 0; c < 3; ++c)
+        if (!(words >> word) || !std::isfinite(number_of(word))) non_finite_vertex(path, corner);
+      ++corner;
+    }
   }
   if (elements > bytes)
     throw InputError("mesh '" + path + "': the header declares " + std::to_string(static_cast<long long>(elements)) +
