@@ -32,16 +32,12 @@ struct ProbabilityStop {
 /// other in the address tree), and plans the jobs.
 TreeShape plan_tree(const Ifs& ifs, int depth, double min_probability);
 
-/// Lower and upper bounds on the leaves of a tree, found without walking it.
-struct LeafBounds {
-  double lower = 0.0, upper = 0.0;
-};
-
-/// @brief Bounds on the leaves of `shape` (exact without pruning). With pruning, a node whose
-/// probability is at least pv has all N children, so the leaves are (N - 1) I + 1 for the I such
-/// nodes above the depth; I is counted by -log probability on a grid of steps, each map's step
-/// rounded down (upper bound) or up (lower bound), in depth x steps x distinct-steps work.
-LeafBounds leaf_bounds(const Ifs& ifs, const TreeShape& shape);
+/// @brief A lower bound on the leaves of `shape`, found without walking it (exact without
+/// pruning). With pruning, a node whose probability is at least pv has all N children, so the
+/// leaves are (N - 1) I + 1 for the I such nodes above the depth; I is counted by -log
+/// probability on a grid of steps, each map's step rounded up, in depth x steps x
+/// distinct-steps work.
+double leaves_at_least(const Ifs& ifs, const TreeShape& shape);
 
 /// What each leaf will cost, for the refusals of job_offsets().
 struct LeafCost {
@@ -51,7 +47,7 @@ struct LeafCost {
 
 /// @brief Leaves of each job (counted in parallel when pruning makes them unknown) as exclusive
 /// prefix sums: job j writes leaves [offsets[j], offsets[j + 1]). Refuses before walking when
-/// leaf_bounds() proves more than 10^12 leaves or more than the memory budget at `cost`, and
+/// leaves_at_least() proves more than 10^12 leaves or more than the memory budget at `cost`, and
 /// stops counting as soon as the leaves met exceed either (MemoryBudgetError or InputError naming
 /// the depth and pv).
 std::vector<std::uint64_t> job_offsets(const Ifs& ifs, const TreeShape& shape, int threads, const LeafCost& cost);

@@ -38,46 +38,38 @@ TreeShape plan_tree(const Ifs& ifs, int depth, double min_probability) {
   return shape;
 }
 
-LeafBounds leaf_bounds(const Ifs& ifs, const TreeShape& shape) {
+double leaves_at_least(const Ifs& ifs, const TreeShape& shape) {
   const double n = static_cast<double>(ifs.size());
-  if (!(shape.min_probability > 0.0) || ifs.size() < 2) {
-    const double leaves = std::pow(n, shape.depth);
-    return {leaves, leaves};
-  }
+  if (!(shape.min_probability > 0.0) || ifs.size() < 2) return std::pow(n, shape.depth);
   constexpr int kSteps = 2048;  // steps of -log p up to -log pv
   const double step = -std::log(shape.min_probability) / kSteps;
-  // Maps per rounded step; maps of probability 0 (or below pv) are never internal.
-  std::vector<double> down(kSteps + 1, 0.0), up(kSteps + 1, 0.0);
+  // Maps per step, rounded up (each node's probability under-estimated: a lower bound); maps
+  // of probability 0 (or below pv) are never internal.
+  std::vector<double> maps(kSteps + 1, 0.0);
   for (double p : ifs.probabilities()) {
-    if (!(p >= shape.min_probability)) continue;
-    const double s = -std::log(p) / step;
-    down[std::clamp(static_cast<int>(std::floor(s)), 0, kSteps)] += 1.0;
-    const int ceil = static_cast<int>(std::ceil(s));
-    if (ceil <= kSteps) up[ceil] += 1.0;
+    const double s = std::ceil(-std::log(p) / step);
+    if (p >= shape.min_probability && s <= kSteps) maps[static_cast<int>(s)] += 1.0;
   }
-  auto internal = [&](const std::vector<double>& maps) {
-    std::vector<int> used;
-    for (int k = 0; k <= kSteps; ++k)
-      if (maps[k] > 0.0) used.push_back(k);
-    std::vector<double> level(kSteps + 1, 0.0), next(kSteps + 1);
-    level[0] = 1.0;  // the root
-    double total = 0.0;
-    for (int d = 0; d < shape.depth; ++d) {
-      std::fill(next.begin(), next.end(), 0.0);
-      double here = 0.0;
-      for (int b = 0; b <= kSteps; ++b) {
-        if (level[b] == 0.0) continue;
-        here += level[b];
-        for (int k : used)
-          if (b + k <= kSteps) next[b + k] += level[b] * maps[k];
-      }
-      total += here;
-      if (here == 0.0) break;
-      level.swap(next);
+  std::vector<int> used;
+  for (int k = 0; k <= kSteps; ++k)
+    if (maps[k] > 0.0) used.push_back(k);
+  std::vector<double> level(kSteps + 1, 0.0), next(kSteps + 1);
+  level[0] = 1.0;  // the root
+  double internal = 0.0;
+  for (int d = 0; d < shape.depth; ++d) {
+    std::fill(next.begin(), next.end(), 0.0);
+    double here = 0.0;
+    for (int b = 0; b <= kSteps; ++b) {
+      if (level[b] == 0.0) continue;
+      here += level[b];
+      for (int k : used)
+        if (b + k <= kSteps) next[b + k] += level[b] * maps[k];
     }
-    return total;
-  };
-  return {(n - 1.0) * internal(up) + 1.0, (n - 1.0) * internal(down) + 1.0};
+    internal += here;
+    if (here == 0.0) break;
+    level.swap(next);
+  }
+  return (n - 1.0) * internal + 1.0;
 }
 
 namespace {
@@ -104,8 +96,9 @@ std::vector<std::uint64_t> job_offsets(const Ifs& ifs, const TreeShape& shape, i
     check_leaves(static_cast<double>(offsets.back()), false, shape, cost);
     return offsets;
   }
-  check_leaves(leaf_bounds(ifs, shape).lower, true, shape, cost);
-  // The bounds may straddle the limit: the count stops as soon as the leaves met pass it.
+  check_leaves(leaves_at_least(ifs, shape), true, shape, cost);
+  // The bound may lie under the limit and the tree above it: the count stops as soon as the
+  // leaves met pass it.
   double limit = static_cast<double>(kMaxIterations);
   if (cost.bytes > 0.0) limit = std::min(limit, static_cast<double>(memory_budget()) / cost.bytes);
   std::atomic<std::uint64_t> met{0};
