@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import BUILD_PYTHON, SAMPLES, ifsforge_command, patience
+from conftest import BUILD_PYTHON, SAMPLES, ifsforge_command, patience, signal_after
 
 import ifsforge
 
@@ -228,16 +228,8 @@ def test_a_fixed_depth_of_more_than_a_trillion_leaves_is_refused(tmp_path, args)
 
 
 def interrupt_after(tmp_path, seconds, *args):
-    """Starts the CLI, sends SIGINT after `seconds`; returns (exit code, stderr, seconds to stop)."""
-    env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON))
-    process = subprocess.Popen([*ifsforge_command(), *map(str, args)], cwd=tmp_path, env=env,
-                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    time.sleep(seconds)
-    assert process.poll() is None, "finished before the interrupt: make the case larger"
-    sent = time.monotonic()
-    process.send_signal(signal.SIGINT)
-    err = process.communicate(timeout=120)[1].decode(errors="replace")
-    return process.returncode, err, time.monotonic() - sent
+    """SIGINT after `seconds`: (exit code, stderr, seconds to stop)."""
+    return signal_after(tmp_path, signal.SIGINT, seconds, *args)
 
 
 @pytest.mark.parametrize("args", [
