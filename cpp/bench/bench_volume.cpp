@@ -5,14 +5,19 @@
 //   build/cpp/bench/bench_volume                                  # everything
 //   build/cpp/bench/bench_volume --benchmark_filter=TableTwo      # Table 2 only
 //   build/cpp/bench/bench_volume --benchmark_filter='PrrToVdb/1024'   # peak memory of 1024^3 alone
+//   build/cpp/bench/bench_volume --benchmark_filter=AgainstDisk   # the .vdb writer against write + fsync
 //
 // Counters: voxels (occupied), depth, peak_rss_mb (the process's peak resident memory so far:
 // run a size alone to read its own peak).
 #include <benchmark/benchmark.h>
+#include <fcntl.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "ifsforge/io/ifs_json.h"
@@ -107,6 +112,55 @@ void BM_WriteVdb(benchmark::State& state) {
   std::remove(path.c_str());
 }
 BENCHMARK(BM_WriteVdb)->Arg(256)->Arg(512)->Unit(benchmark::kMillisecond);
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+long faults_so_far() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_minflt + usage.ru_majflt;
+}
+
+// The writer against the disk: write_vdb's MB/s (of output bytes) beside a plain write + fsync
+// of the same bytes to the same folder, and the writer's page faults per output MB.
+void BM_VdbWriterAgainstDisk(benchmark::State& state) {
+  VolumeOptions o;
+  o.resolution = static_cast<int>(state.range(0));
+  const Volume v = render_volume(pyramid(), "prr", o);
+  const std::string path = "/tmp/ifsforge_bench_disk_" + std::to_string(getpid()) + ".vdb";
+  const std::string plain = path + ".plain";
+  VdbWriteOptions w;
+  w.system = &pyramid();
+  double writer = 0.0, ceiling = 0.0, bytes = 0.0, faults = 0.0;
+  for (auto _ : state) {
+    const long before = faults_so_far();
+    auto start = std::chrono::steady_clock::now();
+    write_vdb(path, v, w);
+    writer += seconds_since(start);
+    faults += static_cast<double>(faults_so_far() - before);
+    std::ifstream in(path, std::ios::binary);
+    const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    bytes += static_cast<double>(content.size());
+    start = std::chrono::steady_clock::now();
+    const int fd = ::open(plain.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    for (std::size_t at = 0; fd >= 0 && at < content.size();) {
+      const ssize_t n = ::write(fd, content.data() + at, content.size() - at);
+      if (n <= 0) break;
+      at += static_cast<std::size_t>(n);
+    }
+    if (fd >= 0) ::fsync(fd), ::close(fd);
+    ceiling += seconds_since(start);
+  }
+  state.counters["writer_mb_s"] = bytes / 1e6 / writer;
+  state.counters["write_fsync_mb_s"] = bytes / 1e6 / ceiling;
+  state.counters["faults_per_mb"] = faults / (bytes / 1e6);
+  state.counters["mb"] = bytes / 1e6 / static_cast<double>(state.iterations());
+  std::remove(path.c_str());
+  std::remove(plain.c_str());
+}
+BENCHMARK(BM_VdbWriterAgainstDisk)->Arg(512)->Arg(1024)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 // Harder systems than the pyramid, at the gallery's resolutions: the 3D fern (thin, unequal
 // contractions: deep and lopsided address trees) and the 6D coral (average-contractive only).

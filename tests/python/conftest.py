@@ -35,6 +35,26 @@ def ifsforge_command():
     return [installed] if installed else ["/usr/bin/python3", "-P", str(ROOT / "cpp" / "python" / "ifsforge-launcher")]
 
 
+def signal_after(tmp_path, signum, seconds, *args, ready=None):
+    """Starts the installed CLI in tmp_path, waits until ready() is true (when given), then
+    `seconds`, and sends `signum`; returns (exit code, stderr, seconds from the signal to the exit)."""
+    import time
+    env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON))
+    process = subprocess.Popen([*ifsforge_command(), *map(str, args)], cwd=tmp_path, env=env,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 120
+    while ready is not None and not ready():
+        assert process.poll() is None, "finished before it was ready: " + process.stderr.read().decode()
+        assert time.monotonic() < deadline, "never ready"
+        time.sleep(0.01)
+    time.sleep(seconds)
+    assert process.poll() is None, "finished before the signal: make the case larger"
+    sent = time.monotonic()
+    process.send_signal(signum)
+    err = process.communicate(timeout=120)[1].decode(errors="replace")
+    return process.returncode, err, time.monotonic() - sent
+
+
 @pytest.fixture
 def cli(tmp_path):
     """Run the installed `ifsforge ARGS` on the build tree's module; returns the CompletedProcess."""

@@ -44,7 +44,7 @@ class Cluster:
         self.scheduler = start(["dask-scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
                                 "--scheduler-file", str(self.file)], tmp_path, f"{name}-scheduler")
         self.workers = []
-        deadline = time.time() + 30
+        deadline = time.time() + patience(30)
         while not self.file.exists() or not self.file.read_text().strip():
             assert time.time() < deadline and self.scheduler.poll() is None, "dask-scheduler did not start"
             time.sleep(0.1)
@@ -57,7 +57,7 @@ class Cluster:
         return worker
 
     def wait_for(self, client, count):
-        client.wait_for_workers(count, timeout=30)
+        client.wait_for_workers(count, timeout=patience(30))
 
     def close(self):
         for worker in self.workers:
@@ -167,7 +167,7 @@ def test_a_worker_killed_mid_render_changes_nothing(cluster):
         thread = threading.Thread(target=lambda: result.update(
             volume=distributed.render_volume(system, "ria", client=client, **options)))
         thread.start()
-        deadline = time.time() + 30
+        deadline = time.time() + patience(30)
         while not client.processing().get(address):
             assert time.time() < deadline, "the victim never got a task"
             time.sleep(0.01)
@@ -175,11 +175,47 @@ def test_a_worker_killed_mid_render_changes_nothing(cluster):
         os.kill(victim.pid, signal.SIGKILL)
         thread.join(60)
     assert killed["while_running"]
-    assert victim.wait(10) == -signal.SIGKILL
+    assert victim.wait(patience(10)) == -signal.SIGKILL
     remote = result["volume"]
     assert np.array_equal(local.coords, remote.coords)
     assert np.array_equal(local.density, remote.density)
     assert remote.points == local.points == 40 * 2**20
+
+
+def test_a_job_whose_every_worker_died_fails_in_bounded_time(tmp_path, monkeypatch):
+    # Dask waits for a worker to join forever: the watchdog gives up after
+    # IFSFORGE_CLUSTER_TIMEOUT seconds and names the scheduler.
+    monkeypatch.setenv("IFSFORGE_CLUSTER_TIMEOUT", "3")
+    lonely = Cluster(tmp_path, "lonely")
+    system = ifsforge.load(str(SAMPLES / "sierpinski_pyramid.json"))
+    try:
+        victim = lonely.add_worker()
+        with distributed_lib.Client(lonely.address, timeout=patience(30)) as client:
+            lonely.wait_for(client, 1)
+        with distributed.connect(scheduler=lonely.address) as client:
+            address = next(iter(client.scheduler_info()["workers"]))
+            outcome = {}
+
+            def job():
+                try:
+                    distributed.render_volume(system, "ria", client=client, resolution=64, density="hits",
+                                              iterations=2**34, seed=1)
+                except distributed.ClusterError as error:
+                    outcome["error"] = str(error)
+            thread = threading.Thread(target=job)
+            thread.start()
+            deadline = time.time() + patience(30)
+            while not client.processing().get(address):
+                assert time.time() < deadline and thread.is_alive(), "the worker never got a task"
+                time.sleep(0.01)
+            os.kill(victim.pid, signal.SIGKILL)
+            killed = time.time()
+            thread.join(patience(3 + 10))
+            assert not thread.is_alive(), "the job still waits for a worker"
+            assert time.time() - killed < patience(3 + 5)
+        assert "has had no worker" in outcome["error"] and lonely.address in outcome["error"], outcome
+    finally:
+        lonely.close()
 
 
 def test_an_unreachable_scheduler_fails_fast_and_cleanly(cli, tmp_path):

@@ -2,16 +2,18 @@
 inflating a row, decoders and frame loops estimate before working, and every command refuses
 under a small budget with its peak memory measured (the budget plus the interpreter's own)."""
 import struct
+import time
 import zlib
 
 import pytest
 
-from conftest import SAMPLES
+from conftest import SAMPLES, patience
 from test_hostile import BUDGET_MB, hostile
 
 import ifsforge
 
 SIERPINSKI = SAMPLES / "sierpinski_triangle.json"
+FERN = SAMPLES / "barnsley_fern.json"
 # What the interpreter, numpy and the module take before any work: peak RSS may exceed the
 # budget by this much.
 INTERPRETER_MB = 64
@@ -104,9 +106,45 @@ def test_morph_streams_its_frames(tmp_path):
     assert peak < BUDGET_MB + INTERPRETER_MB, f"peak {peak:.0f} MB"
 
 
+def test_warp_streams_its_frames(tmp_path):
+    # Issue 31: warp --frames kept every frame; each is now written and dropped.
+    target = tmp_path / "target.png"
+    target.write_bytes(png(64, 64, (b"\x00" + bytes(range(64))) * 64))
+    code, err, peak = hostile(tmp_path, "warp", target, "--from", SIERPINSKI, "--to", SIERPINSKI, "-o", "frames",
+                              "--frames", "400", "--size", "256")
+    assert code == 0, err
+    assert len(list((tmp_path / "frames").iterdir())) == 400
+    assert peak < BUDGET_MB + INTERPRETER_MB, f"peak {peak:.0f} MB"
+
+
 def test_restarts_must_be_at_least_one_in_python_too():
     import numpy as np
     with pytest.raises(ifsforge.InputError, match="restarts"):
         ifsforge.fit(np.ones((32, 32), bool), maps=2, restarts=0)
     with pytest.raises(ifsforge.InputError, match="restarts"):
         ifsforge.fit_3d(np.ones((8, 8, 8), bool), (0.0, 0.0, 0.0), 1.0, maps=2, restarts=0)
+
+
+def test_a_pruned_instance_tree_is_estimated_before_it_is_walked(tmp_path):
+    # Depth 60 pruned at 10^-12: tens of billions of the fern's leaves. Their count is bounded
+    # from the map probabilities alone, and the walk is never started.
+    start = time.monotonic()
+    err = refused_within_budget(tmp_path, "instances", FERN, "--depth", "60", "--min-probability", "1e-12",
+                                "--pov", "t.pov", names=("--depth", "--min-probability", "instances"))
+    assert time.monotonic() - start < patience(5.0)
+    assert not any(tmp_path.iterdir())
+    assert "at least" in err
+
+
+def test_python_instances_refuse_the_same_tree(monkeypatch):
+    monkeypatch.setenv("IFSFORGE_MEMORY_BUDGET_MB", str(BUDGET_MB))
+    fern = ifsforge.load(str(FERN))
+    with pytest.raises(ifsforge.MemoryBudgetError, match="min-probability"):
+        ifsforge.instances(fern, depth=60, min_probability=1e-9)
+    with pytest.raises(ifsforge.InputError, match="more than 10\\^12"):
+        ifsforge.instances(fern, depth=60, min_probability=1e-12)
+    with pytest.raises(ifsforge.InputError, match="more than 10\\^12"):
+        ifsforge.count_leaves(fern, 60, 1e-13)
+    # A tree the budget holds is built, with exactly the leaves counted.
+    small = ifsforge.instances(fern, depth=60, min_probability=1e-4)
+    assert len(small) == ifsforge.count_leaves(fern, 60, 1e-4)

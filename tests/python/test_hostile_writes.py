@@ -55,10 +55,48 @@ def test_instances_commit_none_when_one_output_fails(cli, tmp_path, full_disk):
     assert not [p for p in os.listdir(tmp_path) if p.startswith(".ifsforge")]
 
 
+def test_terrain_commits_none_of_its_outputs_on_a_full_disk(cli, tmp_path, full_disk):
+    # Issue 31: the PNG fitted and was kept although the mesh did not.
+    result = cli("terrain", "-o", tmp_path / "t.png", "-o", full_disk / "t.obj", "-o", tmp_path / "t.pov")
+    assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
+    assert not list(tmp_path.glob("t.*")) and os.listdir(full_disk) == []
+
+
+def test_growth_on_a_full_disk_leaves_no_frame(cli, full_disk):
+    # Issue 31: 19 frames were left behind; the frames are staged and committed together.
+    result = cli("growth", SAMPLES / "condensation_tree.json", "-o", full_disk / "frames", "--size", "256")
+    assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
+    assert os.listdir(full_disk) == []
+
+
 def test_same_volume_same_bytes(cli, tmp_path):
     for name, threads in (("a.vdb", 1), ("b.vdb", 2)):
         cli("volume", SYSTEM, "--res", "48", "--threads", threads, "-o", tmp_path / name, check=True)
     assert (tmp_path / "a.vdb").read_bytes() == (tmp_path / "b.vdb").read_bytes()
+
+
+# The .vdb bytes of three sample volumes, each way it can be written (half or full floats, with
+# or without Blosc), as the writer made them before its copies between stages were removed.
+VDB_DIGESTS = {
+    ("volume_sierpinski_pyramid_rgb", 96, False, True): "5f090cf92287dad34779158adf0cea6ce6aff293443ec9bff0c7c472ce972cfc",
+    ("volume_sierpinski_pyramid_rgb", 96, False, False): "e993cee70f53e6558bc2954e79fd491220f25820d3e40693c206581ebad1c834",
+    ("volume_sierpinski_pyramid_rgb", 96, True, True): "1f1d6484924d6abaf9294b0a4cd6c25235d33575a1778eb0151c17c426969975",
+    ("volume_sierpinski_pyramid_rgb", 96, True, False): "e6cbe35c4d5483e38beddb86a7e6045ce281da3ffa6450025bc65a8938b6759f",
+    ("menger_sponge", 81, False, True): "93f5326f6381554e6638f74d516c3765eff30e9e172c156663b6a32ef657e637",
+    ("menger_sponge", 81, True, False): "619c2f030c28fb15b71deedb924dfba463bf436b4453019ad05a33e7463b5b8c",
+    ("volume_hsi_tower", 64, False, True): "949155609f8a3a51c9ea52d2dc04e752dee751adefd3d195aba3e07c78dfb8f4",
+    ("volume_hsi_tower", 64, True, True): "57762b0336831485e645469d5f10783d6ea97788cbeb2c64530be55376e32c04",
+}
+
+
+@pytest.mark.parametrize("name, res, compress, half", sorted(VDB_DIGESTS))
+def test_the_vdb_writer_keeps_its_bytes(tmp_path, name, res, compress, half):
+    import hashlib
+    import ifsforge
+    system = ifsforge.load(str(SAMPLES / f"{name}.json"))
+    path = tmp_path / "v.vdb"
+    ifsforge.write_vdb(str(path), ifsforge.render_volume(system, "prr", res), system, compress=compress, half=half)
+    assert hashlib.sha256(path.read_bytes()).hexdigest() == VDB_DIGESTS[(name, res, compress, half)]
 
 
 def test_vdb_metadata_is_typed_and_holds_no_threads_or_path(cli, tmp_path):

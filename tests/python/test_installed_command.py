@@ -4,11 +4,10 @@ again), signals, and the interpreter entry point."""
 import os
 import signal
 import subprocess
-import time
 
 import pytest
 
-from conftest import BUILD_PYTHON, SAMPLES, ifsforge_command, patience
+from conftest import BUILD_PYTHON, SAMPLES, ifsforge_command, patience, signal_after
 
 ENV = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON))
 
@@ -46,30 +45,19 @@ def test_python_dash_m_is_the_same_command():
     assert result.stdout == installed.stdout
 
 
-def stop_after(tmp_path, signum, seconds, *args):
-    process = subprocess.Popen([*ifsforge_command(), *map(str, args)], cwd=tmp_path, env=ENV,
-                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    time.sleep(seconds)
-    assert process.poll() is None, "finished before the signal: make the case larger"
-    sent = time.monotonic()
-    process.send_signal(signum)
-    err = process.communicate(timeout=120)[1].decode(errors="replace")
-    return process.returncode, err, time.monotonic() - sent
-
-
 @pytest.mark.parametrize("args", [
     ["render", SAMPLES / "barnsley_fern.json", "--iterations", "100000000000", "-o", "f.png"],
     ["volume", SAMPLES / "menger_sponge.json", "--res", "729", "-o", "v.vdb"],
 ])
 def test_sigterm_stops_like_ctrl_c_and_leaves_nothing(tmp_path, args):
-    code, err, stop = stop_after(tmp_path, signal.SIGTERM, 2.0, *args)
+    code, err, stop = signal_after(tmp_path, signal.SIGTERM, 2.0, *args)
     assert code == 143 and "terminated" in err and "Traceback" not in err, err
     assert stop < patience(1.0), f"{stop:.1f} s to stop"
     assert not any(tmp_path.iterdir()), list(tmp_path.iterdir())
 
 
 def test_ctrl_c_stops_a_local_cluster_without_a_traceback(tmp_path):
-    code, err, stop = stop_after(tmp_path, signal.SIGINT, 10.0, "volume", SAMPLES / "menger_sponge.json",
+    code, err, stop = signal_after(tmp_path, signal.SIGINT, 10.0, "volume", SAMPLES / "menger_sponge.json",
                                  "--res", "729", "-o", "v.vdb", "--cluster", "local:2")
     assert code == 130 and "interrupted" in err and "Traceback" not in err, err
     # The interrupt lands while the cluster starts, works or shuts down (on a busy machine the

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import ifsforge
-from conftest import SAMPLES
+from conftest import SAMPLES, patience
 
 core = ifsforge._core
 FLAGS = {"recurrent", "polar", "average_contractive", "overlapping", "condensation", "2d", "3d"}
@@ -106,7 +106,7 @@ def test_an_average_contractive_system_is_refused_by_the_deterministic_algorithm
         result = cli("render", "expanding.json", "-a", name, "--size", "32", "-o", "x.png")
         assert result.returncode == 2 and not (tmp_path / "x.png").exists()
         assert f"'{name}' needs every map to contract" in result.stderr and "use chaos" in result.stderr
-        assert time.perf_counter() - start < 10
+        assert time.perf_counter() - start < patience(10)
     assert ifsforge.render(system, "chaos", 32, iterations=100_000).covered() > 100
 
 
@@ -118,6 +118,6 @@ def test_overlapping_pieces_are_counted_before_the_work():
     start = time.perf_counter()
     with pytest.raises(ifsforge.InputError, match="afra would split system 'overlapping square' into 10\\^"):
         ifsforge.render(square, "afra", 2048)
-    assert time.perf_counter() - start < 2
+    assert time.perf_counter() - start < patience(2)
     small = ifsforge.render(square, "afra", 32, window=(0, 0, 1, 1), binary=True)
     assert small.covered() == 32 * 32

@@ -40,32 +40,36 @@ void check_writable(const std::string& path) {
                     (errno == ENOENT ? "does not exist" : std::strerror(errno)));
 }
 
-AtomicFile::AtomicFile(const std::string& path) : path_(path) {
-  check_writable(path);
+int create_exclusive(const std::string& prefix, const std::string& suffix, int mode, const std::string& failure,
+                     std::string& path) {
   // A name nobody can guess, created only if nothing (not even a symbolic link) stands there:
   // a link planted at a predictable name would have redirected the write to another file.
   static std::atomic<std::uint64_t> counter{0};
   std::random_device entropy;
-  for (int attempt = 0; attempt < 64 && !file_; ++attempt) {
+  for (int attempt = 0; attempt < 64; ++attempt) {
     const std::uint64_t mark = (std::uint64_t(entropy()) << 32 ^ entropy()) + counter++;
-    char suffix[24];
-    std::snprintf(suffix, sizeof suffix, ".tmp-%016llx", static_cast<unsigned long long>(mark));
-    temporary_ = path + suffix;
-    const int fd = open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-    if (fd < 0) {
-      temporary_.clear();  // never ours to remove
-      if (errno == EEXIST) continue;
-      throw FileError("cannot write '" + path + "': " + std::strerror(errno));
-    }
-    file_ = fdopen(fd, "wb");
-    if (!file_) {
-      const int saved = errno;
-      close(fd);
-      std::remove(temporary_.c_str());
-      throw FileError("cannot write '" + path + "': " + std::strerror(saved));
-    }
+    char digits[17];
+    std::snprintf(digits, sizeof digits, "%016llx", static_cast<unsigned long long>(mark));
+    path = prefix + digits + suffix;
+    const int fd = open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, mode);
+    if (fd >= 0) return fd;
+    path.clear();  // never ours to remove
+    if (errno != EEXIST) throw FileError(failure + ": " + std::strerror(errno));
   }
-  if (!file_) throw FileError("cannot write '" + path + "': no free temporary name beside it");
+  throw FileError(failure + ": no free temporary name");
+}
+
+AtomicFile::AtomicFile(const std::string& path) : path_(path) {
+  check_writable(path);
+  const int fd = create_exclusive(path + ".tmp-", "", 0666, "cannot write '" + path + "'", temporary_);
+  file_ = fdopen(fd, "wb");
+  if (!file_) {
+    const int saved = errno;
+    close(fd);
+    std::remove(temporary_.c_str());
+    temporary_.clear();
+    throw FileError("cannot write '" + path + "': " + std::strerror(saved));
+  }
 }
 
 AtomicFile::~AtomicFile() {

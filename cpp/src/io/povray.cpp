@@ -31,13 +31,11 @@ std::string absolute(const std::string& path) {
   return std::string(cwd) + "/" + path;
 }
 
-/// A new empty file of a random name `prefix` XXXXXX `suffix` in `folder` (O_EXCL, so never
-/// one planted there); returns its name within the folder.
+/// A new empty file of a random name `prefix` ... `suffix` in `folder` (create_exclusive);
+/// returns its name within the folder.
 std::string new_file(const std::string& folder, const std::string& prefix, const std::string& suffix) {
-  std::string path = folder + "/" + prefix + "XXXXXX" + suffix;
-  const int fd = mkstemps(path.data(), static_cast<int>(suffix.size()));
-  if (fd < 0) throw FileError("cannot create a file in '" + folder + "': " + std::strerror(errno));
-  close(fd);
+  std::string path;
+  close(create_exclusive(folder + "/" + prefix, suffix, 0600, "cannot create a file in '" + folder + "'", path));
   return path.substr(folder.size() + 1);
 }
 

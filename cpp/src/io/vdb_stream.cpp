@@ -12,7 +12,8 @@
 #include <cstring>
 #include <map>
 #include <numeric>
-#include <sstream>
+#include <ostream>
+#include <streambuf>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/parallel.h"
@@ -22,6 +23,22 @@
 
 namespace ifsforge::detail {
 namespace {
+
+/// An output stream appending to a string: Blosc's blocks go straight into a band's bytes.
+class AppendBuffer : public std::streambuf {
+ public:
+  std::string* out = nullptr;
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (c != traits_type::eof()) out->push_back(static_cast<char>(c));
+    return c;
+  }
+  std::streamsize xsputn(const char* data, std::streamsize n) override {
+    out->append(data, static_cast<std::size_t>(n));
+    return n;
+  }
+};
 
 /// What one thread keeps between bands.
 struct BandScratch {
@@ -35,7 +52,8 @@ struct BandScratch {
   std::vector<float> values;
   std::vector<openvdb::math::half> halves;
   std::string bytes;
-  std::ostringstream blosc;
+  AppendBuffer append;
+  std::ostream blosc{&append};
 };
 
 /// Reads a volume's bands (VolumeBandLoader) into leaves of 8^3 voxels.
@@ -259,11 +277,10 @@ std::int64_t append_leaf(const LeafTopology& leaf, const std::uint32_t* voxels, 
     out.append(data, n * 2);
     return 0;
   }
-  w.blosc.str(std::string());
+  const std::size_t before = out.size();
+  w.append.out = &out;
   openvdb::io::bloscToStream(w.blosc, data, e.value_bytes(), leaf.count);
-  const std::string block = w.blosc.str();
-  out += block;
-  return static_cast<std::int64_t>(block.size());
+  return static_cast<std::int64_t>(out.size() - before);
 }
 
 /// Writes at offsets of one open file, reporting failures as FileError naming the target.
@@ -287,6 +304,18 @@ class FileAt {
     ::sync_file_range(fd_, 0, 0, SYNC_FILE_RANGE_WRITE);  // advice only: the commit's fsync reports errors
 #endif
   }
+  /// Waits for [0, end) to reach the disk a piece at a time, asking `progress` between pieces:
+  /// the commit's fsync then finds little left, and Ctrl-C is heard while the disk catches up.
+  void sync_pieces(std::uint64_t end, const ProgressCallback& progress) const {
+    constexpr std::uint64_t kPiece = 16u << 20;
+    for (std::uint64_t at = 0; at < end; at += kPiece) {
+      if (progress && !progress(static_cast<double>(at) / static_cast<double>(end))) throw Cancelled();
+#ifdef SYNC_FILE_RANGE_WRITE
+      ::sync_file_range(fd_, static_cast<off_t>(at), static_cast<off_t>(std::min(kPiece, end - at)),
+                        SYNC_FILE_RANGE_WAIT_BEFORE | SYNC_FILE_RANGE_WRITE | SYNC_FILE_RANGE_WAIT_AFTER);
+#endif
+    }
+  }
   int fd() const { return fd_; }
   const std::string& shown() const { return shown_; }
 
@@ -305,7 +334,7 @@ struct KeptBytes {
 /// A content hash as a UUID (8-4-4-4-12 hex) of the file's bytes after the UUID: blocks hashed
 /// in parallel eight bytes at a time, then the blocks' hashes in order.
 std::string content_uuid(const std::string& written, const FileAt& file, std::uint64_t begin, std::uint64_t end,
-                         int threads) {
+                         int threads, const ProgressCallback& progress) {
   struct Reader {
     int fd;
     ~Reader() { if (fd >= 0) ::close(fd); }
@@ -332,7 +361,7 @@ std::string content_uuid(const std::string& written, const FileAt& file, std::ui
     }
     for (; i < size; ++i) a = (a ^ static_cast<unsigned char>(data[i])) * kPrime;
     hashes[k] = {a, b ^ size};
-  });
+  }, progress);
   std::uint64_t a = 0xcbf29ce484222325ull, b = 0x9e3779b97f4a7c15ull;
   for (const auto& h : hashes) {
     a = (a ^ h[0]) * kPrime;
@@ -432,6 +461,7 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
       }
       w.bytes.clear();
       for (std::size_t l = 0; l < leaves.size(); ++l) {
+        if ((l & 1023) == 1023 && stop_requested()) throw Cancelled();  // Blosc takes a while per leaf
         const std::size_t before = w.bytes.size();
         const std::uint32_t* voxels = constant ? every_voxel.data() : &w.by_leaf[w.start[l]];
         const std::int64_t block = append_leaf(*leaves[l], voxels, values.data(), encodings[g], w);
@@ -439,7 +469,11 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
         if (blosc) blosc_sizes[l] = block;
       }
       if (blosc) {
-        kept[b][g] = {w.bytes, sizes, blosc_sizes};
+        // Kept as they are; the next band's bytes start in a buffer of this one's size.
+        const std::size_t size = w.bytes.size();
+        kept[b][g] = {std::move(w.bytes), sizes, blosc_sizes};
+        w.bytes = std::string();
+        w.bytes.reserve(size);
         continue;
       }
       const std::uint64_t value_bytes = encodings[g].value_bytes();
@@ -448,7 +482,7 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
       });
     }
     if (!blosc) file.start_writeback();
-  }, progress_range(progress, 0.2, blosc ? 0.9 : 1.0));
+  }, progress_range(progress, 0.2, blosc ? 0.65 : 0.75));
   if (blosc) {
     // Every leaf's size in file order, then the heads, then the kept bytes where they belong.
     std::vector<std::vector<std::int64_t>> blosc_sizes(grids.size(), std::vector<std::int64_t>(leaves));
@@ -470,10 +504,12 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
                    [&](std::size_t i) { return buffers[g] + offsets[g][i]; });
       kept[b].clear();
       file.start_writeback();
-    }, progress_range(progress, 0.9, 1.0));
+    }, progress_range(progress, 0.65, 0.75));
   }
-  const std::string uuid = content_uuid(out.temporary_path(), file, kUuidOffset + kUuidLength, end, threads);
+  const std::string uuid = content_uuid(out.temporary_path(), file, kUuidOffset + kUuidLength, end, threads,
+                                       progress_range(progress, 0.75, 0.85));
   file.write(kUuidOffset, uuid.data(), uuid.size());
+  file.sync_pieces(end, progress_range(progress, 0.85, 1.0));
   out.commit();
   return layout.voxels;
 }

@@ -4,6 +4,7 @@
 // probability drops below pv, address-prefix jobs, and where each job's leaves go in the
 // output so that jobs write straight into their slots. Internal to src/vector.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "ifsforge/model/ifs.h"
@@ -31,8 +32,24 @@ struct ProbabilityStop {
 /// other in the address tree), and plans the jobs.
 TreeShape plan_tree(const Ifs& ifs, int depth, double min_probability);
 
+/// @brief A lower bound on the leaves of `shape`, found without walking it (exact without
+/// pruning). With pruning, a node whose probability is at least pv has all N children, so the
+/// leaves are (N - 1) I + 1 for the I such nodes above the depth; I is counted by -log
+/// probability on a grid of steps, each map's step rounded up, in depth x steps x
+/// distinct-steps work.
+double leaves_at_least(const Ifs& ifs, const TreeShape& shape);
+
+/// What each leaf will cost, for the refusals of job_offsets().
+struct LeafCost {
+  double bytes = 0.0;  ///< memory per leaf (0: counted only)
+  std::string what;    ///< the leaves' name in messages ("instances", "TSA leaves")
+};
+
 /// @brief Leaves of each job (counted in parallel when pruning makes them unknown) as exclusive
-/// prefix sums: job j writes leaves [offsets[j], offsets[j + 1]).
-std::vector<std::uint64_t> job_offsets(const Ifs& ifs, const TreeShape& shape, int threads);
+/// prefix sums: job j writes leaves [offsets[j], offsets[j + 1]). Refuses before walking when
+/// leaves_at_least() proves more than 10^12 leaves or more than the memory budget at `cost`, and
+/// stops counting as soon as the leaves met exceed either (MemoryBudgetError or InputError naming
+/// the depth and pv).
+std::vector<std::uint64_t> job_offsets(const Ifs& ifs, const TreeShape& shape, int threads, const LeafCost& cost);
 
 }  // namespace ifsforge::detail

@@ -1,5 +1,7 @@
 #include "ifsforge/vector/addresses.h"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 
@@ -7,6 +9,7 @@
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
+#include "ifsforge/render/parameters.h"
 #include "ifsforge/render/string_rewriting.h"
 
 namespace ifsforge {
@@ -35,20 +38,83 @@ TreeShape plan_tree(const Ifs& ifs, int depth, double min_probability) {
   return shape;
 }
 
-std::vector<std::uint64_t> job_offsets(const Ifs& ifs, const TreeShape& shape, int threads) {
+double leaves_at_least(const Ifs& ifs, const TreeShape& shape) {
+  const double n = static_cast<double>(ifs.size());
+  if (!(shape.min_probability > 0.0) || ifs.size() < 2) return std::pow(n, shape.depth);
+  constexpr int kSteps = 2048;  // steps of -log p up to -log pv
+  const double step = -std::log(shape.min_probability) / kSteps;
+  // Maps per step, rounded up (each node's probability under-estimated: a lower bound); maps
+  // of probability 0 (or below pv) are never internal.
+  std::vector<double> maps(kSteps + 1, 0.0);
+  for (double p : ifs.probabilities()) {
+    const double s = std::ceil(-std::log(p) / step);
+    if (p >= shape.min_probability && s <= kSteps) maps[static_cast<int>(s)] += 1.0;
+  }
+  std::vector<int> used;
+  for (int k = 0; k <= kSteps; ++k)
+    if (maps[k] > 0.0) used.push_back(k);
+  std::vector<double> level(kSteps + 1, 0.0), next(kSteps + 1);
+  level[0] = 1.0;  // the root
+  double internal = 0.0;
+  for (int d = 0; d < shape.depth; ++d) {
+    std::fill(next.begin(), next.end(), 0.0);
+    double here = 0.0;
+    for (int b = 0; b <= kSteps; ++b) {
+      if (level[b] == 0.0) continue;
+      here += level[b];
+      for (int k : used)
+        if (b + k <= kSteps) next[b + k] += level[b] * maps[k];
+    }
+    internal += here;
+    if (here == 0.0) break;
+    level.swap(next);
+  }
+  return (n - 1.0) * internal + 1.0;
+}
+
+namespace {
+
+/// Refuses `leaves` (`at_least`: counted so far) of `shape` above 10^12 or the memory budget.
+void check_leaves(double leaves, bool at_least, const TreeShape& shape, const LeafCost& cost) {
+  char count[64];
+  std::snprintf(count, sizeof count, "%s%.4g ", at_least ? "at least " : "", leaves);
+  char tree[160];
+  std::snprintf(tree, sizeof tree, " (depth %d, minimum probability %g: choose a smaller depth or a larger minimum "
+                "probability, --depth and --min-probability)", shape.depth, shape.min_probability);
+  const std::string what = count + cost.what + tree;
+  if (leaves > static_cast<double>(kMaxIterations)) throw InputError(what + " are more than 10^12: work for hours");
+  if (cost.bytes > 0.0) check_memory(leaves * cost.bytes, what);
+}
+
+}  // namespace
+
+std::vector<std::uint64_t> job_offsets(const Ifs& ifs, const TreeShape& shape, int threads, const LeafCost& cost) {
   const std::uint64_t jobs = shape.plan.jobs;
   std::vector<std::uint64_t> offsets(jobs + 1, 0);
   if (shape.min_probability <= 0.0) {
     for (std::uint64_t j = 0; j < jobs; ++j) offsets[j + 1] = offsets[j] + shape.leaves_per_job;
+    check_leaves(static_cast<double>(offsets.back()), false, shape, cost);
     return offsets;
   }
+  check_leaves(leaves_at_least(ifs, shape), true, shape, cost);
+  // The bound may lie under the limit and the tree above it: the count stops as soon as the
+  // leaves met pass it.
+  double limit = static_cast<double>(kMaxIterations);
+  if (cost.bytes > 0.0) limit = std::min(limit, static_cast<double>(memory_budget()) / cost.bytes);
+  std::atomic<std::uint64_t> met{0};
+  constexpr std::uint64_t kFlush = 1u << 16;
   std::vector<std::uint64_t> counts(jobs, 0);
   parallel_jobs(jobs, threads, [&](std::size_t job, int) {
     std::uint64_t count = 0;
-    walk_job(ifs, shape.plan, job, ProbabilityStop{shape.min_probability}, [&](const RecursionNode&) { ++count; });
+    walk_job(ifs, shape.plan, job, ProbabilityStop{shape.min_probability}, [&](const RecursionNode&) {
+      if (++count % kFlush == 0 && static_cast<double>(met += kFlush) > limit)
+        check_leaves(static_cast<double>(met.load()), true, shape, cost);
+    });
     counts[job] = count;
+    met += count % kFlush;
   });
   for (std::uint64_t j = 0; j < jobs; ++j) offsets[j + 1] = offsets[j] + counts[j];
+  check_leaves(static_cast<double>(offsets.back()), false, shape, cost);
   return offsets;
 }
 
@@ -79,7 +145,7 @@ Point apply_address(const Ifs& ifs, const std::uint16_t* address, int length, co
 
 std::uint64_t count_leaves(const Ifs& ifs, int depth, double min_probability) {
   const detail::TreeShape shape = detail::plan_tree(ifs, depth, min_probability);
-  return detail::job_offsets(ifs, shape, 0).back();
+  return detail::job_offsets(ifs, shape, 0, {0.0, "leaves"}).back();
 }
 
 std::vector<std::string> string_rewriting(const Ifs& ifs, int depth, AddressSpelling spelling) {
@@ -102,10 +168,10 @@ AddressLeaves tesseral_synecdoche(const Ifs& ifs, int depth, double min_probabil
       throw InputError("the start point needs " + std::to_string(ifs.dim()) + " coordinates");
     for (int c = 0; c < ifs.dim(); ++c) q0[c] = start[c];
   }
-  const std::vector<std::uint64_t> offsets = detail::job_offsets(ifs, shape, threads);
-  const std::uint64_t total = offsets.back();
   const int dim = ifs.dim();
-  check_memory(total * (2.0 * depth + 1.0 + 8.0 + 8.0 * dim), std::to_string(total) + " TSA leaves");
+  const std::vector<std::uint64_t> offsets =
+      detail::job_offsets(ifs, shape, threads, {2.0 * depth + 1.0 + 8.0 + 8.0 * dim, "TSA leaves"});
+  const std::uint64_t total = offsets.back();
 
   AddressLeaves out;
   out.dim = dim;

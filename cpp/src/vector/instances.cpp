@@ -6,7 +6,6 @@
 
 #include "address_tree.h"
 #include "ifsforge/core/error.h"
-#include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/render/tone_map.h"
 
@@ -270,9 +269,9 @@ InstanceList instances(const Ifs& ifs, const InstanceOptions& options) {
     throw InputError("layout '" + layout.text() + "' has no color channels to color instances with");
 
   // Where each job writes; then everything is allocated once.
-  const std::vector<std::uint64_t> offsets = detail::job_offsets(ifs, shape, options.threads);
+  const std::vector<std::uint64_t> offsets =
+      detail::job_offsets(ifs, shape, options.threads, {instance_bytes(depth), "instances"});
   const std::uint64_t total = offsets.back();
-  check_memory(total * instance_bytes(depth), std::to_string(total) + " instances (depth " + std::to_string(depth) + ")");
 
   InstanceList out;
   out.name = ifs.name();

@@ -25,6 +25,13 @@ class AtomicFile {
   bool committed_ = false;
 };
 
+/// @brief Creates a new file named `prefix`, 16 random hex digits, `suffix` (letters and digits
+/// between them: safe as any program's argument) with O_EXCL | O_NOFOLLOW, so never a file or
+/// link planted at that name; sets `path` to its name and returns its descriptor (write-only,
+/// close-on-exec, `mode` before the umask). FileError starting with `failure` when it cannot.
+int create_exclusive(const std::string& prefix, const std::string& suffix, int mode, const std::string& failure,
+                     std::string& path);
+
 /// @brief The folder of `path`: "." for a bare file name, "/" for a file at the root.
 std::string folder_of(const std::string& path);
 
