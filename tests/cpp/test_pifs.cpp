@@ -8,6 +8,8 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/pifs_file.h"
+#include "ifsforge/pifs/block_search.h"
+#include "ifsforge/pifs/code_bytes.h"
 #include "ifsforge/pifs/decoder.h"
 #include "ifsforge/pifs/encoder.h"
 #include "ifsforge/pifs/plane_coding.h"
@@ -134,15 +136,43 @@ TEST(Pifs, SameBytesForAnyThreadCount) {
   o.ratio = 15;
   o.threads = 1;
   const auto one = pifs_to_bytes(pifs_encode(im, o));
-  o.threads = 2;
-  const PifsCode two = pifs_encode(im, o);
-  EXPECT_EQ(one, pifs_to_bytes(two));
   PifsDecodeOptions d;
   d.scale = 2;
   d.threads = 1;
-  const Image a = pifs_decode(two, d);
-  d.threads = 2;
-  EXPECT_EQ(a.pixels, pifs_decode(two, d).pixels);
+  const Image a = pifs_decode(pifs_from_bytes(one.data(), one.size()), d);
+  for (int threads : {2, 3, 7}) {
+    o.threads = threads;
+    const PifsCode code = pifs_encode(im, o);
+    EXPECT_EQ(one, pifs_to_bytes(code)) << threads << " threads";
+    d.threads = threads;
+    EXPECT_EQ(a.pixels, pifs_decode(code, d).pixels) << threads << " threads";
+  }
+}
+
+TEST(Pifs, CanonicalOrientationIsTheSameForEveryView) {
+  std::mt19937 rng(3);
+  std::normal_distribution<float> normal;
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<float> block(16);
+    for (float& v : block) v = normal(rng);
+    BlockFeature f;
+    ASSERT_TRUE(block_feature(block.data(), 4, 4, f));
+    const Orientation o = canonical_orientation(f);
+    const BlockFeature canonical = transform_feature(f, o.isometry, o.negate);
+    for (int iso = 0; iso < 8; ++iso)
+      for (bool negate : {false, true}) {
+        const BlockFeature view = transform_feature(f, iso, negate);
+        const Orientation v = canonical_orientation(view);
+        EXPECT_EQ(transform_feature(view, v.isometry, v.negate), canonical);
+        // The canonical view found from `view`, undone, gives `view` back through f's own turn.
+        const int back = compose_isometry(o.isometry, inverse_isometry(v.isometry));
+        EXPECT_EQ(transform_feature(f, back, negate), view);
+      }
+  }
+  for (int a = 0; a < 8; ++a) {
+    EXPECT_EQ(compose_isometry(a, inverse_isometry(a)), 0);
+    EXPECT_EQ(compose_isometry(inverse_isometry(a), a), 0);
+  }
 }
 
 TEST(Pifs, RatioControlsTheFileSize) {

@@ -4,8 +4,10 @@
 #include <string>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/code_bytes.h"
 #include "ifsforge/pifs/partition.h"
+#include "ifsforge/pifs/plane_coding.h"
 #include "ifsforge/pifs/planes.h"
 
 namespace ifsforge {
@@ -44,23 +46,53 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   code.s_bits = o.s_bits;
   code.dc_step = o.dc_step;
 
-  // Steps 1-4: planes, then every quadtree level's candidates (each plane independently).
+  // Steps 1-4: planes, then every quadtree level's candidates. The domain pools of every
+  // (plane, level) are built first, then all block rows of all of them are one job list, so every
+  // thread is busy from the first range block; each candidate depends on its block alone.
   const std::vector<PifsRaster> planes = image_planes(image, code.color);
-  std::vector<PifsPlaneCandidates> cands(planes.size());
   const int levels = code.max_log - code.min_log + 1;
-  int done = 0;
+  std::vector<PifsRaster> padded(planes.size()), halves(planes.size());
+  std::vector<PifsPlaneCandidates> cands(planes.size());
   for (std::size_t k = 0; k < planes.size(); ++k) {
     PifsPlaneCandidates& c = cands[k];
     c.width = planes[k].width;
     c.height = planes[k].height;
     c.padded_width = code.padded(c.width);
     c.padded_height = code.padded(c.height);
-    const PifsRaster padded = pad_plane(planes[k], c.padded_width, c.padded_height);
-    for (int log = code.min_log; log <= code.max_log; ++log) {
-      c.levels.push_back(search_level(code, padded, log, o.search, o.threads));
-      if (progress && !progress(double(++done) / (levels * planes.size()))) throw Cancelled();
-    }
+    padded[k] = pad_plane(planes[k], c.padded_width, c.padded_height);
+    halves[k] = half_plane(padded[k]);
+    for (int log = code.min_log; log <= code.max_log; ++log)
+      c.levels.emplace_back(std::size_t(c.padded_width >> log) * (c.padded_height >> log));
   }
+  std::vector<PifsDomains> pools(planes.size() * levels);
+  parallel_jobs(
+      pools.size(), o.threads,
+      [&](std::size_t job, int) {
+        const std::size_t k = job / levels;
+        pools[job] = domain_pool(halves[k], cands[k].padded_width, cands[k].padded_height,
+                                 code.min_log + int(job % levels));
+      },
+      progress_range(progress, 0.0, 0.1));
+  struct Row {
+    std::size_t pool;
+    int row;
+  };
+  std::vector<Row> rows;
+  for (std::size_t p = 0; p < pools.size(); ++p)
+    for (int row = 0; row < (cands[p / levels].padded_height >> pools[p].log_size); ++row) rows.push_back({p, row});
+  parallel_jobs(
+      rows.size(), o.threads,
+      [&](std::size_t job, int) {
+        const Row& r = rows[job];
+        const std::size_t k = r.pool / levels;
+        const PifsDomains& pool = pools[r.pool];
+        PifsPlaneCandidates& c = cands[k];
+        const std::size_t bx = std::size_t(c.padded_width >> pool.log_size);
+        search_row(code, padded[k], halves[k], pool, o.search, r.row,
+                   c.levels[pool.log_size - code.min_log].data() + r.row * bx);
+      },
+      progress_range(progress, 0.1, 0.9));
+  pools.clear();
   code.planes.resize(planes.size());
   for (std::size_t k = 0; k < planes.size(); ++k) {
     code.planes[k].width = planes[k].width;
@@ -82,19 +114,28 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   }
   // Rate control: the file size falls as λ rises; bisect log λ for the largest file ≤ target.
   // Chroma samples stand for 2×2 pixels, so their errors weigh 4×.
+  // Planes are partitioned and coded independently: in parallel, their sizes summed.
+  std::vector<std::size_t> stream_sizes(planes.size());
+  int tries = 0;
   auto with_lambda = [&](double lambda) {
-    for (std::size_t k = 0; k < planes.size(); ++k) {
-      const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);
-      code.planes[k].leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
-    }
-    return pifs_to_bytes(code).size();
+    ++tries;
+    parallel_jobs(
+        planes.size(), o.threads,
+        [&](std::size_t k, int) {
+          const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);
+          code.planes[k].leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
+          stream_sizes[k] = encode_plane(code, code.planes[k]).size();
+        },
+        progress_range(progress, std::min(0.98, 0.9 + 0.002 * tries), std::min(0.99, 0.9 + 0.002 * (tries + 1))));
+    return pifs_file_size(code, stream_sizes);
   };
   double lo = std::log(1e-3), hi = std::log(1e9);
   if (with_lambda(std::exp(hi)) > target)
     throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
-                     std::to_string(pifs_to_bytes(code).size()) + " bytes; use a larger max_block)");
+                     std::to_string(pifs_file_size(code, stream_sizes)) + " bytes; use a larger max_block)");
   if (with_lambda(std::exp(lo)) <= target) return code;
-  for (int i = 0; i < 40; ++i) {
+  // λ to within 0.1%: the file size is a step function of λ, flat at that resolution.
+  while (hi - lo > 1e-3) {
     const double mid = 0.5 * (lo + hi);
     if (with_lambda(std::exp(mid)) <= target) hi = mid; else lo = mid;
   }
