@@ -1,17 +1,14 @@
 """Fractal image compression (seed 3.3.2) from Python and the CLI: numpy in and out, files,
 decoding at any size, rate control, thread-independent bytes, bad files refused without output."""
 import json
-import os
-import signal
-import subprocess
-import time
 import warnings
 
 import numpy as np
 import pytest
 
 import ifsforge
-from conftest import BUILD_PYTHON, ifsforge_command, patience
+from conftest import patience
+from test_hostile import interrupt_after
 
 
 def textured(h, w, channels=1):
@@ -166,16 +163,7 @@ def test_ctrl_c_stops_compress_within_a_second(tmp_path):
     image = textured(3072, 3072).astype(np.int16) + rng.integers(-20, 21, (3072, 3072))
     source = tmp_path / "big.png"
     ifsforge.write_png(str(source), np.clip(image, 0, 255).astype(np.uint8) / 255.0)
-    out = tmp_path / "big.pifs"
-    env = dict(os.environ, PYTHONPATH=str(BUILD_PYTHON))
-    process = subprocess.Popen([*ifsforge_command(), "compress", str(source), "-o", str(out), "--ratio", "8"],
-                               cwd=tmp_path, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    time.sleep(2.5)
-    assert process.poll() is None, "finished before the interrupt: make the image larger"
-    sent = time.monotonic()
-    process.send_signal(signal.SIGINT)
-    err = process.communicate(timeout=120)[1].decode(errors="replace")
-    stop = time.monotonic() - sent
-    assert process.returncode == 130 and "interrupted" in err and "Traceback" not in err, err
+    code, err, stop = interrupt_after(tmp_path, 2.5, "compress", source, "-o", tmp_path / "big.pifs", "--ratio", "8")
+    assert code == 130 and "interrupted" in err and "Traceback" not in err, err
     assert stop < patience(1.0), f"{stop:.1f} s to stop"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["big.png"]
