@@ -211,9 +211,29 @@ TEST(Pifs, AnySizeAndChannels) {
   }
 }
 
+TEST(Pifs, TwoPixelRangeCellsRoundTripAndAddDetail) {
+  const Image im = textured(96, 80, 1);
+  PifsEncodeOptions o;
+  o.quality = 0;  // split to the smallest cells
+  o.min_block = 4;
+  const PifsCode four = pifs_encode(im, o);
+  o.min_block = 2;
+  const PifsCode two = pifs_encode(im, o);
+  EXPECT_EQ(two.min_log, 1);
+  const auto bytes = pifs_to_bytes(two);
+  EXPECT_EQ(pifs_to_bytes(pifs_from_bytes(bytes.data(), bytes.size())), bytes);
+  EXPECT_GT(psnr(pifs_decode(two, plain()), im), psnr(pifs_decode(four, plain()), im) + 3.0);
+  o.min_block = 0;  // automatic: a quality this fine buys 2×2 cells, a 50:1 budget does not
+  EXPECT_EQ(pifs_encode(im, o).min_log, 1);
+  o.ratio = 50;
+  EXPECT_EQ(pifs_encode(im, o).min_log, 2);
+}
+
 TEST(Pifs, RefusesBadOptions) {
   PifsEncodeOptions o;
   o.min_block = 6;
+  EXPECT_THROW(pifs_encode(textured(32, 32, 1), o), InputError);
+  o.min_block = 1;
   EXPECT_THROW(pifs_encode(textured(32, 32, 1), o), InputError);
   EXPECT_THROW(pifs_encode(Image(), PifsEncodeOptions{}), InputError);
   PifsDecodeOptions d;

@@ -14,14 +14,19 @@ constexpr int kLeafSize = 8;
 }
 
 bool block_feature(const float* block, long stride, int n, BlockFeature& out) {
-  const int cell = n / 4;
+  // n ≥ 4: 4×4 cells of n/4 pixels summed; n = 2: each pixel repeated over 2×2 cells.
+  const int cell = std::max(1, n / 4);
   double mean = 0;
   for (int j = 0; j < 4; ++j)
     for (int i = 0; i < 4; ++i) {
       double sum = 0;
-      for (int y = 0; y < cell; ++y) {
-        const float* row = block + (long(j) * cell + y) * stride + long(i) * cell;
-        for (int x = 0; x < cell; ++x) sum += row[x];
+      if (n < 4) {
+        sum = block[long(j * n / 4) * stride + i * n / 4];
+      } else {
+        for (int y = 0; y < cell; ++y) {
+          const float* row = block + (long(j) * cell + y) * stride + long(i) * cell;
+          for (int x = 0; x < cell; ++x) sum += row[x];
+        }
       }
       out[j * 4 + i] = float(sum);
       mean += sum;

@@ -122,7 +122,7 @@ PifsCode pifs_from_bytes(const std::uint8_t* data, std::size_t size, const std::
   code.s_bits = r.byte();
   code.dc_step = r.byte();
   const std::uint64_t w = r.varint(), h = r.varint();
-  if (code.channels < 1 || code.channels > 4 || color > 1 || code.min_log < 2 || code.max_log > 8 ||
+  if (code.channels < 1 || code.channels > 4 || color > 1 || code.min_log < 1 || code.max_log > 8 ||
       code.min_log > code.max_log || code.s_bits < 2 || code.s_bits > 8 || code.dc_step < 1 || code.dc_step > 64 ||
       w < 1 || h < 1 || w > 32768 || h > 32768)
     throw InputError(where + ": corrupt (header field out of range)");

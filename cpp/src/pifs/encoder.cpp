@@ -24,12 +24,32 @@ void check(const Image& image, const PifsEncodeOptions& o) {
   if (image.width < 1 || image.height < 1) throw InputError("PIFS encode: the image is empty");
   if (image.channels < 1 || image.channels > 4) throw InputError("PIFS encode: images have 1 to 4 channels");
   if (image.width > 32768 || image.height > 32768) throw InputError("PIFS encode: image larger than 32768 pixels");
-  if (o.min_block < 4 || o.max_block > 256 || o.min_block > o.max_block)
-    throw InputError("PIFS encode: block sizes must satisfy 4 <= min_block <= max_block <= 256");
+  if ((o.min_block != 0 && o.min_block < 2) || o.max_block > 256 || o.min_block > o.max_block)
+    throw InputError("PIFS encode: block sizes must satisfy 2 <= min_block <= max_block <= 256 (min_block 0: automatic)");
   if (o.s_bits < 2 || o.s_bits > 8) throw InputError("PIFS encode: s_bits must be in 2..8");
   if (o.dc_step < 1 || o.dc_step > 64) throw InputError("PIFS encode: dc_step must be in 1..64");
   if (o.ratio < 0 || !std::isfinite(o.ratio)) throw InputError("PIFS encode: ratio must be positive");
   if (!(o.quality >= 0) || !std::isfinite(o.quality)) throw InputError("PIFS encode: quality must be >= 0");
+}
+
+/// The file size asked for (bytes), 0 for a quality request.
+std::size_t size_target(const Image& image, const PifsEncodeOptions& o) {
+  if (o.bytes > 0 || o.ratio <= 0) return o.bytes;
+  // A ratio is honoured or refused: one that asks for less than a byte is not a quality request.
+  const double raw = double(image.width) * image.height * image.channels;
+  if (raw / o.ratio < 1.0)
+    throw InputError("PIFS encode: ratio " + std::to_string(o.ratio) + " asks for under one byte of a " +
+                     std::to_string(std::size_t(raw)) + "-byte image");
+  return std::size_t(raw / o.ratio);
+}
+
+/// The automatic smallest range cell: 2×2 cells pay for their search only where the budget
+/// buys many of them.
+int automatic_min_block(const Image& image, std::size_t target, double quality) {
+  const double raw = double(image.width) * image.height * image.channels;
+  const bool rich = target > 0 ? double(target) * PifsEncodeOptions::kFineRatio >= raw
+                               : quality <= PifsEncodeOptions::kFineQuality;
+  return rich ? 2 : 4;
 }
 
 }  // namespace
@@ -41,7 +61,8 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   code.height = image.height;
   code.channels = image.channels;
   code.color = o.ycbcr && image.channels >= 3 ? PifsColor::YCbCr420 : PifsColor::Direct;
-  code.min_log = log2_exact(o.min_block, "min_block");
+  const std::size_t target = size_target(image, o);
+  code.min_log = log2_exact(o.min_block > 0 ? o.min_block : automatic_min_block(image, target, o.quality), "min_block");
   code.max_log = log2_exact(o.max_block, "max_block");
   code.s_bits = o.s_bits;
   code.dc_step = o.dc_step;
@@ -99,15 +120,6 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
     code.planes[k].height = planes[k].height;
   }
 
-  std::size_t target = o.bytes;
-  if (target == 0 && o.ratio > 0) {
-    // A ratio is honoured or refused: one that asks for less than a byte is not a quality request.
-    const double raw = double(image.width) * image.height * image.channels;
-    if (raw / o.ratio < 1.0)
-      throw InputError("PIFS encode: ratio " + std::to_string(o.ratio) + " asks for under one byte of a " +
-                       std::to_string(std::size_t(raw)) + "-byte image");
-    target = std::size_t(raw / o.ratio);
-  }
   if (target == 0) {
     for (std::size_t k = 0; k < planes.size(); ++k) code.planes[k].leaves = partition_threshold(code, cands[k], o.quality);
     return code;

@@ -13,8 +13,8 @@ namespace ifsforge {
 constexpr int kFeatureDim = 16;
 using BlockFeature = std::array<float, kFeatureDim>;
 
-/// @brief The n×n block at `block` (row stride `stride`) pooled to 4×4 (n a multiple of 4),
-/// mean removed, scaled to unit norm. Returns false for a flat block (no direction).
+/// @brief The n×n block at `block` (row stride `stride`) pooled to 4×4 (n a multiple of 4, or 2:
+/// each pixel repeated), mean removed, scaled to unit norm. Returns false for a flat block (no direction).
 bool block_feature(const float* block, long stride, int n, BlockFeature& out);
 
 /// @brief The feature of the same block seen through isometry `iso` (code.h) and sign.
