@@ -8,6 +8,8 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/pifs_file.h"
+#include "ifsforge/pifs/block_search.h"
+#include "ifsforge/pifs/code_bytes.h"
 #include "ifsforge/pifs/decoder.h"
 #include "ifsforge/pifs/encoder.h"
 #include "ifsforge/pifs/plane_coding.h"
@@ -134,15 +136,43 @@ TEST(Pifs, SameBytesForAnyThreadCount) {
   o.ratio = 15;
   o.threads = 1;
   const auto one = pifs_to_bytes(pifs_encode(im, o));
-  o.threads = 2;
-  const PifsCode two = pifs_encode(im, o);
-  EXPECT_EQ(one, pifs_to_bytes(two));
   PifsDecodeOptions d;
   d.scale = 2;
   d.threads = 1;
-  const Image a = pifs_decode(two, d);
-  d.threads = 2;
-  EXPECT_EQ(a.pixels, pifs_decode(two, d).pixels);
+  const Image a = pifs_decode(pifs_from_bytes(one.data(), one.size()), d);
+  for (int threads : {2, 3, 7}) {
+    o.threads = threads;
+    const PifsCode code = pifs_encode(im, o);
+    EXPECT_EQ(one, pifs_to_bytes(code)) << threads << " threads";
+    d.threads = threads;
+    EXPECT_EQ(a.pixels, pifs_decode(code, d).pixels) << threads << " threads";
+  }
+}
+
+TEST(Pifs, CanonicalOrientationIsTheSameForEveryView) {
+  std::mt19937 rng(3);
+  std::normal_distribution<float> normal;
+  for (int trial = 0; trial < 50; ++trial) {
+    std::vector<float> block(16);
+    for (float& v : block) v = normal(rng);
+    BlockFeature f;
+    ASSERT_TRUE(block_feature(block.data(), 4, 4, f));
+    const Orientation o = canonical_orientation(f);
+    const BlockFeature canonical = transform_feature(f, o.isometry, o.negate);
+    for (int iso = 0; iso < 8; ++iso)
+      for (bool negate : {false, true}) {
+        const BlockFeature view = transform_feature(f, iso, negate);
+        const Orientation v = canonical_orientation(view);
+        EXPECT_EQ(transform_feature(view, v.isometry, v.negate), canonical);
+        // The canonical view found from `view`, undone, gives `view` back through f's own turn.
+        const int back = compose_isometry(o.isometry, inverse_isometry(v.isometry));
+        EXPECT_EQ(transform_feature(f, back, negate), view);
+      }
+  }
+  for (int a = 0; a < 8; ++a) {
+    EXPECT_EQ(compose_isometry(a, inverse_isometry(a)), 0);
+    EXPECT_EQ(compose_isometry(inverse_isometry(a), a), 0);
+  }
 }
 
 TEST(Pifs, RatioControlsTheFileSize) {
@@ -181,9 +211,29 @@ TEST(Pifs, AnySizeAndChannels) {
   }
 }
 
+TEST(Pifs, TwoPixelRangeCellsRoundTripAndAddDetail) {
+  const Image im = textured(96, 80, 1);
+  PifsEncodeOptions o;
+  o.quality = 0;  // split to the smallest cells
+  o.min_block = 4;
+  const PifsCode four = pifs_encode(im, o);
+  o.min_block = 2;
+  const PifsCode two = pifs_encode(im, o);
+  EXPECT_EQ(two.min_log, 1);
+  const auto bytes = pifs_to_bytes(two);
+  EXPECT_EQ(pifs_to_bytes(pifs_from_bytes(bytes.data(), bytes.size())), bytes);
+  EXPECT_GT(psnr(pifs_decode(two, plain()), im), psnr(pifs_decode(four, plain()), im) + 3.0);
+  o.min_block = 0;  // automatic: a quality this fine buys 2×2 cells, a 50:1 budget does not
+  EXPECT_EQ(pifs_encode(im, o).min_log, 1);
+  o.ratio = 50;
+  EXPECT_EQ(pifs_encode(im, o).min_log, 2);
+}
+
 TEST(Pifs, RefusesBadOptions) {
   PifsEncodeOptions o;
   o.min_block = 6;
+  EXPECT_THROW(pifs_encode(textured(32, 32, 1), o), InputError);
+  o.min_block = 1;
   EXPECT_THROW(pifs_encode(textured(32, 32, 1), o), InputError);
   EXPECT_THROW(pifs_encode(Image(), PifsEncodeOptions{}), InputError);
   PifsDecodeOptions d;

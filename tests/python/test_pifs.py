@@ -7,6 +7,8 @@ import numpy as np
 import pytest
 
 import ifsforge
+from conftest import patience
+from test_hostile import interrupt_after
 
 
 def textured(h, w, channels=1):
@@ -153,3 +155,15 @@ def test_camera_beats_jpeg_budget_at_100_to_1():
     assert len(code.to_bytes()) <= camera.size // 100
     # Above what JPEG (Pillow, optimised) reaches at these bytes (cpp/bench/pifs_vs_jpeg.py).
     assert psnr(camera / 255.0, code.decode()) > 25.5
+
+
+def test_ctrl_c_stops_compress_within_a_second(tmp_path):
+    # A 3072^2 texture keeps the encoder busy for seconds: SIGINT must be heard inside its loops.
+    rng = np.random.default_rng(5)
+    image = textured(3072, 3072).astype(np.int16) + rng.integers(-20, 21, (3072, 3072))
+    source = tmp_path / "big.png"
+    ifsforge.write_png(str(source), np.clip(image, 0, 255).astype(np.uint8) / 255.0)
+    code, err, stop = interrupt_after(tmp_path, 2.5, "compress", source, "-o", tmp_path / "big.pifs", "--ratio", "8")
+    assert code == 130 and "interrupted" in err and "Traceback" not in err, err
+    assert stop < patience(1.0), f"{stop:.1f} s to stop"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.png"]

@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <queue>
 
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/code.h"
 
 namespace ifsforge {
@@ -13,14 +14,19 @@ constexpr int kLeafSize = 8;
 }
 
 bool block_feature(const float* block, long stride, int n, BlockFeature& out) {
-  const int cell = n / 4;
+  // n ≥ 4: 4×4 cells of n/4 pixels summed; n = 2: each pixel repeated over 2×2 cells.
+  const int cell = std::max(1, n / 4);
   double mean = 0;
   for (int j = 0; j < 4; ++j)
     for (int i = 0; i < 4; ++i) {
       double sum = 0;
-      for (int y = 0; y < cell; ++y) {
-        const float* row = block + (long(j) * cell + y) * stride + long(i) * cell;
-        for (int x = 0; x < cell; ++x) sum += row[x];
+      if (n < 4) {
+        sum = block[long(j * n / 4) * stride + i * n / 4];
+      } else {
+        for (int y = 0; y < cell; ++y) {
+          const float* row = block + (long(j) * cell + y) * stride + long(i) * cell;
+          for (int x = 0; x < cell; ++x) sum += row[x];
+        }
       }
       out[j * 4 + i] = float(sum);
       mean += sum;
@@ -49,6 +55,88 @@ BlockFeature transform_feature(const BlockFeature& f, int iso, bool negate) {
   return out;
 }
 
+namespace {
+
+/// The top-left and top-right quadrant sums of every one of the 16 views of `f` (index
+/// isometry·2 + negate). An isometry of the 4×4 grid moves whole quadrants as it moves the
+/// cells of a 2×2 grid.
+void view_quadrants(const BlockFeature& f, float q0[16], float q1[16]) {
+  float quad[2][2];
+  for (int b = 0; b < 2; ++b)
+    for (int a = 0; a < 2; ++a) {
+      const int o = b * 8 + a * 2;
+      quad[b][a] = f[o] + f[o + 1] + f[o + 4] + f[o + 5];
+    }
+  for (int iso = 0; iso < 8; ++iso) {
+    int a, b;
+    isometry_map(iso, 2, 0, 0, a, b);
+    const float tl = quad[b][a];
+    isometry_map(iso, 2, 1, 0, a, b);
+    const float tr = quad[b][a];
+    q0[2 * iso] = tl;
+    q1[2 * iso] = tr;
+    q0[2 * iso + 1] = -tl;
+    q1[2 * iso + 1] = -tr;
+  }
+}
+
+int best_view(const float q0[16], const float q1[16]) {
+  int best = 0;
+  for (int v = 1; v < 16; ++v)
+    if (q0[v] > q0[best] || (q0[v] == q0[best] && q1[v] > q1[best])) best = v;
+  return best;
+}
+
+struct IsometryTables {
+  int compose[8][8], inverse[8];
+  IsometryTables() {
+    BlockFeature index;
+    for (int i = 0; i < kFeatureDim; ++i) index[i] = float(i);
+    for (int a = 0; a < 8; ++a)
+      for (int b = 0; b < 8; ++b) {
+        const BlockFeature ab = transform_feature(transform_feature(index, a, false), b, false);
+        for (int c = 0; c < 8; ++c)
+          if (transform_feature(index, c, false) == ab) compose[a][b] = c;
+      }
+    for (int a = 0; a < 8; ++a)
+      for (int c = 0; c < 8; ++c)
+        if (compose[a][c] == 0) inverse[a] = c;
+  }
+};
+
+const IsometryTables& tables() {
+  static const IsometryTables t;
+  return t;
+}
+
+constexpr int kTranspose = 4;  // the isometry that keeps the top-left quadrant in place
+
+}  // namespace
+
+int compose_isometry(int first, int then) { return tables().compose[first][then]; }
+int inverse_isometry(int iso) { return tables().inverse[iso]; }
+
+Orientation canonical_orientation(const BlockFeature& f) {
+  float q0[16], q1[16];
+  view_quadrants(f, q0, q1);
+  const int v = best_view(q0, q1);
+  return {v >> 1, (v & 1) != 0};
+}
+
+int near_canonical_orientations(const BlockFeature& f, float margin, Orientation out[16]) {
+  float q0[16], q1[16];
+  view_quadrants(f, q0, q1);
+  const int best = best_view(q0, q1);
+  int count = 0;
+  out[count++] = {best >> 1, (best & 1) != 0};
+  for (int v = 0; v < 16; ++v) {
+    if (v == best || q0[v] < q0[best] - margin) continue;
+    const int partner = compose_isometry(v >> 1, kTranspose) * 2 + (v & 1);
+    if (q1[v] >= q1[partner] - margin) out[count++] = {v >> 1, (v & 1) != 0};
+  }
+  return count;
+}
+
 FeatureTree::FeatureTree(std::vector<BlockFeature> points, std::vector<std::uint32_t> tags)
     : points_(std::move(points)), tags_(std::move(tags)) {
   if (!points_.empty()) {
@@ -71,6 +159,7 @@ FeatureTree::FeatureTree(std::vector<BlockFeature> points, std::vector<std::uint
 
 int FeatureTree::build(int begin, int end) {
   // Builds over order_ (indices into points_); the points are permuted once at the end.
+  if (end - begin > 4096 && stop_requested()) throw Cancelled();  // a large pool's build hears Ctrl-C
   const int index = int(nodes_.size());
   nodes_.emplace_back();
   if (end - begin <= kLeafSize) {
@@ -107,30 +196,39 @@ int FeatureTree::build(int begin, int end) {
 void FeatureTree::nearest(const BlockFeature& q, int k, int max_leaves, std::vector<std::uint32_t>& out) const {
   out.clear();
   if (points_.empty()) return;
-  // best: max-heap of (distance, tag) holding the k nearest so far.
-  std::vector<std::pair<float, std::uint32_t>> best;
-  using Entry = std::pair<float, int>;  // (lower bound, node)
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  queue.push({0.f, 0});
+  // Scratch reused across queries of a thread: a query allocates nothing.
+  using Entry = std::pair<float, int>;  // (lower bound, node): min-heap by bound
+  thread_local std::vector<Entry> queue;
+  thread_local std::vector<std::pair<float, std::uint32_t>> best;  // max-heap of the k nearest
+  queue.clear();
+  best.clear();
+  const auto later = [](const Entry& a, const Entry& b) { return a > b; };
+  queue.push_back({0.f, 0});
   int leaves = 0;
   while (!queue.empty() && leaves < max_leaves) {
-    auto [bound, node] = queue.top();
-    queue.pop();
+    std::pop_heap(queue.begin(), queue.end(), later);
+    auto [bound, node] = queue.back();
+    queue.pop_back();
     if (int(best.size()) == k && bound >= best.front().first) break;
     // Descend to a leaf, queueing the far sides.
     while (nodes_[node].dim >= 0) {
       const Node& n = nodes_[node];
       const float diff = q[n.dim] - n.split;
       const int near = diff < 0 ? n.left : n.right, far = diff < 0 ? n.right : n.left;
-      queue.push({bound + diff * diff, far});
+      const float far_bound = bound + diff * diff;
+      if (int(best.size()) < k || far_bound < best.front().first) {
+        queue.push_back({far_bound, far});
+        std::push_heap(queue.begin(), queue.end(), later);
+      }
       node = near;
     }
     ++leaves;
     const Node& leaf = nodes_[node];
     for (int i = leaf.left; i < leaf.right; ++i) {
+      const BlockFeature& p = points_[i];
       float d = 0;
       for (int j = 0; j < kFeatureDim; ++j) {
-        const float e = q[j] - points_[i][j];
+        const float e = q[j] - p[j];
         d += e * e;
       }
       const std::pair<float, std::uint32_t> entry{d, tags_[i]};

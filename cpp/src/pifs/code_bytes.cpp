@@ -56,7 +56,7 @@ struct Reader {
 
 int plane_count(int channels, PifsColor) { return channels; }
 
-std::vector<std::uint8_t> header(const PifsCode& code, const std::vector<std::vector<std::uint8_t>>& streams) {
+std::vector<std::uint8_t> header(const PifsCode& code, const std::vector<std::size_t>& stream_sizes) {
   std::vector<std::uint8_t> out(kMagic, kMagic + 4);
   out.push_back(std::uint8_t(kPifsVersion));
   out.push_back(std::uint8_t(code.channels));
@@ -67,7 +67,13 @@ std::vector<std::uint8_t> header(const PifsCode& code, const std::vector<std::ve
   out.push_back(std::uint8_t(code.dc_step));
   put_varint(out, std::uint64_t(code.width));
   put_varint(out, std::uint64_t(code.height));
-  for (const auto& s : streams) put_varint(out, s.size());
+  for (std::size_t s : stream_sizes) put_varint(out, s);
+  return out;
+}
+
+std::vector<std::size_t> sizes(const std::vector<std::vector<std::uint8_t>>& streams) {
+  std::vector<std::size_t> out;
+  for (const auto& s : streams) out.push_back(s.size());
   return out;
 }
 
@@ -76,7 +82,7 @@ std::vector<std::uint8_t> header(const PifsCode& code, const std::vector<std::ve
 std::vector<std::uint8_t> pifs_to_bytes(const PifsCode& code) {
   std::vector<std::vector<std::uint8_t>> streams;
   for (const PifsPlane& p : code.planes) streams.push_back(encode_plane(code, p));
-  std::vector<std::uint8_t> out = header(code, streams);
+  std::vector<std::uint8_t> out = header(code, sizes(streams));
   for (const auto& s : streams) out.insert(out.end(), s.begin(), s.end());
   const std::uint32_t c = crc32(out.data(), out.size());
   for (int i = 0; i < 4; ++i) out.push_back(std::uint8_t(c >> (8 * i)));
@@ -86,7 +92,13 @@ std::vector<std::uint8_t> pifs_to_bytes(const PifsCode& code) {
 std::size_t pifs_header_size(const PifsCode& code) {
   std::vector<std::vector<std::uint8_t>> streams;
   for (const PifsPlane& p : code.planes) streams.push_back(encode_plane(code, p));
-  return header(code, streams).size();
+  return header(code, sizes(streams)).size();
+}
+
+std::size_t pifs_file_size(const PifsCode& code, const std::vector<std::size_t>& stream_sizes) {
+  std::size_t total = header(code, stream_sizes).size() + 4;  // the checksum
+  for (std::size_t s : stream_sizes) total += s;
+  return total;
 }
 
 PifsCode pifs_from_bytes(const std::uint8_t* data, std::size_t size, const std::string& where) {
@@ -110,7 +122,7 @@ PifsCode pifs_from_bytes(const std::uint8_t* data, std::size_t size, const std::
   code.s_bits = r.byte();
   code.dc_step = r.byte();
   const std::uint64_t w = r.varint(), h = r.varint();
-  if (code.channels < 1 || code.channels > 4 || color > 1 || code.min_log < 2 || code.max_log > 8 ||
+  if (code.channels < 1 || code.channels > 4 || color > 1 || code.min_log < 1 || code.max_log > 8 ||
       code.min_log > code.max_log || code.s_bits < 2 || code.s_bits > 8 || code.dc_step < 1 || code.dc_step > 64 ||
       w < 1 || h < 1 || w > 32768 || h > 32768)
     throw InputError(where + ": corrupt (header field out of range)");

@@ -13,6 +13,8 @@ namespace ifsforge {
 namespace {
 
 constexpr std::size_t kJobs = 64;  // leaf chunks: fixed, so the output never depends on threads
+// Pixels one pass writes per extra thread: below it, starting a thread costs more than the pass.
+constexpr double kPixelsPerThread = 1 << 18;
 
 int scaled(int v, int log_scale) { return log_scale >= 0 ? v << log_scale : v >> -log_scale; }
 
@@ -30,6 +32,7 @@ PifsRaster blank(int w, int h, float value) {
 void apply(const PifsCode& code, const PifsPlane& plane, int l, const PifsRaster& src, bool from_half,
            PifsRaster& dst, int threads) {
   const std::size_t count = plane.leaves.size();
+  threads = std::min(resolve_threads(threads), 1 + int(double(dst.width) * dst.height / kPixelsPerThread));
   parallel_jobs(kJobs, threads, [&](std::size_t job, int) {
     const std::size_t begin = count * job / kJobs, end = count * (job + 1) / kJobs;
     for (std::size_t k = begin; k < end; ++k) {
@@ -139,15 +142,18 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
   const int full_h = int(std::ceil(code.height * std::ldexp(1.0, m)));
   // Each plane is decoded at the power-of-two size (its raster and the iteration's second
   // buffer), then resampled; the image holds every channel of the output.
-  check_memory(double(full_w) * full_h * 4.0 * (code.planes.size() + 2) + double(width) * height * code.channels * 8.0,
+  check_memory(double(full_w) * full_h * 4.0 * (2 * code.planes.size() + 1) + double(width) * height * code.channels * 8.0,
                "decoding a " + std::to_string(width) + "x" + std::to_string(height) + " image");
-  std::vector<PifsRaster> planes;
-  for (std::size_t k = 0; k < code.planes.size(); ++k) {
+  // Planes decode independently: in parallel, each on its share of the threads.
+  std::vector<PifsRaster> planes(code.planes.size());
+  const int threads = resolve_threads(options.threads);
+  const int inner = std::max(1, threads / int(planes.size()));
+  parallel_jobs(planes.size(), threads, [&](std::size_t k, int) {
     const PifsPlane& plane = code.planes[k];
     // Chroma stored at half size is decoded one level finer (the seed's Step 6).
     const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);
     const int lm = half ? m + 1 : m;
-    PifsRaster p = decode_plane(code, plane, lm, options.decoder, options.iterations, options.threads);
+    PifsRaster p = decode_plane(code, plane, lm, options.decoder, options.iterations, inner);
     if (options.deblock) deblock(code, plane, lm, p);
     // Crop away the padding (in place: rows only move toward the front).
     const int cw = std::min(full_w, p.width), ch = std::min(full_h, p.height);
@@ -156,8 +162,8 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
     p.width = cw;
     p.height = ch;
     p.values.resize(std::size_t(cw) * ch);
-    planes.push_back(cw == width && ch == height ? std::move(p) : resample_area(p, width, height));
-  }
+    planes[k] = cw == width && ch == height ? std::move(p) : resample_area(p, width, height);
+  });
   return planes_to_image(planes, code.channels, code.color, width, height);
 }
 

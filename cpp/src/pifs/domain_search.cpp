@@ -3,16 +3,21 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ifsforge/core/error.h"
 #include "ifsforge/core/parallel.h"
-#include "ifsforge/pifs/block_search.h"
 #include "ifsforge/pifs/plane_coding.h"
 
 namespace ifsforge {
 namespace {
 
-/// φ of Eq. 29 for every domain at once: the plane averaged 2×2, so the 2r×2r domain at
-/// (x, y) is the r×r block at (x/2, y/2).
-PifsRaster half(const PifsRaster& p) {
+int quantise_mean(const PifsCode& code, double mean) {
+  const int q = int(std::lround(mean / code.dc_step));
+  return std::clamp(q, 0, 255 / code.dc_step);
+}
+
+}  // namespace
+
+PifsRaster half_plane(const PifsRaster& p) {
   PifsRaster h;
   h.width = p.width / 2;
   h.height = p.height / 2;
@@ -26,29 +31,20 @@ PifsRaster half(const PifsRaster& p) {
   return h;
 }
 
-int quantise_mean(const PifsCode& code, double mean) {
-  const int q = int(std::lround(mean / code.dc_step));
-  return std::clamp(q, 0, 255 / code.dc_step);
-}
-
-}  // namespace
-
-std::vector<PifsCandidate> search_level(const PifsCode& code, const PifsRaster& plane, int log_size,
-                                        const PifsSearch& search, int threads) {
+PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_height, int log_size) {
+  PifsDomains pool;
   const int n = 1 << log_size;
-  const int bx = plane.width >> log_size, by = plane.height >> log_size;
-  const int nx = domain_count(plane.width, log_size), ny = domain_count(plane.height, log_size);
-  const PifsRaster dom = half(plane);
-  const long stride = dom.width;
-
-  // Domain statistics and features: 8 isometries × 2 signs per non-flat domain.
-  std::vector<double> dom_mean(std::size_t(std::max(nx, 0)) * std::max(ny, 0));
-  std::vector<double> dom_energy(dom_mean.size());  // Σ (d − mean_d)²
+  pool.log_size = log_size;
+  pool.nx = std::max(0, domain_count(padded_width, log_size));
+  pool.ny = std::max(0, domain_count(padded_height, log_size));
+  pool.energy.resize(std::size_t(pool.nx) * pool.ny);
+  const long stride = half.width;
   std::vector<BlockFeature> points;
   std::vector<std::uint32_t> tags;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const float* d = dom.row(j * n / 2) + i * n / 2;
+  for (int j = 0; j < pool.ny; ++j) {
+    if (stop_requested()) throw Cancelled();
+    for (int i = 0; i < pool.nx; ++i) {
+      const float* d = half.row(j * n / 2) + i * n / 2;
       double sum = 0, sq = 0;
       for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x) {
@@ -56,63 +52,75 @@ std::vector<PifsCandidate> search_level(const PifsCode& code, const PifsRaster& 
           sum += v;
           sq += v * v;
         }
-      const std::size_t id = std::size_t(j) * nx + i;
-      dom_mean[id] = sum / (n * n);
-      dom_energy[id] = sq - sum * sum / (n * n);
+      const std::size_t id = std::size_t(j) * pool.nx + i;
+      pool.energy[id] = sq - sum * sum / (n * n);
       BlockFeature f;
       if (!block_feature(d, stride, n, f)) continue;
-      for (int iso = 0; iso < 8; ++iso)
-        for (int neg = 0; neg < 2; ++neg) {
-          points.push_back(transform_feature(f, iso, neg));
-          tags.push_back(std::uint32_t(id) << 4 | std::uint32_t(iso) << 1 | std::uint32_t(neg));
-        }
+      const Orientation o = canonical_orientation(f);
+      points.push_back(transform_feature(f, o.isometry, o.negate));
+      tags.push_back(std::uint32_t(id) << 4 | std::uint32_t(o.isometry) << 1 | std::uint32_t(o.negate));
     }
-  const FeatureTree tree(std::move(points), std::move(tags));
+  }
+  pool.tree = FeatureTree(std::move(points), std::move(tags));
+  return pool;
+}
 
-  std::vector<PifsCandidate> out(std::size_t(bx) * by);
+void search_row(const PifsCode& code, const PifsRaster& plane, const PifsRaster& half, const PifsDomains& domains,
+                const PifsSearch& search, int row, PifsCandidate* out) {
+  const int log_size = domains.log_size;
+  const int n = 1 << log_size;
+  const int bx = plane.width >> log_size;
+  const long stride = half.width;
   const double s_scale = double(1 << (code.s_bits - 1));
-  parallel_jobs(std::size_t(by), threads, [&](std::size_t row, int) {
-    std::vector<std::uint32_t> found;
-    std::vector<float> r(std::size_t(n) * n);
-    for (int col = 0; col < bx; ++col) {
-      PifsCandidate& c = out[row * bx + col];
-      const int x0 = col * n, y0 = int(row) * n;
-      double sum = 0, sq = 0;
-      for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
-          const float v = plane.row(y0 + y)[x0 + x];
-          r[y * n + x] = v;
-          sum += v;
-          sq += double(v) * v;
-        }
-      const double mean = sum / (n * n);
-      const double energy = std::max(0.0, sq - sum * sum / (n * n));  // ‖r − mean_r‖²
-      const int dc = quantise_mean(code, mean);
-      const double dc_err = double(n) * n * std::pow(mean - dc * code.dc_step, 2);
-      c.flat.x = std::uint16_t(x0);
-      c.flat.y = std::uint16_t(y0);
-      c.flat.log_size = std::uint8_t(log_size);
-      c.flat.dc = std::uint8_t(dc);
-      c.flat_error = energy + dc_err;
-      BlockFeature f;
-      if (tree.empty() || !block_feature(r.data(), n, n, f)) continue;
-      tree.nearest(f, search.neighbours, search.max_leaves, found);
-      double best = c.flat_error;
+  std::vector<std::uint32_t> found;
+  std::vector<float> r(std::size_t(n) * n);
+  Orientation views[16];
+  for (int col = 0; col < bx; ++col) {
+    PifsCandidate& c = out[col];
+    c = PifsCandidate();
+    const int x0 = col * n, y0 = row * n;
+    double sum = 0, sq = 0;
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const float v = plane.row(y0 + y)[x0 + x];
+        r[y * n + x] = v;
+        sum += v;
+        sq += double(v) * v;
+      }
+    const double mean = sum / (n * n);
+    const double energy = std::max(0.0, sq - sum * sum / (n * n));  // ‖r − mean_r‖²
+    const int dc = quantise_mean(code, mean);
+    const double dc_err = double(n) * n * std::pow(mean - dc * code.dc_step, 2);
+    c.flat.x = std::uint16_t(x0);
+    c.flat.y = std::uint16_t(y0);
+    c.flat.log_size = std::uint8_t(log_size);
+    c.flat.dc = std::uint8_t(dc);
+    c.flat_error = energy + dc_err;
+    BlockFeature f;
+    if (domains.tree.empty() || !block_feature(r.data(), n, n, f)) continue;
+    double best = c.flat_error;
+    const int view_count = near_canonical_orientations(f, search.orientation_margin, views);
+    for (int v = 0; v < view_count; ++v) {
+      // The range seen canonically; a domain seen canonically near it matches the range through
+      // the domain's orientation followed by the inverse of the range's.
+      const Orientation ro = views[v];
+      domains.tree.nearest(transform_feature(f, ro.isometry, ro.negate), search.neighbours, search.max_leaves, found);
+      const int undo = inverse_isometry(ro.isometry);
       for (std::uint32_t tag : found) {
         const std::size_t id = tag >> 4;
-        const int iso = int(tag >> 1) & 7;
-        const double de = dom_energy[id];
+        const int iso = compose_isometry(int(tag >> 1) & 7, undo);
+        const double de = domains.energy[id];
         if (de <= 0) continue;
-        const int i = int(id % nx), j = int(id / nx);
-        const float* d = dom.row(j * n / 2) + i * n / 2;
+        const int i = int(id % domains.nx), j = int(id / domains.nx);
+        const float* d = half.row(j * n / 2) + i * n / 2;
         long origin, du, dv;
         isometry_walk(iso, n, stride, origin, du, dv);
         // ⟨r − mean_r, d⟩ = ⟨r − mean_r, d − mean_d⟩.
         double dot = 0;
-        for (int v = 0; v < n; ++v) {
-          const float* p = d + origin + v * dv;
-          const float* rr = &r[std::size_t(v) * n];
-          for (int u = 0; u < n; ++u) dot += (rr[u] - mean) * p[u * du];
+        for (int y = 0; y < n; ++y) {
+          const float* p = d + origin + y * dv;
+          const float* rr = &r[std::size_t(y) * n];
+          for (int x = 0; x < n; ++x) dot += (rr[x] - mean) * p[x * du];
         }
         // Eq. 29 least squares, then s quantised to s_bits with |s| < 1.
         const int sq_q = std::clamp(int(std::lround(dot / de * s_scale)), -code.s_limit(), code.s_limit());
@@ -131,8 +139,7 @@ std::vector<PifsCandidate> search_level(const PifsCode& code, const PifsRaster& 
         }
       }
     }
-  });
-  return out;
+  }
 }
 
 }  // namespace ifsforge

@@ -2,6 +2,8 @@
 
 #include <functional>
 
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/plane_coding.h"
 
 namespace ifsforge {
@@ -22,8 +24,10 @@ int bits_for(int count) {
 /// Visits the top-level blocks in raster order; `node` appends the leaves of one block.
 void each_top(const PifsCode& code, const PifsPlaneCandidates& c, const std::function<void(int, int)>& node) {
   const int top = 1 << code.max_log;
-  for (int y = 0; y < c.padded_height; y += top)
+  for (int y = 0; y < c.padded_height; y += top) {
+    if (stop_requested()) throw Cancelled();  // a large plane's partition hears Ctrl-C
     for (int x = 0; x < c.padded_width; x += top) node(x, y);
+  }
 }
 
 }  // namespace

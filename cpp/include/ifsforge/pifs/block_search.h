@@ -1,7 +1,9 @@
 #pragma once
 /// @file Fast domain search (the seed's [179]): blocks reduced to normalised 4×4 features
 /// (mean removed, unit norm), so the least-squares error of Eq. 29 falls as the features' distance
-/// falls; a k-d tree over every domain × isometry × sign answers nearest-neighbour queries.
+/// falls. Each feature is first turned to a canonical orientation (Fisher's classes: the
+/// strongest quadrant top-left and positive), so the k-d tree holds one point per domain
+/// instead of one per domain × isometry × sign, and a range asks once per plausible orientation.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -11,16 +13,37 @@ namespace ifsforge {
 constexpr int kFeatureDim = 16;
 using BlockFeature = std::array<float, kFeatureDim>;
 
-/// @brief The n×n block at `block` (row stride `stride`) pooled to 4×4 (n a multiple of 4),
-/// mean removed, scaled to unit norm. Returns false for a flat block (no direction).
+/// @brief The n×n block at `block` (row stride `stride`) pooled to 4×4 (n a multiple of 4, or 2:
+/// each pixel repeated), mean removed, scaled to unit norm. Returns false for a flat block (no direction).
 bool block_feature(const float* block, long stride, int n, BlockFeature& out);
 
 /// @brief The feature of the same block seen through isometry `iso` (code.h) and sign.
 BlockFeature transform_feature(const BlockFeature& f, int iso, bool negate);
 
+/// @brief An isometry (code.h) with a sign: the 16 ways one block is compared with another.
+struct Orientation {
+  int isometry = 0;
+  bool negate = false;
+};
+
+/// @brief The orientation that makes `f` canonical: among its 16 views, the one whose top-left
+/// quadrant sum is largest, then whose top-right quadrant sum is largest.
+Orientation canonical_orientation(const BlockFeature& f);
+
+/// @brief Every orientation whose view of `f` is canonical up to `margin` in those two quadrant
+/// sums (the canonical one first): a range queries each, so a near tie that turned its domain the
+/// other way is still found. Returns how many were written (1..16).
+int near_canonical_orientations(const BlockFeature& f, float margin, Orientation out[16]);
+
+/// @brief The isometry that applies `first`, then `then` (as transform_feature composes).
+int compose_isometry(int first, int then);
+/// @brief The isometry that undoes `iso`.
+int inverse_isometry(int iso);
+
 /// @brief A k-d tree of features, each with a 32-bit tag; approximate best-bin-first queries.
 class FeatureTree {
  public:
+  FeatureTree() = default;
   FeatureTree(std::vector<BlockFeature> points, std::vector<std::uint32_t> tags);
   /// @brief Up to `k` tags of the nearest points, nearest first, visiting at most `max_leaves`
   /// leaves. Deterministic: the same query always gives the same answer.

@@ -22,4 +22,7 @@ PifsCode pifs_from_bytes(const std::uint8_t* data, std::size_t size, const std::
 /// @brief Bytes of the header (everything before the first plane's stream and the checksum).
 std::size_t pifs_header_size(const PifsCode& code);
 
+/// @brief The size of pifs_to_bytes(code) when its planes' streams are `stream_sizes` bytes.
+std::size_t pifs_file_size(const PifsCode& code, const std::vector<std::size_t>& stream_sizes);
+
 }  // namespace ifsforge

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "ifsforge/core/progress.h"
+#include "ifsforge/pifs/block_search.h"
 #include "ifsforge/pifs/code.h"
 
 namespace ifsforge {
@@ -26,15 +26,34 @@ struct PifsCandidate {
   bool has_transform = false;
 };
 
-/// @brief Search effort: neighbours evaluated exactly and k-d tree leaves visited per query.
+/// @brief Search effort: neighbours evaluated exactly per query, k-d tree leaves visited per
+/// query, and how near a tie (in quadrant sums of unit features) still asks a second orientation.
 struct PifsSearch {
   int neighbours = 8;
-  int max_leaves = 64;
+  int max_leaves = 16;
+  float orientation_margin = 0.1f;
 };
 
-/// @brief Candidates for every 2^log_size block of `plane` (padded), in raster order of blocks.
-/// Parallel over block rows; the result does not depend on `threads`.
-std::vector<PifsCandidate> search_level(const PifsCode& code, const PifsRaster& plane, int log_size,
-                                        const PifsSearch& search, int threads);
+/// @brief φ of Eq. 29 for every domain at once: the plane averaged 2×2, so the 2r×2r domain at
+/// (x, y) is the r×r block at (x/2, y/2) of this raster.
+PifsRaster half_plane(const PifsRaster& padded);
+
+/// @brief The domain pool of one plane for ranges of 2^log_size: each domain's energy
+/// Σ(d − mean_d)² (of its φ) and a tree of its canonical feature, shared read-only by the
+/// threads that search it.
+struct PifsDomains {
+  int log_size = 0;
+  int nx = 0, ny = 0;           ///< domains across and down (domain_count)
+  std::vector<double> energy;   ///< per domain, row-major
+  FeatureTree tree;             ///< tag: domain index << 4 | canonical isometry << 1 | sign
+};
+
+/// @brief The pool for `half` = half_plane(padded plane of `padded_width` × `padded_height`).
+PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_height, int log_size);
+
+/// @brief Candidates of the blocks in block row `row` of the padded plane, in column order,
+/// written to `out` (one per block). Depends on nothing but its arguments.
+void search_row(const PifsCode& code, const PifsRaster& plane, const PifsRaster& half, const PifsDomains& domains,
+                const PifsSearch& search, int row, PifsCandidate* out);
 
 }  // namespace ifsforge

@@ -10,7 +10,9 @@
 namespace ifsforge {
 
 struct PifsEncodeOptions {
-  int min_block = 4, max_block = 32;  ///< range sizes (powers of two): the quadtree depths
+  /// Range sizes (powers of two): the quadtree depths. min_block 0: 2 when the size target is
+  /// at least 1/kFineRatio of the raw image (or quality ≤ kFineQuality), else 4.
+  int min_block = 0, max_block = 32;
   int s_bits = 5;                     ///< contrast bits (Eq. 29's s quantised, |s| ≤ 15/16)
   int dc_step = 1;                    ///< range-mean quantisation, 8-bit levels
   /// Rate control, first that is set wins: bytes (file size ≤ bytes), ratio (raw bytes /
@@ -23,6 +25,7 @@ struct PifsEncodeOptions {
   int threads = 0;
 
   static constexpr double kDefaultQuality = 8.0;
+  static constexpr double kFineRatio = 16.0, kFineQuality = 2.0;
 };
 
 /// @brief The PIFS code of `image` (1-4 channels, values in [0, 1], read as 8-bit levels).
