@@ -5,8 +5,6 @@ named after the density's), and a POV-Ray scene of coloured media reading them (
 --df3 V.df3 --pov S.pov`). The Blender add-on's scene export uses the same names."""
 import os
 
-import numpy as np
-
 import ifsforge
 
 CHANNELS = ("red", "green", "blue")
@@ -43,6 +41,7 @@ def per_world_unit(volume):
     the values). A fractal fills a smaller share of its box at every finer resolution (binary),
     and each voxel gets a smaller share of the points (hits, measure): without it, the same
     density would render fainter at every resolution, and hits or measure near invisible."""
+    import numpy as np  # late: the command's parser imports this module, numpy only its work
     total = float(np.sum(np.asarray(volume.density, np.float64)))
     return float(np.prod(np.asarray(volume.dims, np.float64))) / total if total > 0 else 1.0
 
@@ -56,6 +55,7 @@ def media_box(volume, names, density):
     `density` (per world unit, per_world_unit already applied) times the grid's density, and
     emission of the same times the voxel's linear colour (its three channel files averaged into
     an RGB density, each x 3) or GRAY: where the volume is opaque POV-Ray shows its colour."""
+    import numpy as np
     top = float(np.max(volume.density)) if len(volume) else 0.0  # the .df3 holds density / top
     sigma = density * top
     grid = f"density {{ {_density(names[0])} }}"
@@ -77,6 +77,7 @@ def media_box(volume, names, density):
 def scene(volume, names, density, width, height, title=""):
     """A POV-Ray 3.7 scene of the volume as media_box, seen from the diagonal of its box with z up
     (the system's coordinates unchanged, as ifsforge's instance scenes), on a black background."""
+    import numpy as np
     size = np.asarray(volume.dims, np.float64) * volume.voxel_size
     centre = np.asarray(volume.origin, np.float64) + size / 2
     eye = centre + np.array([1.0, -1.0, 0.8]) / np.linalg.norm([1.0, -1.0, 0.8]) * np.linalg.norm(size) * 1.8
