@@ -210,3 +210,18 @@ def test_collage_window_lays_the_target_where_it_was_drawn(cli, tmp_path):
     result = cli("collage", "tri.json", "t.png", "--window", "1", "0", "0", "1")
     assert result.returncode != 0 and "window" in result.stderr
 
+
+@pytest.mark.parametrize("name, maps", [("sierpinski_triangle", 3), ("heighway_dragon", 2), ("cantor_dust", 4)])
+def test_fit_takes_a_default_render_touching_the_frame_as_its_shape(cli, tmp_path, name, maps):
+    # `render` without a window frames the attractor tightly: it touches the frame (the triangle
+    # covers half the border), and the white attractor on black is still the shape.
+    system = json.loads((SAMPLES / f"{name}.json").read_text())
+    del system["render"]
+    (tmp_path / "s.json").write_text(json.dumps(system))
+    cli("render", "s.json", "-o", "t.png", "--size", "128", "--mode", "binary", check=True)
+    summary = json.loads(cli("fit", "t.png", "-o", "fit.json", "--maps", str(maps), "--restarts", "3", "--json",
+                             check=True).stdout)
+    assert summary["iou"] >= 0.9, summary
+    # The fit writes the window it used: the collage reads it back and scores what the fit scored.
+    collage = json.loads(cli("collage", "fit.json", "t.png", "--json", check=True).stdout)
+    assert collage["distance_pixels"] == pytest.approx(summary["collage_distance_pixels"])
