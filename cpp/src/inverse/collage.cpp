@@ -31,7 +31,10 @@ PixelSet foreground(const Image& image, double threshold) {
     for (int x = 0; x < image.width; ++x)
       out.cells[std::size_t(y) * image.width + x] = (value(x, y) > threshold) != bright_background;
   const std::size_t n = out.count();
-  if (n == out.cells.size() && !bright_background) return out;  // bright throughout: a filled frame
+  if (n == 0 && bright_background) {  // bright throughout: a filled frame
+    std::fill(out.cells.begin(), out.cells.end(), std::uint8_t(1));
+    return out;
+  }
   if (n == 0 || n == out.cells.size())
     throw InputError("the target picture has no shape: every pixel is on one side of the threshold " +
                      std::to_string(threshold));

@@ -17,6 +17,8 @@ constexpr int kCoverStride = 3;       // cells between the copy centroids tried,
 constexpr double kOutsideCost = 2.0;  // a copy cell off the target costs two newly covered ones
 constexpr double kOverlapCost = 0.5;  // one on an earlier copy, half of one
 constexpr double kGiveUp = 0.3;       // share of a copy's first cells off the target that ends its count
+constexpr std::size_t kCoverRefined = 8;  // best copies refined by a local climb
+constexpr int kCoverSlack = 2;            // cells the target grows by for the lattice
 
 struct Candidate {
   double score = -std::numeric_limits<double>::infinity();
@@ -57,13 +59,51 @@ std::vector<double> self_similar_cover(const PixelSet& target, const FitGrid& gr
     const double qx = m[0] * c[0] + m[1] * c[1] + m[2] + pad, qy = m[3] * c[0] + m[4] * c[1] + m[5] + pad;
     return std::size_t(std::clamp(qy, 0.0, H - 1.0)) * W + std::size_t(std::clamp(qx, 0.0, W - 1.0));
   };
+  // A copy's worth: target cells it newly covers, less those off the target and on earlier
+  // copies; a copy whose first cells stray too often is dropped (-infinity).
+  // The target grown by kCoverSlack cells (Chebyshev): the lattice of turns and places lands
+  // near a thin attractor's copies, not on them, so the lattice is judged on the grown target
+  // and its best copies climb onto the exact one.
+  std::vector<std::uint8_t> near_target = on_target;
+  for (int pass = 0; pass < kCoverSlack; ++pass) {
+    const std::vector<std::uint8_t> was = near_target;
+    for (int y = 1; y + 1 < H; ++y)
+      for (int x = 1; x + 1 < W; ++x)
+        if (!was[std::size_t(y) * W + x])
+          for (int dy = -1; dy <= 1 && !near_target[std::size_t(y) * W + x]; ++dy)
+            for (int dx = -1; dx <= 1; ++dx)
+              if (was[std::size_t(y + dy) * W + x + dx]) {
+                near_target[std::size_t(y) * W + x] = 1;
+                break;
+              }
+  }
+  auto score_of = [&](const double* p, int worker, const std::vector<std::uint8_t>& on) {
+    AffineMap m;
+    decode_map(p, 2, max_contraction, m);
+    const PixelMap pm = grid.pixel_map(m);
+    auto& stamp = stamps[worker];
+    const std::uint32_t mark = ++stamp_count[worker];
+    double fresh = 0, outside = 0, overlap = 0;
+    std::size_t seen = 0;
+    for (const auto& cell : cells) {
+      ++seen;
+      const std::size_t q = cell_of(pm, cell);
+      if (stamp[q] == mark) continue;
+      stamp[q] = mark;
+      if (!on[q]) {
+        if (++outside > kGiveUp * double(seen) + 8 && &on == &near_target) return -std::numeric_limits<double>::infinity();
+      } else {
+        (covered[q] ? overlap : fresh) += 1;
+      }
+    }
+    return fresh - kOutsideCost * outside - kOverlapCost * overlap;
+  };
   std::vector<double> x0;
   for (int c = 0; c < maps; ++c) {
     std::vector<Candidate> best(jobs);
     parallel_jobs(std::size_t(jobs), workers, [&](std::size_t job, int worker) {
       const double s = std::min(kCoverScales[job % scales], max_contraction);
       const double angle = (double(job / scales) + turn) * 2 * M_PI / kCoverTurns;
-      auto& stamp = stamps[worker];
       for (int mirror = 0; mirror < 2; ++mirror) {
         double p[6] = {mirror ? -s : s, s, angle, angle, 0, 0};
         AffineMap m;
@@ -71,35 +111,42 @@ std::vector<double> self_similar_cover(const PixelSet& target, const FitGrid& gr
         const double cx = m.a(0, 0) * centroid[0] + m.a(0, 1) * centroid[1];
         const double cy = m.a(1, 0) * centroid[0] + m.a(1, 1) * centroid[1];
         for (const auto& place : places) {
-          m.b(0) = p[4] = place[0] - cx;
-          m.b(1) = p[5] = place[1] - cy;
-          const PixelMap pm = grid.pixel_map(m);
-          const std::uint32_t mark = ++stamp_count[worker];
-          double fresh = 0, outside = 0, overlap = 0;
-          std::size_t seen = 0;
-          bool gave_up = false;
-          for (const auto& cell : cells) {
-            ++seen;
-            const std::size_t q = cell_of(pm, cell);
-            if (stamp[q] == mark) continue;
-            stamp[q] = mark;
-            if (!on_target[q]) {
-              outside += 1;
-              if (outside > kGiveUp * double(seen) + 8) {
-                gave_up = true;
-                break;
-              }
-            } else {
-              (covered[q] ? overlap : fresh) += 1;
-            }
-          }
-          if (gave_up) continue;
-          const double score = fresh - kOutsideCost * outside - kOverlapCost * overlap;
+          p[4] = place[0] - cx;
+          p[5] = place[1] - cy;
+          const double score = score_of(p, worker, near_target);
           if (score > best[job].score) best[job].score = score, std::copy(p, p + 6, best[job].p.begin());
         }
       }
     });
     evaluations += std::uint64_t(jobs) * 2 * places.size();
+    // The lattice of turns and places is coarse for a thin attractor (a spiral's copy 5 degrees
+    // off lies mostly off it): the best few climb by halving steps of scale, turn and place.
+    std::stable_sort(best.begin(), best.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    best.resize(kCoverRefined);
+    parallel_jobs(best.size(), workers, [&](std::size_t k, int worker) {
+      Candidate& b = best[k];
+      if (!std::isfinite(b.score)) return;
+      b.score = score_of(b.p.data(), worker, on_target);
+      double step[3] = {0.04, 4 * M_PI / 180, 1.0 / grid.pixels_per_unit};
+      for (int level = 0; level < 4; ++level, step[0] /= 2, step[1] /= 2, step[2] /= 2)
+        for (bool better = true; better;) {
+          better = false;
+          for (int axis = 0; axis < 4; ++axis)
+            for (double sign : {-1.0, 1.0}) {
+              std::array<double, 6> p = b.p;
+              if (axis == 0) {
+                const double f = 1 + sign * step[0];
+                p[0] *= f, p[1] = std::min(p[1] * f, max_contraction), p[0] = std::copysign(p[1], p[0]);
+              } else if (axis == 1) {
+                p[2] += sign * step[1], p[3] = p[2];
+              } else {
+                p[2 + axis] += sign * step[2];
+              }
+              const double score = score_of(p.data(), worker, on_target);
+              if (score > b.score) b.score = score, b.p = p, better = true;
+            }
+        }
+    });
     const Candidate* chosen = &best[0];
     for (const Candidate& b : best)
       if (b.score > chosen->score) chosen = &b;
