@@ -116,21 +116,21 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   const int n = o.maps * kParams;
   for (int r = 0; r < o.restarts && !stop(); ++r) {
     Rng rng(o.seed, 1000 + r);
-    // Three kinds of start, in turn: the target covered by turned copies of itself (its own
-    // structure), the k-means collage as it is, and the k-means parts turned one at a time.
+    // Three kinds of start, in turn: the k-means collage as it is, the k-means parts turned one
+    // at a time, and the target covered by turned copies of itself (its own structure).
     const int kind = r % 3;
     std::vector<double> x0;
-    if (kind == 0) {
+    if (kind == 2) {
       x0 = self_similar_cover(target, grid, o.maps, o.max_contraction, threads, rng, result.evaluations);
     } else {
       const Boxes boxes = pixel_clusters(target, grid, o.maps, rng);
       x0 = initial_collage(boxes);
-      if (kind == 2) turn_parts(boxes, target, grid, proxy, o, rng, x0, result.evaluations);
+      if (kind == 1) turn_parts(boxes, target, grid, proxy, o, rng, x0, result.evaluations);
     }
     std::vector<double> sigma(n);
     for (int i = 0; i < n; ++i) {
       const int k = i % kParams;
-      sigma[i] = k < 2 ? 0.1 : k < 4 ? (kind == 2 ? 0.6 : 0.3) : 0.08 * grid.extent;
+      sigma[i] = k < 2 ? 0.1 : k < 4 ? (kind == 1 ? 0.6 : 0.3) : 0.08 * grid.extent;
     }
     const CmaResult polish = collage_then_attractor(collage_value, attractor_value, x0, sigma,
                                                     fit_cma_options(n, o.generations, o.seed * 7919 + r, threads),

@@ -19,6 +19,7 @@ constexpr double kOverlapCost = 0.5;  // one on an earlier copy, half of one
 constexpr double kGiveUp = 0.3;       // share of a copy's first cells off the target that ends its count
 constexpr std::size_t kCoverRefined = 8;  // best copies refined by a local climb
 constexpr int kCoverSlack = 2;            // cells the target grows by for the lattice
+constexpr double kCoverTieBreak = 1e-3;   // below one cell: breaks ties only
 
 struct Candidate {
   double score = -std::numeric_limits<double>::infinity();
@@ -96,7 +97,10 @@ std::vector<double> self_similar_cover(const PixelSet& target, const FitGrid& gr
         (covered[q] ? overlap : fresh) += 1;
       }
     }
-    return fresh - kOutsideCost * outside - kOverlapCost * overlap;
+    // Among copies that cover alike (a symmetric target's turns and mirrors), the least turned
+    // and unmirrored: the maps a person would write, and the ones colour fits expect.
+    const double turned = std::abs(std::remainder(p[2], 2 * M_PI)) / M_PI + (p[0] < 0);
+    return fresh - kOutsideCost * outside - kOverlapCost * overlap - kCoverTieBreak * turned;
   };
   std::vector<double> x0;
   for (int c = 0; c < maps; ++c) {
