@@ -67,7 +67,8 @@ def test_fit_recovers_a_sierpinski_triangle(cli, tmp_path):
 
 def test_fit_is_identical_for_any_thread_count():
     target = sierpinski_target(40)
-    runs = [ifsforge.fit(target, maps=2, restarts=1, generations=30, attractor_generations=5,
+    # Three restarts: one of each start (k-means, turned k-means, the cover by turned copies).
+    runs = [ifsforge.fit(target, maps=2, restarts=3, generations=30, attractor_generations=5,
                          refine_generations=5, final_generations=5, seed=3, threads=t) for t in (1, 2)]
     assert ifsforge.to_json(runs[0]["system"]) == ifsforge.to_json(runs[1]["system"])
     other = ifsforge.fit(target, maps=2, restarts=1, generations=30, attractor_generations=5,
