@@ -9,7 +9,10 @@ the fitted attractor drawn at the target's size and the target, the collage dist
 mean colour error per pixel both cover and the colour collage error (RMS per channel, seed
 Fig. 4.3); 3D targets (3D samples as 64^3 .vdb volumes, one also as a voxelised mesh) get 120 s
 and report the IoU of the fitted attractor's volume (`volume` on the target's box) with the target.
-Run: PYTHONPATH=build/python python3 cpp/bench/fit_targets.py [--threads 2]
+Issue 32's section fits held-out rotated systems (a spiral, two dragons, a leaf, a snowflake) and
+drawn silhouettes (a letter, a tree) with default options but the map count and no time limit,
+and with --auto also by `--maps auto`.
+Run: PYTHONPATH=build/python python3 cpp/bench/fit_targets.py [--threads 2] [--auto]
 """
 import argparse
 import json
@@ -32,6 +35,32 @@ CLASSIC = {
 }
 
 
+def similarity(scale, degrees, offset, mirror=False):
+    """The JSON map x -> scale R(degrees) x + offset (mirrored in x first)."""
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    k = -1 if mirror else 1
+    return {"matrix": [[scale * c * k, -scale * s], [scale * s * k, scale * c]], "offset": list(offset)}
+
+
+def ring(count, radius, scale, degrees):
+    """`count` copies on a circle, each turned with its place (snowflakes)."""
+    return [similarity(scale, degrees + 360 * k / count, (radius * np.cos(2 * np.pi * k / count),
+                                                         radius * np.sin(2 * np.pi * k / count))) for k in range(count)]
+
+
+GOLDEN = 0.7427429446  # (1/phi)^(1/phi): the golden dragon's ratio
+ROTATED = {
+    # name: JSON maps -- rotated systems held out from the tests (issue 32's spiral first).
+    "spiral": [similarity(0.88, 28, (0, 0)), similarity(0.28, 0, (1, 0))],
+    "golden dragon": [similarity(GOLDEN, 32.893818, (0, 0)), similarity(GOLDEN ** 2, 133.774435, (1, 0))],
+    "terdragon": [similarity(3 ** -0.5, -30, (0, 0)), similarity(3 ** -0.5, 90, (0.5, -0.5 / 3 ** 0.5)),
+                  similarity(3 ** -0.5, -30, (0.5, 0.5 / 3 ** 0.5))],
+    "leaf": [similarity(0.62, 0, (0, 0.38)), similarity(0.45, 48, (0.04, 0.12)), similarity(0.45, -48, (-0.04, 0.12)),
+             {"matrix": [[0.04, 0], [0, 0.32]], "offset": [0, 0]}],
+    "snowflake": ring(4, 0.62, 0.34, 15) + [similarity(0.4, 45, (0, 0))],
+}
+
+
 def classic_target(maps, size=256):
     system = ifsforge.parse_json(json.dumps({"format": "ifsforge/1", "name": "target", "layout": "xy",
                                              "maps": maps}))
@@ -49,6 +78,39 @@ def horse_target():
     return horse[rows][:, cols]
 
 
+def rotated_targets():
+    return [(name, classic_target(maps), len(maps)) for name, maps in ROTATED.items()]
+
+
+def letter_target(text="R", size=256):
+    """A letter drawn in DejaVu Sans Bold, 256 pixels tall, with a margin."""
+    from PIL import Image, ImageDraw, ImageFont
+    font = ImageFont.truetype("/usr/share/fonts/truetype/dejavu/DejaVuSans-Bold.ttf", int(size * 0.9))
+    picture = Image.new("L", (size, size), 0)
+    ImageDraw.Draw(picture).text((size // 2, size // 2), text, fill=255, font=font, anchor="mm")
+    return np.asarray(picture) > 127
+
+
+def tree_target(size=256):
+    """A drawn tree: a trunk, two boughs and a round crown (skimage.draw)."""
+    import skimage.draw
+    mask = np.zeros((size, size), bool)
+    s = size / 256
+    for rows, cols in (([250, 250, 120, 120], [112, 144, 138, 118]),      # trunk
+                       ([150, 140, 80, 90], [125, 135, 60, 50]),          # left bough
+                       ([150, 140, 70, 80], [131, 121, 190, 200])):       # right bough
+        rr, cc = skimage.draw.polygon(np.array(rows) * s, np.array(cols) * s, mask.shape)
+        mask[rr, cc] = True
+    for r, c, radius in ((80, 128, 60), (95, 70, 35), (85, 190, 38)):
+        rr, cc = skimage.draw.disk((r * s, c * s), radius * s, shape=mask.shape)
+        mask[rr, cc] = True
+    return mask
+
+
+def silhouette_targets():
+    return [("letter R", letter_target(), 4), ("tree", tree_target(), 4)]
+
+
 def targets():
     out = [(name, classic_target(maps), n) for name, (n, maps) in CLASSIC.items()]
     out.append(("horse", horse_target(), 10))
@@ -63,14 +125,19 @@ def drawn(system, shape):
 
 
 def evaluate(name, target, maps, threads=2, seed=0, time_limit=60.0):
-    start = time.perf_counter()
-    result = ifsforge.fit(target, maps=maps, time_limit=time_limit, seed=seed, threads=threads)
-    seconds = time.perf_counter() - start
+    start, cpu = time.perf_counter(), time.process_time()
+    if maps == "auto":
+        import ifsforge.commands.fit as fit_command
+        result = fit_command.fit_picture(target, "auto", 0.5, time_limit=time_limit, seed=seed, threads=threads)
+        maps = result["maps"]
+    else:
+        result = ifsforge.fit(target, maps=maps, time_limit=time_limit, seed=seed, threads=threads)
+    seconds, cpu = time.perf_counter() - start, time.process_time() - cpu
     system = result["system"]
     picture = drawn(system, target.shape)
     iou = float((picture & target).sum() / (picture | target).sum())
     return {"target": name, "maps": maps, "iou": iou, "hausdorff_pixels": ifsforge.hausdorff_distance(picture, target),
-            "collage_pixels": ifsforge.collage_distance(system, target)["distance_pixels"], "seconds": seconds,
+            "collage_pixels": ifsforge.collage_distance(system, target)["distance_pixels"], "seconds": seconds, "cpu": cpu,
             "time_limited": result["time_limited"], "system": system, "fit": picture}
 
 
@@ -145,6 +212,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--auto", action="store_true", help="also fit the rotated targets with --maps auto")
     import results  # beside this script; imported here, as the galleries import this module without it
     results.add_argument(parser)
     args = parser.parse_args()
@@ -160,6 +228,7 @@ def report(args, out):
         r = evaluate(name, target, maps, args.threads, args.seed)
         out.print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['hausdorff_pixels']:12.2f} {r['collage_pixels']:10.2f} "
                   f"{r['seconds']:7.1f}" + (" (time limit)" if r["time_limited"] else ""))
+    rotated(args, out)
     out.print(f"\n{'colour target':18} {'maps':>4} {'IoU':>6} {'colour error':>12} {'collage RMS r g b':>20} {'time s':>7}")
     for name, picture, maps in color_targets():
         r = evaluate_color(name, picture, maps, args.threads, args.seed)
@@ -171,6 +240,21 @@ def report(args, out):
             r = evaluate_3d(name, shape_target(file, extension, folder), maps, args.threads, args.seed)
             out.print(f"{name:24} {maps:4d} {r['iou']:6.3f} {r['fit_iou']:7.3f} {r['seconds']:7.1f}"
                       + (" (time limit)" if r["time_limited"] else ""))
+
+
+def rotated(args, out):
+    """Issue 32's targets: rotated systems with the right count of maps and with --maps auto,
+    drawn silhouettes; default options (no time limit) but the maps, wall and CPU time."""
+    out.print(f"\n{'rotated target':18} {'maps':>4} {'IoU':>6} {'Hausdorff px':>12} {'time s':>7} {'CPU s':>7}"
+              + (f" {'auto maps':>9} {'auto IoU':>8} {'auto s':>7}" if args.auto else ""))
+    for name, target, maps in rotated_targets() + silhouette_targets():
+        r = evaluate(name, target, maps, args.threads, args.seed, time_limit=0)
+        line = (f"{name:18} {maps:4d} {r['iou']:6.3f} {r['hausdorff_pixels']:12.2f} {r['seconds']:7.1f} "
+                f"{r['cpu']:7.1f}")
+        if args.auto:
+            a = evaluate(name, target, "auto", args.threads, args.seed, time_limit=0)
+            line += f" {a['maps']:9d} {a['iou']:8.3f} {a['seconds']:7.1f}"
+        out.print(line)
 
 
 if __name__ == "__main__":

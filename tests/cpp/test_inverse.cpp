@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "ifsforge/core/error.h"
+#include "ifsforge/core/image.h"
 #include "ifsforge/core/random.h"
 #include "ifsforge/inverse/collage.h"
 #include "ifsforge/inverse/distance_transform.h"
@@ -98,6 +100,36 @@ TEST(Inverse, CollageOfASelfSimilarSquareIsZero) {
   EXPECT_EQ(r.distance_pixels, 0.0);
   EXPECT_EQ(r.collage_pixels, 1024u);
   EXPECT_EQ(r.bound, 0.0);
+}
+
+// Which side is the shape: a white right triangle on black touching the bottom and left edges
+// (half the border) is the shape; a black disc on white touching the frame in a few pixels too.
+TEST(Inverse, ForegroundOfAShapeTouchingTheFrame) {
+  Image triangle(32, 32, 1);
+  std::size_t inside = 0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x)
+      if (x <= y) triangle.at(x, y, 0) = 1.0f, ++inside;  // row 31 is the bottom edge
+  const PixelSet t = foreground(triangle);
+  EXPECT_EQ(t.count(), inside);
+  EXPECT_TRUE(t.cells[31 * 32]);
+  Image disc(32, 32, 1);
+  std::size_t dark = 0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) {
+      const bool in = std::hypot(x - 15.5, y - 2.0) < 6;  // cut by the top edge
+      disc.at(x, y, 0) = in ? 0.0f : 1.0f;
+      dark += in;
+    }
+  const PixelSet d = foreground(disc);
+  EXPECT_EQ(d.count(), dark);
+  EXPECT_TRUE(d.cells[15]);
+  // Bright throughout: a filled frame; dark throughout: no shape.
+  Image bright(8, 8, 1);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) bright.at(x, y, 0) = 1.0f;
+  EXPECT_EQ(foreground(bright).count(), 64u);
+  EXPECT_THROW(foreground(Image(8, 8, 1)), InputError);
 }
 
 }  // namespace

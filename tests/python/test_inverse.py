@@ -67,7 +67,8 @@ def test_fit_recovers_a_sierpinski_triangle(cli, tmp_path):
 
 def test_fit_is_identical_for_any_thread_count():
     target = sierpinski_target(40)
-    runs = [ifsforge.fit(target, maps=2, restarts=1, generations=30, attractor_generations=5,
+    # Three restarts: one of each start (k-means, turned k-means, the cover by turned copies).
+    runs = [ifsforge.fit(target, maps=2, restarts=3, generations=30, attractor_generations=5,
                          refine_generations=5, final_generations=5, seed=3, threads=t) for t in (1, 2)]
     assert ifsforge.to_json(runs[0]["system"]) == ifsforge.to_json(runs[1]["system"])
     other = ifsforge.fit(target, maps=2, restarts=1, generations=30, attractor_generations=5,
@@ -146,3 +147,82 @@ def test_render_tops_colors_by_top_address(cli, tmp_path):
     assert 10 * np.log10(1 / mse) > 30
     result = cli("render", "square.json", "-o", "u.png", "-a", "tops")
     assert result.returncode != 0 and "reference" in result.stderr
+
+
+def covered_by_chaos(system, size, points):
+    """Pixels the system's own chaos game covers with `points` points on its render.window."""
+    raster = ifsforge.render(system, "chaos", size, size, iterations=points, binary=True,
+                             window=system.render_defaults["window"])
+    return int(np.asarray(raster.mask, bool).sum())
+
+
+def test_tops_and_warp_walk_the_system_with_its_own_probabilities():
+    # The fern's maps have probabilities 0.01, 0.85, 0.07, 0.07; drawn with the square's uniform
+    # ones, its top half would stay nearly blank. Both cover what its own chaos game covers.
+    fern = ifsforge.load(str(SAMPLES / "barnsley_fern.json"))
+    points = 16 * 128 * 128
+    own = covered_by_chaos(fern, 128, points)
+    _, covered = ifsforge.tops(fern, 128, 128, iterations=points, seed=1)
+    yy, xx = np.mgrid[0:32, 0:32] / 31.0
+    picture = np.stack([xx, yy, 0.5 + 0 * xx], axis=2).astype(np.float32)
+    warped = ifsforge.tops_warp(ifsforge.parse_json(SQUARE), picture, fern, 128, 128, iterations=points, seed=1)
+    for count in (int(covered.sum()), int((warped[..., 3] > 0).sum())):
+        assert abs(count - own) <= TOPS_COVERAGE_BAR * own, (count, own)
+
+
+# Relative difference of two chaos games' coverage at the same count (their streams differ) plus
+# the pinholes tops fill from their neighbours.
+TOPS_COVERAGE_BAR = 0.03
+
+
+def test_warp_covers_the_whole_support(cli, tmp_path):
+    # A filled square whose measure is uneven (probabilities 0.85, 0.05, 0.05, 0.05): sixteen
+    # points per pixel leave pinholes in the thin corners; the walk goes on until it finds them.
+    skewed = json.loads(SQUARE)  # the square's maps, its window
+    for m, p in zip(skewed["maps"], (0.85, 0.05, 0.05, 0.05)):
+        m["probability"] = p
+    (tmp_path / "skewed.json").write_text(json.dumps(skewed))
+    (tmp_path / "square.json").write_text(SQUARE)
+    ifsforge.write_png(str(tmp_path / "p.png"), np.full((16, 16, 3), 0.5, np.float32))
+    cli("warp", "p.png", "--from", "square.json", "--to", "skewed.json", "-o", "w.png", "--size", "128", check=True)
+    assert (ifsforge.read_png(str(tmp_path / "w.png"))[..., 3] == 1).all()
+    # --iterations fixes the count: too few points leave most of it transparent.
+    result = cli("warp", "p.png", "--from", "square.json", "--to", "skewed.json", "-o", "few.png", "--size", "128",
+                 "--iterations", "1000", check=True)
+    few = int((ifsforge.read_png(str(tmp_path / "few.png"))[..., 3] > 0).sum())
+    assert few <= 1000 and f"{few} pixels" in result.stdout
+
+
+def test_collage_window_lays_the_target_where_it_was_drawn(cli, tmp_path):
+    # The triangle drawn with a margin: on its attractor's frame the target is misplaced, on the
+    # window it was drawn on its own maps give a collage within a pixel's diagonal.
+    triangle = json.loads((SAMPLES / "sierpinski_triangle.json").read_text())
+    del triangle["render"]
+    (tmp_path / "tri.json").write_text(json.dumps(triangle))
+    window = ["-0.25", "-0.25", "1.25", "1.25"]
+    cli("render", "tri.json", "-o", "t.png", "--size", "128", "--mode", "binary", "--window", *window, check=True)
+    laid = json.loads(cli("collage", "tri.json", "t.png", "--window", *window, "--json", check=True).stdout)
+    framed = json.loads(cli("collage", "tri.json", "t.png", "--json", check=True).stdout)
+    assert laid["window"] == [-0.25, -0.25, 1.25, 1.25]
+    assert laid["distance_pixels"] <= 2 ** 0.5 + 1e-9 and framed["distance_pixels"] > 5
+    same = ifsforge.collage_distance(ifsforge.read_json(str(tmp_path / "tri.json")),
+                                     ifsforge.read_png(str(tmp_path / "t.png")), window=[-0.25, -0.25, 1.25, 1.25])
+    assert same["distance_pixels"] == laid["distance_pixels"]
+    result = cli("collage", "tri.json", "t.png", "--window", "1", "0", "0", "1")
+    assert result.returncode != 0 and "window" in result.stderr
+
+
+@pytest.mark.parametrize("name, maps", [("sierpinski_triangle", 3), ("heighway_dragon", 2), ("cantor_dust", 4)])
+def test_fit_takes_a_default_render_touching_the_frame_as_its_shape(cli, tmp_path, name, maps):
+    # `render` without a window frames the attractor tightly: it touches the frame (the triangle
+    # covers half the border), and the white attractor on black is still the shape.
+    system = json.loads((SAMPLES / f"{name}.json").read_text())
+    del system["render"]
+    (tmp_path / "s.json").write_text(json.dumps(system))
+    cli("render", "s.json", "-o", "t.png", "--size", "128", "--mode", "binary", check=True)
+    summary = json.loads(cli("fit", "t.png", "-o", "fit.json", "--maps", str(maps), "--restarts", "3", "--json",
+                             check=True).stdout)
+    assert summary["iou"] >= 0.9, summary
+    # The fit writes the window it used: the collage reads it back and scores what the fit scored.
+    collage = json.loads(cli("collage", "fit.json", "t.png", "--json", check=True).stdout)
+    assert collage["distance_pixels"] == pytest.approx(summary["collage_distance_pixels"])

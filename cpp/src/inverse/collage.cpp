@@ -23,12 +23,18 @@ PixelSet foreground(const Image& image, double threshold) {
     for (int y : {0, image.height - 1}) above += value(x, y) > threshold, ++border;
   for (int y = 1; y + 1 < image.height; ++y)
     for (int x : {0, image.width - 1}) above += value(x, y) > threshold, ++border;
-  const bool bright_background = 2 * above > border;
+  // A shape may touch the frame (every tightly framed render does, over up to half its border
+  // and more): only a border nearly all bright makes bright the background.
+  const bool bright_background = double(above) >= kBrightBorder * double(border);
   PixelSet out{image.width, image.height, std::vector<std::uint8_t>(std::size_t(image.width) * image.height)};
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)
       out.cells[std::size_t(y) * image.width + x] = (value(x, y) > threshold) != bright_background;
   const std::size_t n = out.count();
+  if (n == 0 && bright_background) {  // bright throughout: a filled frame
+    std::fill(out.cells.begin(), out.cells.end(), std::uint8_t(1));
+    return out;
+  }
   if (n == 0 || n == out.cells.size())
     throw InputError("the target picture has no shape: every pixel is on one side of the threshold " +
                      std::to_string(threshold));

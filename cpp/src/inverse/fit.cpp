@@ -10,6 +10,7 @@
 #include "ifsforge/inverse/cma_es.h"
 #include "ifsforge/inverse/collage.h"
 #include "fit_clusters.h"
+#include "fit_seed.h"
 #include "fit_shared.h"
 #include "fit_raster.h"
 #include "ifsforge/render/renderer.h"
@@ -44,6 +45,31 @@ std::vector<double> initial_collage(const Boxes& boxes) {
       x.push_back(v);
   }
   return x;
+}
+
+/// Each map scaled by its part's share of the area, centroid onto centroid, turned (kTurns
+/// angles, from a seeded offset) and mirrored to keep its copy nearest the target: a map at a
+/// time, since one copy's distance to the target is its own share of Eq. 41's.
+void turn_parts(const Boxes& boxes, const PixelSet& target, const FitGrid& grid, const CollageProxy& proxy,
+                const FitOptions& o, Rng& rng, std::vector<double>& x0, std::uint64_t& evaluations) {
+  const double turn = rng.uniform();
+  for (int c = 0; c < o.maps; ++c) {
+    const auto& mc = boxes.mass[c];
+    const double sc = std::clamp(std::sqrt(mc[2] / target.count()), 0.05, o.max_contraction);
+    double best_score = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 2 * kTurns; ++k) {
+      double p[kParams] = {k % 2 ? -sc : sc, sc, 0, 0, 0, 0};
+      p[2] = p[3] = (k / 2 + turn) * 2 * M_PI / kTurns;
+      AffineMap m;
+      decode_map(p, 2, o.max_contraction, m);
+      p[4] = mc[0] - (m.a(0, 0) * boxes.centroid[0] + m.a(0, 1) * boxes.centroid[1]);
+      p[5] = mc[1] - (m.a(1, 0) * boxes.centroid[0] + m.a(1, 1) * boxes.centroid[1]);
+      decode_map(p, 2, o.max_contraction, m);
+      const double score = proxy.copy_outside(grid.pixel_map(m));
+      if (score < best_score) best_score = score, std::copy(p, p + kParams, &x0[std::size_t(c) * kParams]);
+    }
+  }
+  evaluations += 2 * kTurns * o.maps;
 }
 
 }  // namespace
@@ -90,37 +116,21 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   const int n = o.maps * kParams;
   for (int r = 0; r < o.restarts && !stop(); ++r) {
     Rng rng(o.seed, 1000 + r);
-    // Even runs start from the k-means collage as it is; odd runs from turned copies (rotated
-    // copies, as in dragons, are far from an axis-aligned start).
-    const Boxes boxes = pixel_clusters(target, grid, o.maps, rng);
-    std::vector<double> x0 = initial_collage(boxes);
-    if (r % 2) {
-      // Each map scaled by its part's share of the area, centroid onto centroid, turned (kTurns
-      // angles, from a seeded offset) and mirrored to keep its copy nearest the target: a map
-      // at a time, since one copy's distance to the target is its own share of Eq. 41's.
-      const double turn = rng.uniform();
-      for (int c = 0; c < o.maps; ++c) {
-        const auto& mc = boxes.mass[c];
-        const double sc = std::clamp(std::sqrt(mc[2] / target.count()), 0.05, o.max_contraction);
-        double best_score = std::numeric_limits<double>::infinity();
-        for (int k = 0; k < 2 * kTurns; ++k) {
-          double p[kParams] = {k % 2 ? -sc : sc, sc, 0, 0, 0, 0};
-          p[2] = p[3] = (k / 2 + turn) * 2 * M_PI / kTurns;
-          AffineMap m;
-          decode_map(p, 2, o.max_contraction, m);
-          p[4] = mc[0] - (m.a(0, 0) * boxes.centroid[0] + m.a(0, 1) * boxes.centroid[1]);
-          p[5] = mc[1] - (m.a(1, 0) * boxes.centroid[0] + m.a(1, 1) * boxes.centroid[1]);
-          decode_map(p, 2, o.max_contraction, m);
-          const double score = proxy.copy_outside(grid.pixel_map(m));
-          if (score < best_score) best_score = score, std::copy(p, p + kParams, &x0[std::size_t(c) * kParams]);
-        }
-      }
-      result.evaluations += 2 * kTurns * o.maps;
+    // Three kinds of start, in turn: the k-means collage as it is, the k-means parts turned one
+    // at a time, and the target covered by turned copies of itself (its own structure).
+    const int kind = r % 3;
+    std::vector<double> x0;
+    if (kind == 2) {
+      x0 = self_similar_cover(target, grid, o.maps, o.max_contraction, threads, rng, result.evaluations);
+    } else {
+      const Boxes boxes = pixel_clusters(target, grid, o.maps, rng);
+      x0 = initial_collage(boxes);
+      if (kind == 1) turn_parts(boxes, target, grid, proxy, o, rng, x0, result.evaluations);
     }
     std::vector<double> sigma(n);
     for (int i = 0; i < n; ++i) {
       const int k = i % kParams;
-      sigma[i] = k < 2 ? 0.1 : k < 4 ? (r % 2 ? 0.6 : 0.3) : 0.08 * grid.extent;
+      sigma[i] = k < 2 ? 0.1 : k < 4 ? (kind == 1 ? 0.6 : 0.3) : 0.08 * grid.extent;
     }
     const CmaResult polish = collage_then_attractor(collage_value, attractor_value, x0, sigma,
                                                     fit_cma_options(n, o.generations, o.seed * 7919 + r, threads),

@@ -22,7 +22,8 @@ Raster TopsRenderer::draw(const Ifs& ifs, const RenderOptions& options) const {
   const Frame picture_frame = Frame::fit(reference, picture.width, picture.height, Window{0, 0, 1, 1});
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
   TopsOptions o{options.width, options.height, options.iterations, options.seed};
-  const Image warped = tops_warp(reference, picture_frame, picture, ifs, frame, o);
+  std::uint64_t points = 0;
+  const Image warped = tops_warp(reference, picture_frame, picture, ifs, frame, o, &points);
   Raster raster;
   raster.width = warped.width;
   raster.height = warped.height;
@@ -36,7 +37,7 @@ Raster TopsRenderer::draw(const Ifs& ifs, const RenderOptions& options) const {
   raster.channel_names = {"r", "g", "b"};
   raster.color_model = ColorModel::Rgb;
   raster.channels_in_unit_range = true;
-  raster.points = o.iterations ? o.iterations : 16ull * o.width * o.height;
+  raster.points = points;
   raster.pixel_size = frame.pixel_size();
   return raster;
 }

@@ -13,9 +13,15 @@
 
 namespace ifsforge {
 
-/// @brief The foreground of a picture: pixels whose luminance (times alpha, if any) lies on the
-/// other side of `threshold` from the value most border pixels have (so a black shape on white
-/// and a white shape on black both work). InputError when the picture is empty or uniform.
+/// Share of the border above the threshold from which bright is the background.
+constexpr double kBrightBorder = 0.75;
+
+/// @brief The foreground of a picture: pixels whose luminance (times alpha, if any) lies above
+/// `threshold`, unless at least kBrightBorder of the border pixels do, then those below. A white
+/// shape on black is the shape even where it covers much of the frame (as `ifsforge render`
+/// draws attractors); a black shape on white, where it touches less than a quarter of the
+/// border. A picture bright throughout is a filled frame. InputError when the picture is empty
+/// or dark throughout.
 PixelSet foreground(const Image& image, double threshold = 0.5);
 
 /// @brief A planar affine map in continuous pixel coordinates (x right, y down):

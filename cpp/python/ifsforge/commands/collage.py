@@ -10,6 +10,9 @@ def register(subparsers):
     common.add_system_argument(p)
     p.add_argument("target", help="a PNG picture; its shape is the pixels unlike the border")
     p.add_argument("--threshold", type=common.float_option(0, 1), default=0.5, help="luminance splitting shape from background")
+    p.add_argument("--window", type=common.NUMBER, nargs=4, metavar=("XMIN", "YMIN", "XMAX", "YMAX"),
+                   help="the plane's rectangle the picture shows (default: the system's render.window, else "
+                   "its attractor's frame)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(run=run)
 
@@ -18,7 +21,7 @@ def run(args):
     system = common.load_system(args.system)
     picture = ifsforge.read_png(args.target)
     try:
-        report = ifsforge.collage_distance(system, picture, threshold=args.threshold)
+        report = ifsforge.collage_distance(system, picture, window=args.window, threshold=args.threshold)
     except ifsforge.InputError as error:
         raise ifsforge.InputError(f"{args.target}: {error}") from None
     if args.json:

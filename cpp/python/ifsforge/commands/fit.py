@@ -10,6 +10,7 @@ set; .obj, .ply, .stl, .off mesh, voxelised) gets an xyz system in the target's 
 `ifsforge volume SYSTEM.json` frames it where the target lies.
 """
 import os
+import time
 
 import ifsforge
 from ifsforge import cli_common as common
@@ -29,7 +30,7 @@ def register(subparsers):
                    "color: fitted per channel too), or a 3D shape: " + ", ".join(SHAPE_EXTENSIONS))
     p.add_argument("-o", "--output", required=True, help="the system to write (.json)")
     p.add_argument("--maps", default=None, help=f"number of maps (default {o.maps}; 3D {o3.maps}), or 'auto' "
-                   "(tries %s)" % ", ".join(map(str, AUTO_MAPS)))
+                   "(tries %s in turn while a map raises the IoU by %g)" % (", ".join(map(str, AUTO_MAPS)), AUTO_MAP_COST))
     p.add_argument("--time-limit", type=common.float_option(0, 1e9), default=o.time_limit,
                    help="seconds (0: none); a search cut short depends on the machine's speed")
     p.add_argument("--seed", type=common.SEED, default=o.seed)
@@ -53,19 +54,30 @@ def register(subparsers):
 
 
 def fit_best(fit, target, maps, time_limit=None, **options):
-    """fit(target, maps=n, ...) for one map count, or the best of AUTO_MAPS for maps='auto' (each
-    extra map must raise the IoU by AUTO_MAP_COST); `fit` is ifsforge.fit or ifsforge.fit_3d,
-    `target` its positional and keyword target arguments, `options` its options' fields. Returns
-    the result dict plus 'maps'."""
-    counts = AUTO_MAPS if maps == "auto" else (int(maps),)
+    """fit(target, maps=n, ...) for one map count, or for maps='auto' the counts of AUTO_MAPS in
+    turn while each extra map raises the IoU by AUTO_MAP_COST or more, the time limit shared by
+    the counts tried (each may spend half of what is left); `fit` is ifsforge.fit or
+    ifsforge.fit_3d, `target` its positional and keyword target arguments, `options` its options'
+    fields. Returns the result dict plus 'maps'."""
     args, keywords = target
+    if maps != "auto":
+        result = fit(*args, **keywords, maps=int(maps), time_limit=time_limit, **options)
+        result["maps"] = int(maps)
+        return result
+    deadline = time.monotonic() + time_limit if time_limit else None
     best = None
-    for n in counts:
-        limit = time_limit / len(counts) if time_limit else time_limit
+    for n in AUTO_MAPS:
+        limit = None
+        if deadline is not None:
+            left = deadline - time.monotonic()
+            if best is not None and left <= 0:
+                break
+            limit = max(left, 1e-3) / 2
         result = fit(*args, **keywords, maps=n, time_limit=limit, **options)
         result["maps"] = n
-        if best is None or result["iou"] - AUTO_MAP_COST * n > best["iou"] - AUTO_MAP_COST * best["maps"]:
-            best = result
+        if best is not None and result["iou"] - AUTO_MAP_COST * n <= best["iou"] - AUTO_MAP_COST * best["maps"]:
+            break  # this map did not pay: nor will more
+        best = result
     return best
 
 

@@ -20,6 +20,8 @@ def register(subparsers):
     p.add_argument("-o", "--output", required=True, help="OUT.png, or a folder with --frames")
     p.add_argument("--size", default="512", help="N or WxH pixels of the output (default 512)")
     p.add_argument("--frames", type=common.int_option(0, 100000), default=0, help="K frames of F moving to G into the folder -o")
+    p.add_argument("--iterations", type=common.int_option(0, 10**12), default=ifsforge.TopsOptions().iterations,
+                   help="chaos-game points (0: rounds of 16 per pixel until G's attractor is found)")
     p.add_argument("--seed", type=common.SEED, default=ifsforge.TopsOptions().seed)
     p.set_defaults(run=run)
 
@@ -35,11 +37,12 @@ def run(args):
         with common.staged_folder(args.output) as staging:  # one frame in memory at a time
             for k in range(args.frames):
                 frame = ifsforge.tops_warp(source, picture, ifsforge.morph(source, target, k / (args.frames - 1)),
-                                           width, height, seed=args.seed)
+                                           width, height, seed=args.seed, iterations=args.iterations)
                 ifsforge.write_png(os.path.join(staging, f"frame_{k:04d}.png"), frame)
         print(f"{args.output}: {args.frames} frames")
         return 0
     common.ensure_output_folder(args.output)
-    ifsforge.write_png(args.output, ifsforge.tops_warp(source, picture, target, width, height, seed=args.seed))
-    print(f"{args.output}: {width}x{height}")
+    warped = ifsforge.tops_warp(source, picture, target, width, height, seed=args.seed, iterations=args.iterations)
+    ifsforge.write_png(args.output, warped)
+    print(f"{args.output}: {width}x{height}, {int((warped[..., 3] > 0).sum())} pixels of G's attractor colored")
     return 0

@@ -1,0 +1,20 @@
+#pragma once
+// The structural start of the planar fit: the target covered by copies of itself chosen one at
+// a time over the full circle of turns (each part of the target is a copy of the whole, Eq. 41).
+#include <cstdint>
+#include <vector>
+
+#include "fit_raster.h"
+#include "ifsforge/core/random.h"
+
+namespace ifsforge {
+
+/// @brief decode_map parameters (6 per map: signed scales, turns, translation) of `maps`
+/// similarities, chosen greedily: each the copy w(target) that covers most of the target not yet
+/// covered, against the cells it puts off the target and on earlier copies, among kCoverScales x
+/// kCoverTurns (from a seeded offset) x 2 mirrors with its centroid on a seeded lattice of target
+/// cells. The same for any thread count; candidates tried are added to `evaluations`.
+std::vector<double> self_similar_cover(const PixelSet& target, const FitGrid& grid, int maps, double max_contraction,
+                                       int threads, Rng& rng, std::uint64_t& evaluations);
+
+}  // namespace ifsforge
