@@ -58,10 +58,10 @@ Ifs::Ifs(std::string name, ChannelLayout layout, std::vector<AffineMap> maps,
   normalise_probabilities(probabilities_, total);
 }
 
-void normalise_probabilities(std::vector<double>& probabilities, double total) {
-  const double rounding = 2.0 * double(probabilities.size()) * std::numeric_limits<double>::epsilon();
+void normalise_probabilities(double* probabilities, std::size_t count, double total) {
+  const double rounding = 2.0 * double(count) * std::numeric_limits<double>::epsilon();
   if (std::abs(total - 1.0) <= rounding) return;
-  for (double& p : probabilities) p /= total;
+  for (std::size_t i = 0; i < count; ++i) probabilities[i] /= total;
 }
 
 std::vector<double> Ifs::contraction_factors() const {
