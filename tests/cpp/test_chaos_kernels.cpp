@@ -73,7 +73,8 @@ TEST(ChaosKernels, TheLanePathReadsTheForcedInstructionSet) {
 TEST(ChaosKernels, TiledCountingGivesTheSameBytesAsDirectCounting) {
   const Ifs fern = sample("barnsley_fern");
   RenderOptions o;
-  o.width = o.height = 2048;  // above the tiling threshold
+  o.width = 4160;  // above the tiling threshold (4096^2 pixels)
+  o.height = 4100;
   o.iterations = 6'000'000;
   std::vector<Raster> images;
   for (const char* tiles : {"0", "1"})

@@ -247,7 +247,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
     pending[worker] = 0;
   };
   // Large 2D images: each worker bins its slots by tile and counts them tile by tile.
-  const bool tiled = simd && !depth && pixels + 1 > lanes::kTiledAbovePixels && lanes::lane_tiles();
+  const bool tiled = simd && !depth && pixels > lanes::kTiledAbovePixels && lanes::lane_tiles();
   std::vector<std::unique_ptr<lanes::TiledCounter>> tiles(tiled ? threads : 0);
   std::vector<std::vector<std::uint32_t>> batches(tiled ? threads : 0);
   const int n = depth ? 3 : 2;

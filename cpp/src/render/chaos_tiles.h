@@ -9,9 +9,9 @@
 
 namespace ifsforge::lanes {
 
-/// Images of more 8-bit counters than this are counted through tiles; smaller ones fit the
-/// cache as they are and take the direct increments.
-constexpr std::size_t kTiledAbovePixels = std::size_t(1) << 21;
+/// Images of more pixels than this (4096^2) are counted through tiles; up to it the direct
+/// increments were as fast (a fern's points crowd into part of the image, which stays cached).
+constexpr std::size_t kTiledAbovePixels = std::size_t(1) << 24;
 /// Tiles of 2^18 counters (256 KB of bytes: half of a core's L2 on current x86-64).
 constexpr int kTileShift = 18;
 /// Slots per batch: enough that every tile of an 8192^2 image receives a few hundred points.
