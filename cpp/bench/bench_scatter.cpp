@@ -75,10 +75,11 @@ int main(int argc, char** argv) {
   std::printf("Millions of points per CPU-second, one thread, %.3g points per run, best of %d. Scatter: "
               "increments of uniformly random counters. Chaos: the fern's render, whole (framing, "
               "buffers and finish included) or marginal (less a 1,024-point render's CPU time: the "
-              "cost of the points), its counts made point by point (direct) or through tiles XX.\n\n",
+              "cost of the points), its counts made point by point (direct) or through tiles (the "
+              "default above 4096^2 pixels).\n\n",
               double(points), repeat);
   std::printf("| image | scatter 32-bit | scatter 8-bit | chaos fern, whole render | chaos marginal, direct "
-              "counts | chaos marginal, tiled | tiled / scatter 32-bit |\n| --- | ---: | ---: | ---: | ---: | ---: "
+              "counts | chaos marginal, default | default / scatter 32-bit |\n| --- | ---: | ---: | ---: | ---: | ---: "
               "| ---: |\n");
   for (int size : sizes) {
     if (size <= 0 || (size & (size - 1))) {

@@ -28,7 +28,7 @@ def run(build, isa=None):
     out = subprocess.run([str(program), f"--benchmark_filter={CASES}", "--benchmark_format=csv"], env=env,
                          capture_output=True, text=True, check=True).stdout
     lines = [line for line in out.splitlines() if line.startswith("name,") or line.startswith('"')]
-    header = lines[0].split(",")
+    header = [h.strip('"') for h in lines[0].split(",")]
     rows = {}
     for line in lines[1:]:
         row = dict(zip(header, line.split(",")))
