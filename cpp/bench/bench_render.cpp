@@ -11,29 +11,15 @@
 #include "ifsforge/io/png.h"
 #include "ifsforge/render/renderer.h"
 #include "ifsforge/render/tone_map.h"
+#include "bench_systems.h"
 #include "process_usage.h"
 
 using namespace ifsforge;
 
 namespace {
 
-Ifs fern() {
-  return Ifs("fern", ChannelLayout("xy"),
-             {AffineMap(2, {0, 0, 0, 0.16}, {0, 0}), AffineMap(2, {0.85, 0.04, -0.04, 0.85}, {0, 1.6}),
-              AffineMap(2, {0.2, -0.26, 0.23, 0.22}, {0, 1.6}), AffineMap(2, {-0.15, 0.28, 0.26, 0.24}, {0, 0.44})},
-             {0.01, 0.85, 0.07, 0.07});
-}
-
-Ifs sierpinski(int dim = 2) {
-  std::vector<AffineMap> maps;
-  const double corners[5][3] = {{0, 0, 0}, {0.5, 0, 0}, {0.25, 0.5, 0}, {0, 0, 0.5}, {0.5, 0, 0.5}};
-  for (int i = 0; i < (dim == 2 ? 3 : 4); ++i) {
-    std::vector<double> a(dim * dim, 0.0), b(corners[i], corners[i] + dim);
-    for (int k = 0; k < dim; ++k) a[k * dim + k] = 0.5;
-    maps.emplace_back(dim, a, b);
-  }
-  return Ifs("sierpinski", ChannelLayout(dim == 2 ? "xy" : "xyz"), maps, std::vector<double>(maps.size(), 1.0));
-}
+using bench::fern;
+using bench::sierpinski;
 
 /// Arg 0: threads; arg 1: points (1,024: the fixed cost of a render, framing and buffers).
 void ChaosFern1024(benchmark::State& state) {

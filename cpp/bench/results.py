@@ -15,7 +15,10 @@ The Google Benchmark programs have no Python of their own; this file runs them:
 
     /usr/bin/python3 cpp/bench/results.py bench_render [--benchmark_filter=ChaosFern] [--build build]
 
-runs build/cpp/bench/bench_render and writes its table as the section `bench_render`.
+runs build/cpp/bench/bench_render and writes its table as the section `bench_render`. The plain
+programs (bench_scaling, bench_scatter) print Markdown themselves; `--plain` records it as it is:
+
+    /usr/bin/python3 cpp/bench/results.py bench_scaling --plain [--threads 16]
 `--results -` prints without writing (also for the scripts); `--results FILE` writes elsewhere.
 """
 import argparse
@@ -176,14 +179,25 @@ def google_benchmark_table(program, arguments, build):
     return table
 
 
+def plain_program_lines(program, arguments, build):
+    """Runs a plain benchmark program (one that prints Markdown) and returns its lines."""
+    path = Path(build) / "cpp" / "bench" / program
+    if not path.exists():
+        sys.exit(f"results.py: {path} does not exist: build it first")
+    return subprocess.run([str(path), *arguments], capture_output=True, text=True, check=True).stdout.splitlines()
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("program", help="a Google Benchmark program of build/cpp/bench (bench_render, ...)")
     parser.add_argument("--build", default=str(ROOT / "build"))
+    parser.add_argument("--plain", action="store_true",
+                        help="a plain program printing Markdown (bench_scaling, bench_scatter), not Google Benchmark")
     add_argument(parser)
     args, arguments = parser.parse_known_args()
+    table = plain_program_lines if args.plain else google_benchmark_table
     with Section(args.program, args.results) as out:
-        for line in google_benchmark_table(args.program, arguments, args.build):
+        for line in table(args.program, arguments, args.build):
             out.print(line)
 
 

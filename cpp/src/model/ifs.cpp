@@ -9,6 +9,7 @@
 #include "ifsforge/model/attractor_points.h"
 #include "ifsforge/model/map_sampler.h"
 #include "ifsforge/model/orbit.h"
+#include "ifsforge/model/probabilities.h"
 
 namespace ifsforge {
 
@@ -54,7 +55,13 @@ Ifs::Ifs(std::string name, ChannelLayout layout, std::vector<AffineMap> maps,
   }
   if (!(total > 0.0)) throw InputError("the probabilities must sum to a positive number");
   probabilities_ = std::move(probabilities);
-  for (double& p : probabilities_) p /= total;
+  normalise_probabilities(probabilities_, total);
+}
+
+void normalise_probabilities(double* probabilities, std::size_t count, double total) {
+  const double rounding = 2.0 * double(count) * std::numeric_limits<double>::epsilon();
+  if (std::abs(total - 1.0) <= rounding) return;
+  for (std::size_t i = 0; i < count; ++i) probabilities[i] /= total;
 }
 
 std::vector<double> Ifs::contraction_factors() const {

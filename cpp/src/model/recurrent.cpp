@@ -8,6 +8,7 @@
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/model/map_sampler.h"
 #include "ifsforge/model/orbit.h"
+#include "ifsforge/model/probabilities.h"
 
 namespace ifsforge {
 namespace {
@@ -51,7 +52,7 @@ TransitionMatrix::TransitionMatrix(std::size_t size, std::vector<double> row_maj
     if (!(total > 0.0))
       throw InputError("row " + std::to_string(i + 1) + " of the transition matrix sums to 0: map " +
                        std::to_string(i + 1) + " must be followed by some map");
-    for (std::size_t j = 0; j < size; ++j) p_[i * size + j] /= total;
+    normalise_probabilities(p_.data() + i * size, size, total);  // a fixed point: rows read back stay
   }
   const auto forward = reachable(p_, size, false), backward = reachable(p_, size, true);
   for (std::size_t i = 0; i < size; ++i)

@@ -4,6 +4,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/model/ifs.h"
+#include "ifsforge/model/probabilities.h"
 
 namespace ifsforge {
 
@@ -29,6 +30,8 @@ Ifs make_super_ifs(const std::string& name, const std::vector<Ifs>& members,
     total += p;
   }
   if (!(total > 0.0)) throw InputError("the member systems' probabilities must sum to a positive number");
+  normalise_probabilities(probabilities, total);
+  parts.probabilities = probabilities;
   for (std::size_t n = 0; n < members.size(); ++n) {
     const Ifs& member = members[n];
     if (!(member.layout() == members[0].layout()))
@@ -39,7 +42,6 @@ Ifs make_super_ifs(const std::string& name, const std::vector<Ifs>& members,
                        "') must be an ordinary IFS (no transitions, members, condensation set or polar maps)");
     parts.sizes.push_back(member.size());
     parts.names.push_back(member.name());
-    parts.probabilities.push_back(probabilities[n] / total);
     for (std::size_t m = 0; m < member.size(); ++m) {
       maps.push_back(member.map(m));
       map_probabilities.push_back(parts.probabilities[n] * member.probabilities()[m]);

@@ -3,12 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
-
-#if defined(__AVX2__) && defined(__FMA__)
-#include <immintrin.h>
-#define IFSFORGE_CHAOS_AVX2 1
-#endif
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
@@ -17,6 +13,8 @@
 #include "ifsforge/model/fixed_maps.h"
 #include "ifsforge/model/orbit.h"
 #include "ifsforge/render/accumulator.h"
+#include "chaos_lanes.h"
+#include "chaos_tiles.h"
 #include "polar_render.h"
 
 namespace ifsforge {
@@ -97,22 +95,7 @@ ChaosJob chaos_job_for(int dim) {
   return kJobs[dim - 2];
 }
 
-/// A 3D pixel's hits beside its largest depth: one cache line per point, not two.
-struct HitDepth {
-  std::uint32_t hits;
-  float depth;
-};
-
-#ifdef IFSFORGE_CHAOS_AVX2
-
-/// Up to 8 maps in pixel space (N = 2), or in pixel space plus depth towards the viewer
-/// (N = 3), one coefficient per lane of each register.
-template <int N>
-struct PixelMaps {
-  __m256 a[N * N], b[N];
-  __m256i thresholds[7];  ///< cumulative probability - 1, 24-bit
-  int count;
-};
+using lanes::HitDepth;
 
 /// The frame's world-to-pixel map T: px = (u - xmin) sx, py = (ymax - v) sy, and in 3D
 /// the third coordinate the depth towards the viewer (T's rows are orthogonal: invertible).
@@ -128,148 +111,57 @@ AffineMap to_pixel_space(const Frame& frame, int n) {
                    {-win.xmin * s, win.ymax * s, 0.0});
 }
 
-template <int N>
-PixelMaps<N> pixel_maps(const Ifs& ifs, const Frame& frame) {
-  // Each map conjugated by T: the lanes iterate in pixel coordinates.
-  const AffineMap to_pixel = to_pixel_space(frame, N);
+/// The lanes' maps: up to 8 maps in pixel space (N = 2) or pixel space plus depth (N = 3),
+/// each conjugated by T so that the lanes iterate in pixel coordinates.
+lanes::Maps pixel_maps(const Ifs& ifs, const Frame& frame, int n) {
+  const AffineMap to_pixel = to_pixel_space(frame, n);
   const AffineMap from_pixel = *to_pixel.inverse();
-  alignas(32) float a[N * N][8] = {}, b[N][8] = {};
-  PixelMaps<N> m;
+  lanes::Maps m{};
   m.count = static_cast<int>(ifs.size());
   double cumulative = 0.0;
   for (int i = 0; i < m.count; ++i) {
     const AffineMap w = to_pixel.compose(ifs.map(i)).compose(from_pixel);
-    for (int r = 0; r < N; ++r) {
-      for (int c = 0; c < N; ++c) a[r * N + c][i] = static_cast<float>(w.a(r, c));
-      b[r][i] = static_cast<float>(w.b(r));
+    for (int r = 0; r < n; ++r) {
+      for (int c = 0; c < n; ++c) m.a[r * n + c][i] = static_cast<float>(w.a(r, c));
+      m.b[r][i] = static_cast<float>(w.b(r));
     }
     if (i + 1 < m.count) {
       cumulative += ifs.probabilities()[i];
-      const int t = static_cast<int>(std::lround(cumulative * 16777216.0));
-      m.thresholds[i] = _mm256_set1_epi32(t - 1);
+      m.thresholds[i] = static_cast<int>(std::lround(cumulative * 16777216.0)) - 1;
     }
   }
-  for (int k = 0; k < N * N; ++k) m.a[k] = _mm256_load_ps(a[k]);
-  for (int r = 0; r < N; ++r) m.b[r] = _mm256_load_ps(b[r]);
   return m;
 }
 
-/// Eight chaos games at once in pixel space; xoshiro128+ per lane.
-template <int N>
-struct Lanes {
-  __m256 p[N];
-  __m256i s0, s1, s2, s3;
-
-  __m256i next() {
-    const __m256i result = _mm256_add_epi32(s0, s3);
-    const __m256i t = _mm256_slli_epi32(s1, 9);
-    s2 = _mm256_xor_si256(s2, s0);
-    s3 = _mm256_xor_si256(s3, s1);
-    s1 = _mm256_xor_si256(s1, s2);
-    s0 = _mm256_xor_si256(s0, s3);
-    s2 = _mm256_xor_si256(s2, t);
-    s3 = _mm256_or_si256(_mm256_slli_epi32(s3, 11), _mm256_srli_epi32(s3, 21));
-    return result;
-  }
-
-  void step(const PixelMaps<N>& m) {
-    const __m256i u = _mm256_srli_epi32(next(), 8);  // top 24 bits
-    __m256i index = _mm256_setzero_si256();
-    for (int j = 0; j + 1 < m.count; ++j)
-      index = _mm256_sub_epi32(index, _mm256_cmpgt_epi32(u, m.thresholds[j]));
-    __m256 q[N];
-    for (int r = 0; r < N; ++r) {
-      // Innermost term last: x' = a00 x + (a01 y + (... + b0)).
-      __m256 value = _mm256_permutevar8x32_ps(m.b[r], index);
-      for (int c = N - 1; c >= 0; --c)
-        value = _mm256_fmadd_ps(_mm256_permutevar8x32_ps(m.a[r * N + c], index), p[c], value);
-      q[r] = value;
-    }
-    for (int r = 0; r < N; ++r) p[r] = q[r];
-  }
-
-  /// Histogram slots of the eight points (the trash slot for points off the image).
-  __m256i slots(__m256i width, __m256i height, __m256i trash) const {
-    const __m256i ix = _mm256_cvttps_epi32(_mm256_floor_ps(p[0]));
-    const __m256i iy = _mm256_cvttps_epi32(_mm256_floor_ps(p[1]));
-    const __m256i minus1 = _mm256_set1_epi32(-1);
-    const __m256i inside = _mm256_and_si256(
-        _mm256_and_si256(_mm256_cmpgt_epi32(ix, minus1), _mm256_cmpgt_epi32(width, ix)),
-        _mm256_and_si256(_mm256_cmpgt_epi32(iy, minus1), _mm256_cmpgt_epi32(height, iy)));
-    const __m256i slot = _mm256_add_epi32(_mm256_mullo_epi32(iy, width), ix);
-    return _mm256_blendv_epi8(trash, slot, inside);
-  }
-};
-
-constexpr int kGroups = 4;  // independent lane groups in flight, to hide FMA latency
-constexpr std::uint64_t kLanes = 8 * kGroups;
-
-/// One job of kGroups x 8 lanes: 8-bit hits into `low` (2D), each wrap of a byte adding 256
-/// to the shared wide totals `carry`, or hits and the largest depth per pixel into `cells`
-/// (3D); all with a trash slot at the end. The bytes keep a 1024^2 raster's counters at 1 MB,
-/// inside the core's cache, where 32-bit ones (4 MB) spilled out of it: the scattered
-/// increments ran at 640 M points/s, 1080 M/s at 256^2. A wrap comes once in 256 hits of a
-/// pixel, so its atomic add (exact in any order) costs little and no per-worker carry array
-/// is faulted in.
-template <int N>
-void chaos_job_avx2(const PixelMaps<N>& maps, const Frame& frame, const Point& start,
-                    std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
-                    std::uint64_t job, std::uint8_t* low, std::uint64_t* carry, HitDepth* cells) {
-  Lanes<N> lanes[kGroups];
-  float origin[N];
-  if constexpr (N == 2) {
-    origin[0] = static_cast<float>((start[0] - frame.window().xmin) / frame.pixel_size());
-    origin[1] = static_cast<float>((frame.window().ymax - start[1]) / frame.pixel_size());
+/// Job `job`'s lanes: the start point in pixel space and one xoshiro128+ state per lane, drawn
+/// from the job's own streams (the image depends on the seed and the job, not on the kernel).
+lanes::Job lane_job(const Frame& frame, int n, const Point& start, std::uint64_t points, std::uint64_t skip,
+                    std::uint64_t seed, std::uint64_t job) {
+  lanes::Job j{};
+  if (n == 2) {
+    j.origin[0] = static_cast<float>((start[0] - frame.window().xmin) / frame.pixel_size());
+    j.origin[1] = static_cast<float>((frame.window().ymax - start[1]) / frame.pixel_size());
   } else {
-    double q[N];
-    to_pixel_space(frame, N).apply(start.data(), q);
-    for (int c = 0; c < N; ++c) origin[c] = static_cast<float>(q[c]);
+    double q[3];
+    to_pixel_space(frame, n).apply(start.data(), q);
+    for (int c = 0; c < n; ++c) j.origin[c] = static_cast<float>(q[c]);
   }
-  for (int g = 0; g < kGroups; ++g) {
-    alignas(32) std::uint32_t s[4][8];
-    for (int lane = 0; lane < 8; ++lane) {
-      Rng rng(seed, job * kLanes + g * 8 + lane);
-      for (auto& word : s) {
+  for (int g = 0; g < lanes::kGroups; ++g)
+    for (int lane = 0; lane < lanes::kWidth; ++lane) {
+      Rng rng(seed, job * lanes::kLanes + g * lanes::kWidth + lane);
+      for (auto& word : j.state[g]) {
         std::uint32_t v;
         do v = static_cast<std::uint32_t>(rng.next() >> 32);
         while (v == 0);  // xoshiro's state must not be all zero
         word[lane] = v;
       }
     }
-    for (int c = 0; c < N; ++c) lanes[g].p[c] = _mm256_set1_ps(origin[c]);
-    lanes[g].s0 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[0]));
-    lanes[g].s1 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[1]));
-    lanes[g].s2 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[2]));
-    lanes[g].s3 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[3]));
-  }
-  for (std::uint64_t i = 0; i < skip; ++i)
-    for (auto& l : lanes) l.step(maps);
-  const __m256i width = _mm256_set1_epi32(frame.width());
-  const __m256i height = _mm256_set1_epi32(frame.height());
-  const __m256i trash = _mm256_set1_epi32(frame.width() * frame.height());
-  alignas(32) std::uint32_t slot[kGroups][8];
-  alignas(32) float depth[kGroups][8];
-  for (std::uint64_t i = 0; i < points / kLanes; ++i) {
-    for (int g = 0; g < kGroups; ++g) {
-      lanes[g].step(maps);
-      _mm256_store_si256(reinterpret_cast<__m256i*>(slot[g]), lanes[g].slots(width, height, trash));
-      if constexpr (N == 3) _mm256_store_ps(depth[g], lanes[g].p[2]);
-    }
-    for (int g = 0; g < kGroups; ++g)
-      for (int k = 0; k < 8; ++k) {
-        if constexpr (N == 3) {
-          HitDepth& cell = cells[slot[g][k]];
-          ++cell.hits;
-          cell.depth = std::max(cell.depth, depth[g][k]);
-        } else {
-          const std::uint32_t s = slot[g][k];
-          if (++low[s] == 0) __atomic_fetch_add(carry + s, 256, __ATOMIC_RELAXED);
-        }
-      }
-  }
+  j.points = points;
+  j.skip = skip;
+  j.width = frame.width();
+  j.height = frame.height();
+  return j;
 }
-
-#endif  // IFSFORGE_CHAOS_AVX2
 
 /// What every job of one render shares: the frame, the point count and its cut into jobs.
 struct ChaosSetup {
@@ -289,20 +181,16 @@ ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads
   std::vector<double> lo, hi;
   channel_ranges(ifs, lo, hi);
   const std::size_t pixels = std::size_t(frame.width()) * frame.height();
-#ifdef IFSFORGE_CHAOS_AVX2
   // The lanes: a 2D system, or a purely spatial 3D one (its depth rides as the third lane).
-  const bool simd = (ifs.dim() == 2 || (ifs.dim() == 3 && ifs.spatial_dims() == 3)) && ifs.size() <= 8 &&
-                    !ifs.recurrent() && !ifs.polar();
-#else
-  const bool simd = false;
-#endif
+  const bool simd = (ifs.dim() == 2 || (ifs.dim() == 3 && ifs.spatial_dims() == 3)) &&
+                    ifs.size() <= std::size_t(lanes::kWidth) && !ifs.recurrent() && !ifs.polar();
   // The lanes: one accumulator, and per worker 8-bit hits (in 3D, 32-bit hits beside float
   // depths).
   const double lane_bytes = simd ? threads * (ifs.dim() == 3 ? double(sizeof(HitDepth)) : 1.0) * pixels : 0.0;
   check_memory((simd ? 1 : threads) * Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) + lane_bytes,
                "a " + std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
                    " random-iteration image on " + std::to_string(threads) + " threads");
-  return {frame, plan_jobs(total, simd ? 32 : 1), lo, hi, simd};
+  return {frame, plan_jobs(total, simd ? lanes::kLanes : 1), lo, hi, simd};
 }
 
 Accumulator empty_accumulator(const Ifs& ifs, const ChaosSetup& setup) {
@@ -317,10 +205,8 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
                              std::uint64_t first, std::uint64_t last, int threads) {
   const Frame& frame = setup.frame;
   const JobPlan& plan = setup.plan;
-#ifdef IFSFORGE_CHAOS_AVX2
   const bool simd = setup.simd;
   const std::size_t pixels = std::size_t(frame.width()) * frame.height();
-#endif
   // The lanes count into narrow per-worker histograms flushed into one wide accumulator
   // (integer sums and a max: the order of flushes does not matter); the general path adds
   // into one accumulator per worker.
@@ -330,7 +216,6 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   // Polar maps (3.3.3) take their own simple path: the affine kernels stay specialised.
   const ChaosJob scalar_job = ifs.polar() ? polar::chaos_job : chaos_job_for(ifs.dim());
 
-#ifdef IFSFORGE_CHAOS_AVX2
   // Per worker: 8-bit hits (32-bit hits beside depths in 3D) flushed into the wide
   // accumulator: in 2D when the jobs are done (their wraps went there already), in 3D also
   // whenever a 32-bit counter could overflow.
@@ -361,39 +246,50 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
     std::fill(cells[worker].begin(), cells[worker].end(), HitDepth{0, -std::numeric_limits<float>::infinity()});
     pending[worker] = 0;
   };
-  PixelMaps<2> maps2{};
-  PixelMaps<3> maps3{};
-  if (simd && !depth) maps2 = pixel_maps<2>(ifs, frame);
-  if (simd && depth) maps3 = pixel_maps<3>(ifs, frame);
+  // Large 2D images: each worker bins its slots by tile and counts them tile by tile.
+  const bool tiled = simd && !depth && pixels > lanes::kTiledAbovePixels && lanes::lane_tiles();
+  std::vector<std::unique_ptr<lanes::TiledCounter>> tiles(tiled ? threads : 0);
+  std::vector<std::vector<std::uint32_t>> batches(tiled ? threads : 0);
+  const int n = depth ? 3 : 2;
+  const lanes::Maps maps = simd ? pixel_maps(ifs, frame, n) : lanes::Maps{};
+  const lanes::Kernel kernel = simd ? lanes::lane_kernel(n) : nullptr;
   const Point start = ifs.start_point();
-#endif
 
   parallel_jobs(
       last - first, threads,
       [&](std::size_t index, int worker) {
         const std::uint64_t job = first + index;
-#ifdef IFSFORGE_CHAOS_AVX2
         if (simd) {
           if (depth && cells[worker].empty())
             assign_large(cells[worker], pixels + 1, HitDepth{0, -std::numeric_limits<float>::infinity()});
           if (!depth && lows[worker].empty()) assign_large(lows[worker], pixels + 1, std::uint8_t(0));
           // A 32-bit counter could overflow if one pixel took every point: flush first.
           if (depth && pending[worker] + plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
-          if (depth)
-            chaos_job_avx2(maps3, frame, start, plan.points_per_job, options.skip, options.seed, job, nullptr, nullptr,
-                           cells[worker].data());
-          else
-            chaos_job_avx2(maps2, frame, start, plan.points_per_job, options.skip, options.seed, job,
-                           lows[worker].data(), acc[0].hits(), nullptr);
+          lanes::Job lane = lane_job(frame, n, start, plan.points_per_job, options.skip, options.seed, job);
+          if (depth) {
+            lane.cells = cells[worker].data();
+          } else {
+            lane.low = lows[worker].data();
+            lane.carry = acc[0].hits();
+          }
+          if (tiled) {
+            if (!tiles[worker]) {
+              tiles[worker] = std::make_unique<lanes::TiledCounter>(pixels + 1, lane.low, lane.carry);
+              batches[worker].resize(lanes::kTileBatch);
+            }
+            lane.batch = batches[worker].data();
+            lane.batch_size = lanes::kTileBatch;
+            lane.flush = lanes::TiledCounter::flush;
+            lane.sink = tiles[worker].get();
+          }
+          kernel(maps, lane);
           pending[worker] += plan.points_per_job;
           return;
         }
-#endif
         scalar_job(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, acc[worker]);
       },
       options.progress);
 
-#ifdef IFSFORGE_CHAOS_AVX2
   // The workers' counters into the totals in pixel bands on every core (sums and maxima: the
   // same bytes for any split).
   if (simd) {
@@ -404,7 +300,6 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         if (!(depth ? cells[t].empty() : lows[t].empty())) add_lane(t, from, to);
     });
   }
-#endif
   for (std::size_t t = 1; t < acc.size(); ++t) acc[0].merge(acc[t]);
   return std::move(acc[0]);
 }

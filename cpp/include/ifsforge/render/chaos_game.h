@@ -6,10 +6,11 @@ namespace ifsforge {
 
 /// Work is cut into jobs of 2^22 points, each with its own random stream derived from
 /// (seed, job): the image depends on the seed and the point count, never on the threads.
-/// Purely spatial 2D systems with at most 8 maps take an 8-lane AVX2 path in single
-/// precision, iterating directly in pixel coordinates (the maps are conjugated by the
-/// world-to-pixel transform); systems with polar maps (3.3.3) a scalar path that applies
-/// them; everything else the general nD path.
+/// Purely spatial 2D and 3D systems with at most 8 maps take the lane kernels (32 games at
+/// once in single precision, iterating directly in pixel coordinates: the maps are conjugated
+/// by the world-to-pixel transform), picked at run time for the CPU and giving the same bytes
+/// on every one; systems with polar maps (3.3.3) a scalar path that applies them; everything
+/// else the general nD path.
 class ChaosGame : public Renderer {
  public:
   std::string name() const override { return "chaos"; }

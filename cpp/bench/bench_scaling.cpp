@@ -1,0 +1,153 @@
+// The thread sweep: each parallel path of the library on 1, 2, 4, ... threads up to the
+// machine's cores (best of a few runs each), printed as a Markdown table with each path's 1-to-2
+// speed-up and its serial fraction (Amdahl's law fitted to the sweep). A plain program (no Google
+// Benchmark) whose systems are built in code, so it runs on another x86-64 machine with only the
+// shared libraries libifsforge needs.
+//
+//   build/cpp/bench/bench_scaling [--threads 16] [--repeat 3] [--points 1000000000] [--only chaos,prr]
+//   /usr/bin/python3 cpp/bench/results.py bench_scaling --plain   # the same, written to RESULTS.md
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench_systems.h"
+#include "bench_timing.h"
+#include "ifsforge/core/image.h"
+#include "ifsforge/pifs/encoder.h"
+#include "ifsforge/render/renderer.h"
+#include "ifsforge/volume/volume_renderer.h"
+
+using namespace ifsforge;
+
+namespace {
+
+struct Path {
+  std::string key, label;
+  std::function<void(int threads)> run;
+};
+
+/// A photograph-like 8-bit gray texture (octaves of sines plus hashed noise) for the encoder.
+Image texture(int size) {
+  Image im(size, size, 1);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      std::uint32_t h = std::uint32_t(x) * 73856093u ^ std::uint32_t(y) * 19349663u;
+      h = (h ^ (h >> 13)) * 0x5bd1e995u;
+      double v = 0.5 + 0.06 * (double(h >> 8 & 0xFFFF) / 65535.0 - 0.5);
+      for (int o = 0; o < 5; ++o)
+        v += 0.18 / (o + 1) * std::sin(x * 0.0065 * (1 << o) + o) * std::cos(y * 0.0055 * (1 << o) - o);
+      im.at(x, y, 0) = float(std::round(std::clamp(v, 0.0, 1.0) * 255.0) / 255.0);
+    }
+  return im;
+}
+
+std::vector<Path> paths(std::uint64_t points) {
+  auto image = [](const char* algorithm, Ifs ifs, int size, std::uint64_t iterations) {
+    return [=](int threads) {
+      RenderOptions o;
+      o.width = o.height = size;
+      o.iterations = iterations;
+      o.threads = threads;
+      (void)renderer(algorithm).render(ifs, o);
+    };
+  };
+  const std::string billions = std::to_string(double(points) / 1e9).substr(0, 4);
+  return {
+      {"chaos", "chaos, fern 1024², " + billions + "·10⁹ points", image("chaos", bench::fern(), 1024, points)},
+      {"prr-fern", "PRR fern 4096²", image("prr", bench::fern(), 4096, 0)},
+      {"prr-sierpinski", "PRR Sierpinski 4096²", image("prr", bench::sierpinski(), 4096, 0)},
+      {"volume", "volume PRR 512³ (tetrahedron, render)",
+       [](int threads) {
+         VolumeOptions o;
+         o.resolution = 512;
+         o.threads = threads;
+         (void)render_volume(bench::sierpinski(3), "prr", o);
+       }},
+      {"pifs", "PIFS encode 1024² gray",
+       [im = texture(1024)](int threads) {
+         PifsEncodeOptions o;
+         o.ratio = 50;
+         o.threads = threads;
+         (void)pifs_encode(im, o);
+       }},
+  };
+}
+
+/// 1, 2, 4, ... below `cores`, then `cores`.
+std::vector<int> sweep(int cores) {
+  std::vector<int> counts;
+  for (int n = 1; n < cores; n *= 2) counts.push_back(n);
+  counts.push_back(cores);
+  return counts;
+}
+
+/// Amdahl's law T(n) = T1 (s + (1 - s) / n) fitted by least squares as T = a + b / n: the serial
+/// fraction s = a / (a + b).
+double serial_fraction(const std::vector<int>& threads, const std::vector<double>& seconds) {
+  const std::size_t n = threads.size();
+  if (n < 2) return NAN;
+  double mx = 0, my = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    mx += 1.0 / threads[i] / n;
+    my += seconds[i] / n;
+  }
+  double sxy = 0, sxx = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    sxy += (1.0 / threads[i] - mx) * (seconds[i] - my);
+    sxx += (1.0 / threads[i] - mx) * (1.0 / threads[i] - mx);
+  }
+  const double b = sxy / sxx, a = my - b * mx;
+  return a / (a + b);
+}
+
+std::string seconds_cell(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, s < 1 ? "%.3f" : "%.2f", s);
+  return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (bench::flag(argc, argv, "help")) {
+    std::puts("bench_scaling [--threads N (default: the machine's cores)] [--repeat R (3)] "
+              "[--points P (chaos game points, 1e9)] [--only key,key (chaos, prr-fern, prr-sierpinski, volume, pifs)]");
+    return 0;
+  }
+  const int cores = std::stoi(bench::option(argc, argv, "threads",
+                                            std::to_string(std::max(1u, std::thread::hardware_concurrency()))));
+  const int repeat = std::stoi(bench::option(argc, argv, "repeat", "3"));
+  const auto points = static_cast<std::uint64_t>(std::stod(bench::option(argc, argv, "points", "1e9")));
+  const std::string only = bench::option(argc, argv, "only", "");
+  const std::vector<int> counts = sweep(cores);
+
+  std::printf("Seconds (wall, best of %d) per thread count; CPU s: the process's CPU seconds of the run on %d "
+              "threads; serial: the serial fraction of Amdahl's law fitted to the row.\n\n| path |",
+              repeat, counts.back());
+  for (int n : counts) std::printf(" %d |", n);
+  std::printf(" %d vs 1 | 1→2 | serial | CPU s at %d |\n| --- |", counts.back(), counts.back());
+  for (std::size_t i = 0; i < counts.size() + 4; ++i) std::printf(" ---: |");
+  std::printf("\n");
+  for (const Path& path : paths(points)) {
+    if (!only.empty() && ("," + only + ",").find("," + path.key + ",") == std::string::npos) continue;
+    std::vector<double> wall;
+    double cpu = 0;
+    for (int n : counts) {
+      const bench::Timing t = bench::best_of(repeat, [&] { path.run(n); });
+      wall.push_back(t.wall);
+      cpu = t.cpu;
+    }
+    std::printf("| %s |", path.label.c_str());
+    for (double s : wall) std::printf(" %s |", seconds_cell(s).c_str());
+    const double two = counts.size() > 1 ? wall[0] / wall[1] : NAN;
+    std::printf(" %.1f× | %.2f× | %.1f%% | %s |\n", wall[0] / wall.back(), two,
+                100.0 * serial_fraction(counts, wall), seconds_cell(cpu).c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}

@@ -1,0 +1,101 @@
+// The scatter ceiling beside the renderer: a plain loop of random increments over an image's
+// counters (32-bit and 8-bit, uniformly random pixels) and the chaos game's fern, at 1024² to
+// 8192², in points per CPU-second of one thread. Both fall as the image leaves the caches; the
+// renderer's accumulation is measured against the naive loop in the same run. A plain program.
+//
+//   build/cpp/bench/bench_scatter [--points 200000000] [--repeat 3] [--sizes 1024,2048,4096,8192]
+//   /usr/bin/python3 cpp/bench/results.py bench_scatter --plain   # the same, written to RESULTS.md
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_systems.h"
+#include "bench_timing.h"
+#include "ifsforge/render/renderer.h"
+
+using namespace ifsforge;
+
+namespace {
+
+/// `points` increments of uniformly random counters among size² (splitmix64 draws).
+template <class Counter>
+std::uint64_t scatter(std::vector<Counter>& counters, int size, std::uint64_t points) {
+  const std::uint64_t mask = std::uint64_t(size) * size - 1;  // sizes are powers of two
+  std::uint64_t state = 0x9E3779B97F4A7C15ull;
+  for (std::uint64_t i = 0; i < points; ++i) {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    ++counters[(z ^ (z >> 31)) & mask];
+  }
+  std::uint64_t sum = 0;  // read back, so the loop is not dropped
+  for (std::size_t i = 0; i < counters.size(); i += 4096) sum += counters[i];
+  return sum;
+}
+
+template <class Counter>
+double scatter_rate(int size, std::uint64_t points, int repeat) {
+  std::vector<Counter> counters(std::size_t(size) * size, 0);  // touched before the clock
+  std::uint64_t sink = 0;
+  const bench::Timing t = bench::best_of(repeat, [&] { sink += scatter(counters, size, points); });
+  if (sink == 1) std::puts("");
+  return double(points) / t.cpu;
+}
+
+/// CPU seconds of the fern's chaos game; `tiles` false: large images counted point by point as
+/// they come (IFSFORGE_CHAOS_TILES=0), for the comparison.
+double chaos_seconds(int size, std::uint64_t points, int repeat, bool tiles) {
+  setenv("IFSFORGE_CHAOS_TILES", tiles ? "1" : "0", 1);
+  RenderOptions o;
+  o.width = o.height = size;
+  o.iterations = points;
+  o.threads = 1;
+  const bench::Timing t = bench::best_of(repeat, [&] { (void)renderer("chaos").render(bench::fern(), o); });
+  unsetenv("IFSFORGE_CHAOS_TILES");
+  return t.cpu;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (bench::flag(argc, argv, "help")) {
+    std::puts("bench_scatter [--points P (2e8)] [--repeat R (3)] [--sizes 1024,2048,4096,8192]");
+    return 0;
+  }
+  const auto points = static_cast<std::uint64_t>(std::stod(bench::option(argc, argv, "points", "2e8")));
+  const int repeat = std::stoi(bench::option(argc, argv, "repeat", "3"));
+  std::vector<int> sizes;
+  std::stringstream list(bench::option(argc, argv, "sizes", "1024,2048,4096,8192"));
+  for (std::string item; std::getline(list, item, ',');) sizes.push_back(std::stoi(item));
+
+  std::printf("Millions of points per CPU-second, one thread, %.3g points per run, best of %d. Scatter: "
+              "increments of uniformly random counters. Chaos: the fern's render, whole (framing, "
+              "buffers and finish included) or marginal (less a 1,024-point render's CPU time: the "
+              "cost of the points), its counts made point by point (direct) or through tiles (the "
+              "default above 4096^2 pixels).\n\n",
+              double(points), repeat);
+  std::printf("| image | scatter 32-bit | scatter 8-bit | chaos fern, whole render | chaos marginal, direct "
+              "counts | chaos marginal, default | default / scatter 32-bit |\n| --- | ---: | ---: | ---: | ---: | ---: "
+              "| ---: |\n");
+  for (int size : sizes) {
+    if (size <= 0 || (size & (size - 1))) {
+      std::fprintf(stderr, "bench_scatter: sizes are powers of two (%d)\n", size);
+      return 2;
+    }
+    const double wide = scatter_rate<std::uint32_t>(size, points, repeat);
+    const double narrow = scatter_rate<std::uint8_t>(size, points, repeat);
+    // The render's own fixed cost (framing, buffers, the finish over every pixel) measured with
+    // 1,024 points and taken out: the marginal rate is the cost of a point.
+    const double fixed = chaos_seconds(size, 1024, repeat, true);
+    const double direct = chaos_seconds(size, points, repeat, false), tiled = chaos_seconds(size, points, repeat, true);
+    auto rate = [&](double seconds) { return double(points) / std::max(seconds - fixed, 1e-9) / 1e6; };
+    std::printf("| %d² | %.0f M | %.0f M | %.0f M | %.0f M | %.0f M | %.2f× |\n", size, wide / 1e6, narrow / 1e6,
+                double(points) / tiled / 1e6, rate(direct), rate(tiled), rate(tiled) * 1e6 / wide);
+    std::fflush(stdout);
+  }
+  return 0;
+}
