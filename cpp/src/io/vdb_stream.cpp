@@ -19,6 +19,7 @@
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/io/atomic_file.h"
 #include "vdb_archive.h"
+#include "vdb_file_at.h"
 #include "vdb_layout.h"
 
 namespace ifsforge::detail {
@@ -283,95 +284,12 @@ std::int64_t append_leaf(const LeafTopology& leaf, const std::uint32_t* voxels, 
   return static_cast<std::int64_t>(out.size() - before);
 }
 
-/// Writes at offsets of one open file, reporting failures as FileError naming the target.
-class FileAt {
- public:
-  FileAt(int fd, std::string shown) : fd_(fd), shown_(std::move(shown)) {}
-  void write(std::uint64_t offset, const char* data, std::size_t size) const {
-    while (size > 0) {
-      const ssize_t n = ::pwrite(fd_, data, size, static_cast<off_t>(offset));
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) throw FileError("cannot write '" + shown_ + "': " + (n < 0 ? std::strerror(errno) : "the disk refused the data (full?)"));
-      data += n;
-      size -= static_cast<std::size_t>(n);
-      offset += static_cast<std::uint64_t>(n);
-    }
-  }
-  /// Starts writing the file's dirty pages to disk without waiting: the commit's fsync then
-  /// finds most of them written instead of writing the whole file after its last leaf.
-  void start_writeback() const {
-#ifdef SYNC_FILE_RANGE_WRITE
-    ::sync_file_range(fd_, 0, 0, SYNC_FILE_RANGE_WRITE);  // advice only: the commit's fsync reports errors
-#endif
-  }
-  /// Waits for [0, end) to reach the disk a piece at a time, asking `progress` between pieces:
-  /// the commit's fsync then finds little left, and Ctrl-C is heard while the disk catches up.
-  void sync_pieces(std::uint64_t end, const ProgressCallback& progress) const {
-    constexpr std::uint64_t kPiece = 16u << 20;
-    for (std::uint64_t at = 0; at < end; at += kPiece) {
-      if (progress && !progress(static_cast<double>(at) / static_cast<double>(end))) throw Cancelled();
-#ifdef SYNC_FILE_RANGE_WRITE
-      ::sync_file_range(fd_, static_cast<off_t>(at), static_cast<off_t>(std::min(kPiece, end - at)),
-                        SYNC_FILE_RANGE_WAIT_BEFORE | SYNC_FILE_RANGE_WRITE | SYNC_FILE_RANGE_WAIT_AFTER);
-#endif
-    }
-  }
-  int fd() const { return fd_; }
-  const std::string& shown() const { return shown_; }
-
- private:
-  int fd_;
-  std::string shown_;
-};
-
 /// A band's bytes of one grid, kept until the Blosc sizes of every band are known.
 struct KeptBytes {
   std::string bytes;
   std::vector<std::uint32_t> sizes;
   std::vector<std::int64_t> blosc;
 };
-
-/// A content hash as a UUID (8-4-4-4-12 hex) of the file's bytes after the UUID: blocks hashed
-/// in parallel eight bytes at a time, then the blocks' hashes in order.
-std::string content_uuid(const std::string& written, const FileAt& file, std::uint64_t begin, std::uint64_t end,
-                         int threads, const ProgressCallback& progress) {
-  struct Reader {
-    int fd;
-    ~Reader() { if (fd >= 0) ::close(fd); }
-  } reader{::open(written.c_str(), O_RDONLY)};
-  if (reader.fd < 0) throw FileError("cannot write '" + file.shown() + "': cannot read it back: " + std::strerror(errno));
-  constexpr std::uint64_t kBlock = 4u << 20, kPrime = 0x100000001b3ull;
-  const std::size_t blocks = static_cast<std::size_t>((end - begin + kBlock - 1) / kBlock);
-  std::vector<std::array<std::uint64_t, 2>> hashes(blocks);
-  std::vector<std::vector<char>> buffers(threads, std::vector<char>(kBlock));
-  parallel_jobs(blocks, static_cast<int>(buffers.size()), [&](std::size_t k, int worker) {
-    char* data = buffers[worker].data();
-    const std::uint64_t at = begin + k * kBlock, size = std::min(kBlock, end - at);
-    for (std::uint64_t done = 0; done < size;) {
-      const ssize_t n = ::pread(reader.fd, data + done, size - done, static_cast<off_t>(at + done));
-      if (n <= 0 && !(n < 0 && errno == EINTR)) throw FileError("cannot write '" + file.shown() + "': cannot read it back");
-      if (n > 0) done += static_cast<std::uint64_t>(n);
-    }
-    std::uint64_t a = 0xcbf29ce484222325ull, b = 0x84222325cbf29ce4ull, word = 0;
-    std::size_t i = 0;
-    for (; i + 8 <= size; i += 8) {
-      std::memcpy(&word, data + i, 8);
-      a = (a ^ word) * kPrime;
-      b = (b ^ (word >> 29 | word << 35)) * kPrime;
-    }
-    for (; i < size; ++i) a = (a ^ static_cast<unsigned char>(data[i])) * kPrime;
-    hashes[k] = {a, b ^ size};
-  }, progress);
-  std::uint64_t a = 0xcbf29ce484222325ull, b = 0x9e3779b97f4a7c15ull;
-  for (const auto& h : hashes) {
-    a = (a ^ h[0]) * kPrime;
-    b = (b ^ h[1]) * kPrime;
-  }
-  char text[37];
-  std::snprintf(text, sizeof text, "%08x-%04x-%04x-%04x-%012llx", unsigned(a >> 32), unsigned((a >> 16) & 0xFFFF),
-                unsigned(a & 0xFFFF), unsigned(b >> 48), static_cast<unsigned long long>(b & 0xFFFFFFFFFFFFull));
-  return text;
-}
 
 }  // namespace
 
