@@ -188,5 +188,5 @@ def test_fractal_texture_in_blender(tmp_path):
 
 def test_volume_look_in_blender(tmp_path):
     report = run_blender("addon_volume_look.py", tmp_path, timeout=300)
-    opacity = report["values"]["opacity_by_resolution"]
+    opacity = report["values"]["pyramid_opacity_by_resolution"]
     assert max(opacity.values()) - min(opacity.values()) <= 0.05 * max(opacity.values())
