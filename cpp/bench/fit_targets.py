@@ -9,7 +9,7 @@ the fitted attractor drawn at the target's size and the target, the collage dist
 mean colour error per pixel both cover and the colour collage error (RMS per channel, seed
 Fig. 4.3); 3D targets (3D samples as 64^3 .vdb volumes, one also as a voxelised mesh) get 120 s
 and report the IoU of the fitted attractor's volume (`volume` on the target's box) with the target.
-Issue 32's section fits held-out rotated systems (a spiral, two dragons, a leaf, a snowflake) and
+The rotated section fits held-out rotated systems (a spiral, two dragons, a leaf, a snowflake) and
 drawn silhouettes (a letter, a tree) with default options but the map count and no time limit,
 and with --auto also by `--maps auto`.
 Run: PYTHONPATH=build/python python3 cpp/bench/fit_targets.py [--threads 2] [--auto]
@@ -50,7 +50,7 @@ def ring(count, radius, scale, degrees):
 
 GOLDEN = 0.7427429446  # (1/phi)^(1/phi): the golden dragon's ratio
 ROTATED = {
-    # name: JSON maps -- rotated systems held out from the tests (issue 32's spiral first).
+    # name: JSON maps -- rotated systems held out from the tests (the spiral 0.88·R(28°)x, 0.28x + (1, 0) first).
     "spiral": [similarity(0.88, 28, (0, 0)), similarity(0.28, 0, (1, 0))],
     "golden dragon": [similarity(GOLDEN, 32.893818, (0, 0)), similarity(GOLDEN ** 2, 133.774435, (1, 0))],
     "terdragon": [similarity(3 ** -0.5, -30, (0, 0)), similarity(3 ** -0.5, 90, (0.5, -0.5 / 3 ** 0.5)),
@@ -243,7 +243,7 @@ def report(args, out):
 
 
 def rotated(args, out):
-    """Issue 32's targets: rotated systems with the right count of maps and with --maps auto,
+    """Rotated systems with the right count of maps and with --maps auto,
     drawn silhouettes; default options (no time limit) but the maps, wall and CPU time."""
     out.print(f"\n{'rotated target':18} {'maps':>4} {'IoU':>6} {'Hausdorff px':>12} {'time s':>7} {'CPU s':>7}"
               + (f" {'auto maps':>9} {'auto IoU':>8} {'auto s':>7}" if args.auto else ""))

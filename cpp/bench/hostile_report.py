@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Every example of issue 31 (hostile input and faults) run as a command, with its exit code, its
+"""Every hostile-input example (bombs, absurd sizes, signals, option values, names) run as a command, with its exit code, its
 peak resident memory and how long it took to refuse or to stop after a signal: the catalogue
 whose cases tests/python/test_hostile*.py assert, measured in one run.
 
@@ -149,7 +149,7 @@ def main():
     args = parser.parse_args()
     os.environ["PYTHONPATH"] = str(Path(args.build).resolve() / "python")
     cli = ["/usr/bin/python3", "-P", str(ROOT / "cpp" / "python" / "ifsforge-launcher")]
-    with results.Section("hostile_report.py", args.results, "Issue 31's examples (hostile_report.py)") as out:
+    with results.Section("hostile_report.py", args.results, "Hostile input: refusals and stops (hostile_report.py)") as out:
         out.print("Peak: the command's peak resident memory; time: from the start to the refusal, or from the "
                   "signal to the exit.")
         out.print()

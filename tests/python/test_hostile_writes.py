@@ -56,14 +56,14 @@ def test_instances_commit_none_when_one_output_fails(cli, tmp_path, full_disk):
 
 
 def test_terrain_commits_none_of_its_outputs_on_a_full_disk(cli, tmp_path, full_disk):
-    # Issue 31: the PNG fitted and was kept although the mesh did not.
+    # All or none: the PNG fits on the disk, the mesh does not; neither may stay.
     result = cli("terrain", "-o", tmp_path / "t.png", "-o", full_disk / "t.obj", "-o", tmp_path / "t.pov")
     assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
     assert not list(tmp_path.glob("t.*")) and os.listdir(full_disk) == []
 
 
 def test_growth_on_a_full_disk_leaves_no_frame(cli, full_disk):
-    # Issue 31: 19 frames were left behind; the frames are staged and committed together.
+    # The frames are staged and committed together: none stays when one cannot be written.
     result = cli("growth", SAMPLES / "condensation_tree.json", "-o", full_disk / "frames", "--size", "256")
     assert result.returncode == 2 and "Traceback" not in result.stderr, result.stderr
     assert os.listdir(full_disk) == []
