@@ -76,7 +76,7 @@ def test_the_build_configures_without_googletest_and_google_benchmark(tmp_path):
     build, out = configure(tmp_path, ROOT, "-DCMAKE_DISABLE_FIND_PACKAGE_GTest=ON",
                            "-DCMAKE_DISABLE_FIND_PACKAGE_benchmark=ON", "-DIFSFORGE_PORTABLE=ON")
     assert "GoogleTest not found, the C++ test suite is skipped" in out
-    assert "Google Benchmark not found, the benchmark programs are skipped" in out
+    assert "Google Benchmark not found, its benchmark programs are skipped" in out
     makefile = (build / "Makefile").read_text()
     assert "ifsforge_tests" not in makefile and "bench_render" not in makefile
     assert re.search(r"^ifsforge:", makefile, re.M)  # the library still builds
