@@ -29,7 +29,8 @@ def make(out):
     folder = Path(out) / "blender"
     folder.mkdir(parents=True, exist_ok=True)
     python_path = str(Path(ifsforge.__file__).resolve().parents[1])
-    result = subprocess.run(["blender", "-b", "--factory-startup", "--python", str(HERE), "--", python_path,
+    result = subprocess.run(["blender", "-b", "--factory-startup", "--python-exit-code", "1",
+                             "--python", str(HERE), "--", python_path,
                              str(folder)], capture_output=True, text=True)
     lines = [line[len("ITEM "):] for line in result.stdout.splitlines() if line.startswith("ITEM ")]
     if result.returncode != 0 or not lines:
@@ -54,6 +55,7 @@ def inside_blender(python_path, folder):
 
     import addon_utils
     import bpy
+    import numpy as np
     from mathutils import Vector
     sys.path[:0] = [python_path, str(ROOT / "blender_addon")]
     addon_utils.enable("ifsforge_addon", default_set=True, handle_error=None)
@@ -83,11 +85,25 @@ def inside_blender(python_path, folder):
         getattr(bpy.ops.ifsforge, f"generate_{kind}")()
         return context.active_object
 
-    def shoot(obj, name, box, direction=(1.0, -1.2, 0.9), text=""):
+    def world_box(obj):
+        """The object's bounds in world space: generated objects sit at the 3D cursor with their
+        origin at their bounds' centre, so frame them where they are. A mesh by its vertices (an
+        instancer's vertices are its instances' places), anything else by its evaluated box."""
+        if obj.type == 'MESH' and len(obj.data.vertices):
+            local = np.empty(3 * len(obj.data.vertices), np.float64)
+            obj.data.vertices.foreach_get("co", local)
+            points = local.reshape(-1, 3)
+            corners = [obj.matrix_world @ Vector(p) for p in (points.min(axis=0), points.max(axis=0))]
+        else:
+            evaluated = obj.evaluated_get(context.evaluated_depsgraph_get())
+            corners = [evaluated.matrix_world @ Vector(corner) for corner in evaluated.bound_box]
+        return ([min(c[k] for c in corners) for k in range(3)], [max(c[k] for c in corners) for k in range(3)])
+
+    def shoot(obj, name, direction=(1.0, -1.2, 0.9), text=""):
         start = time.perf_counter()
         for other in scene.objects:
             other.hide_render = other is not obj and other.type not in ('CAMERA', 'LIGHT')
-        lo, hi = Vector(box[0]), Vector(box[1])
+        lo, hi = (Vector(corner) for corner in world_box(obj))
         centre, radius = (lo + hi) / 2, (hi - lo).length / 2
         direction = Vector(direction).normalized()
         camera = scene.camera
@@ -96,23 +112,25 @@ def inside_blender(python_path, folder):
         camera.data.clip_end = radius * 20
         scene.render.filepath = str(folder / name)
         bpy.ops.render.render(write_still=True)
-        print(f"ITEM {name}: {text} ({time.perf_counter() - start:.1f} s render)", flush=True)
+        # A picture of the background alone is a framing bug, not a sample: stop the gallery.
+        image = bpy.data.images.load(str(folder / name))
+        pixels = np.asarray(image.pixels[:], np.float32).reshape(-1, 4)[:, :3]
+        covered = float(np.mean(np.abs(pixels - pixels[0]).max(axis=1) > 0.02))
+        bpy.data.images.remove(image)
+        if covered < 0.05:
+            raise RuntimeError(f"{name}: the object covers {covered:.1%} of the picture")
+        print(f"ITEM {name}: {text} ({time.perf_counter() - start:.1f} s render, {covered:.0%} of the frame)",
+              flush=True)
 
     volume = generate("volume_sierpinski_pyramid_rgb.json", "volume", volume_resolution=192, volume_strength=60.0)
-    shoot(volume, "volume_pyramid.png", ([0, 0, 0], [1, 1, 1]), direction=(1.0, -1.2, 0.55),
-          text=volume.ifsforge.summary)
+    shoot(volume, "volume_pyramid.png", direction=(1.0, -1.2, 0.55), text=volume.ifsforge.summary)
     instances = generate("volume_coral_6d.json", "instances", instance_primitives="sphere", instance_depth=7)
-    positions = [v.co for v in instances.data.vertices]
-    lo = Vector([min(p[k] for p in positions) for k in range(3)])
-    hi = Vector([max(p[k] for p in positions) for k in range(3)])
-    shoot(instances, "instances_coral.png", (lo, hi), text=instances.ifsforge.summary)
+    shoot(instances, "instances_coral.png", text=instances.ifsforge.summary)
     terrain = generate("barnsley_fern.json", "terrain", terrain_source='ATTRACTOR', terrain_controls=33,
                        terrain_resolution=257, terrain_size=4.0, terrain_height=0.8, terrain_roughness=(0.15, 0.15))
-    shoot(terrain, "terrain_fern.png", ([-2, -2, 0], [2, 2, 1]), direction=(0.3, -1.0, 0.8),
-          text=terrain.ifsforge.summary)
+    shoot(terrain, "terrain_fern.png", direction=(0.3, -1.0, 0.8), text=terrain.ifsforge.summary)
     surface = generate("sierpinski_tetrahedron.json", "mesh", volume_resolution=96)
-    shoot(surface, "iso_tetrahedron.png", ([0, 0, 0], [1, 1, 1]), direction=(-0.5, -1.0, 0.45),
-          text=surface.ifsforge.summary)
+    shoot(surface, "iso_tetrahedron.png", direction=(-0.5, -1.0, 0.45), text=surface.ifsforge.summary)
     bpy.ops.wm.save_as_mainfile(filepath=str(folder / "design.blend"))
     print("ITEM design.blend: the scene; each object keeps its system and settings (select it, edit, Regenerate)")
 
