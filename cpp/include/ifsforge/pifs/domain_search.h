@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/pifs/block_search.h"
 #include "ifsforge/pifs/code.h"
 
@@ -26,9 +27,21 @@ struct PifsCandidate {
   bool has_transform = false;
 };
 
+/// @brief How domains are found: the feature tree (the default), or every domain under every
+/// isometry fitted exactly (the reference the tree's loss is measured against; slow).
+enum class PifsDomainSearch : std::uint8_t { Tree = 0, Exhaustive = 1 };
+template <>
+struct EnumNames<PifsDomainSearch> {
+  static constexpr const char* what = "domain search";
+  static constexpr NamedValue<PifsDomainSearch> values[] = {
+      {PifsDomainSearch::Tree, "tree"},
+      {PifsDomainSearch::Exhaustive, "exhaustive"}};
+};
+
 /// @brief Search effort: neighbours evaluated exactly per query, k-d tree leaves visited per
 /// query, and how near a tie (in quadrant sums of unit features) still asks a second orientation.
 struct PifsSearch {
+  PifsDomainSearch mode = PifsDomainSearch::Tree;
   int neighbours = 8;
   int max_leaves = 16;
   float orientation_margin = 0.1f;
