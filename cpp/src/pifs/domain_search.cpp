@@ -31,7 +31,7 @@ PifsRaster half_plane(const PifsRaster& p) {
   return h;
 }
 
-PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_height, int log_size) {
+PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_height, int log_size, bool with_tree) {
   PifsDomains pool;
   const int n = 1 << log_size;
   pool.log_size = log_size;
@@ -55,13 +55,13 @@ PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_hei
       const std::size_t id = std::size_t(j) * pool.nx + i;
       pool.energy[id] = sq - sum * sum / (n * n);
       BlockFeature f;
-      if (!block_feature(d, stride, n, f)) continue;
+      if (!with_tree || !block_feature(d, stride, n, f)) continue;
       const Orientation o = canonical_orientation(f);
       points.push_back(transform_feature(f, o.isometry, o.negate));
       tags.push_back(std::uint32_t(id) << 4 | std::uint32_t(o.isometry) << 1 | std::uint32_t(o.negate));
     }
   }
-  pool.tree = FeatureTree(std::move(points), std::move(tags));
+  pool.tree = FeatureTree(points, std::move(tags));
   return pool;
 }
 

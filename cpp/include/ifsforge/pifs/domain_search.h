@@ -61,8 +61,10 @@ struct PifsDomains {
   FeatureTree tree;             ///< tag: domain index << 4 | canonical isometry << 1 | sign
 };
 
-/// @brief The pool for `half` = half_plane(padded plane of `padded_width` × `padded_height`).
-PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_height, int log_size);
+/// @brief The pool for `half` = half_plane(padded plane of `padded_width` × `padded_height`);
+/// without `with_tree` only the energies (the exhaustive search needs no tree).
+PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_height, int log_size,
+                        bool with_tree = true);
 
 /// @brief Candidates of the blocks in block row `row` of the padded plane, in column order,
 /// written to `out` (one per block). Depends on nothing but its arguments.
