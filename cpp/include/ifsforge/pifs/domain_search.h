@@ -42,7 +42,7 @@ struct EnumNames<PifsDomainSearch> {
 /// query, and how near a tie (in quadrant sums of unit features) still asks a second orientation.
 struct PifsSearch {
   PifsDomainSearch mode = PifsDomainSearch::Tree;
-  int neighbours = 8;
+  int neighbours = 16;
   int max_leaves = 16;
   float orientation_margin = 0.1f;
 };
