@@ -94,13 +94,18 @@ def decode_ab(out, runs):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--runs", type=int, default=3, help="runs per timing (median); 2048² runs once")
+    parser.add_argument("--parts", default="loss,encode,decode", help="which tables (comma-separated)")
     import results  # beside this script
     results.add_argument(parser)
     args = parser.parse_args()
     with results.Section("pifs_speed.py", args.results, "PIFS speed and search loss (pifs_speed.py)") as out:
-        search_loss(out)
-        encode_sweep(out, args.runs)
-        decode_ab(out, args.runs)
+        parts = args.parts.split(",")
+        if "loss" in parts:
+            search_loss(out)
+        if "encode" in parts:
+            encode_sweep(out, args.runs)
+        if "decode" in parts:
+            decode_ab(out, args.runs)
 
 
 if __name__ == "__main__":
