@@ -67,7 +67,7 @@ PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_hei
 
 namespace {
 
-/// One range block being fitted: its pixels, statistics and the best fit so far.
+/// One range block being fitted: its statistics and the best fit so far.
 struct RangeFit {
   const PifsCode& code;
   const PifsDomains& domains;
@@ -97,7 +97,7 @@ struct RangeFit {
 
 /// The reference search: every domain under every isometry. `rt[(b·n + a)·8 + iso]` is the range
 /// pixel (mean removed) that reads domain pixel (a, b) through `iso`, so the 8 dot products of a
-/// domain accumulate side by side.
+/// domain accumulate side by side (in float: vector lanes; a reference may round at 1e-7).
 void search_all(RangeFit& fit, const PifsRaster& half, const std::vector<float>& rt, int n) {
   const PifsDomains& domains = fit.domains;
   const long stride = half.width;
