@@ -52,6 +52,7 @@ py::dict cost(const PifsCode& code) {
 
 void bind_pifs(py::module_& m) {
   add_choices<PifsDecoder>(m, "decoder");
+  add_choices<PifsDomainSearch>(m, "search");
   add_choices<PifsColor>(m, "color");
   options_class<PifsDecodeOptions>(m, "PifsDecodeOptions",
                                     "The settings of PifsCode.decode() (keywords of the same names).")
@@ -129,6 +130,9 @@ void bind_pifs(py::module_& m) {
                     }, "rate: raw bytes / ratio (0: not set; wins over quality)")
       .def_readwrite("quality", &PifsEncodeOptions::quality, "rate: collage RMS threshold, 8-bit levels")
       .def_readwrite("ycbcr", &PifsEncodeOptions::ycbcr, "RGB(A) as YCbCr with half-size chroma")
+      .def_property("search", [](const PifsEncodeOptions& o) { return std::string(name_of(o.search.mode)); },
+                    [](PifsEncodeOptions& o, const std::string& v) { o.search.mode = parse_name<PifsDomainSearch>(v); },
+                    "domain search: tree (fast) or exhaustive (every domain and isometry; the reference)")
       .def_readwrite("threads", &PifsEncodeOptions::threads, "0: every core; the code never depends on it");
   m.def("pifs_encode", [](const py::array& array, const py::object& progress, const py::kwargs& kwargs) {
     if (py::isinstance<py::array_t<std::uint16_t>>(array))

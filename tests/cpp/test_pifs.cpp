@@ -1,6 +1,6 @@
 // PIFS image compression (seed 3.3.2): exact constant images, re-encoding a known attractor,
 // Baharav's pyramid consistent across scales, hierarchical = iterative, any size and channels,
-// rate control, identical output for any thread count.
+// rate control, identical output for any thread count (encoding, and decoding large enough to split).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -146,6 +146,22 @@ TEST(Pifs, SameBytesForAnyThreadCount) {
     EXPECT_EQ(one, pifs_to_bytes(code)) << threads << " threads";
     d.threads = threads;
     EXPECT_EQ(a.pixels, pifs_decode(code, d).pixels) << threads << " threads";
+  }
+}
+
+TEST(Pifs, LargeDecodeIsTheSameForAnyThreadCount) {
+  // 2048×1536 pixels: the passes and the deblocking filter of a gray plane split, and the
+  // conversion to RGB of a colour image.
+  for (int channels : {1, 3}) {
+    const PifsCode code = pifs_encode(textured(128, 96, channels), PifsEncodeOptions{});
+    PifsDecodeOptions d;
+    d.scale = 16;
+    d.threads = 1;
+    const Image one = pifs_decode(code, d);
+    for (int threads : {2, 3}) {
+      d.threads = threads;
+      EXPECT_EQ(one.pixels, pifs_decode(code, d).pixels) << channels << " channels, " << threads << " threads";
+    }
   }
 }
 

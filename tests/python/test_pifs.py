@@ -113,6 +113,24 @@ def test_cli_compress_info_decompress(cli, tmp_path):
     assert ifsforge.read_png(str(png)).shape == (70, 50, 3)
 
 
+def test_exhaustive_search_from_python_and_cli(cli, tmp_path):
+    # Every block of one size is a leaf (quality 0): the exhaustive search's fit of each is the
+    # least-squares optimum, so its collage, and here its decode, is at least as close.
+    image = textured(48, 64)
+    options = dict(min_block=4, max_block=4, quality=0)
+    tree = ifsforge.pifs_encode(image, **options)
+    full = ifsforge.pifs_encode(image, search="exhaustive", **options)
+    assert ifsforge.choices["search"] == ["tree", "exhaustive"]
+    assert psnr(image / 255.0, full.decode(deblock=False)) >= psnr(image / 255.0, tree.decode(deblock=False)) - 0.05
+    with pytest.raises(ValueError, match="exhaustive"):
+        ifsforge.pifs_encode(image, search="everything")
+    source, out = tmp_path / "in.png", tmp_path / "in.pifs"
+    ifsforge.write_png(str(source), image)
+    cli("compress", source, "-o", out, "--quality", "0", "--min-block", "4", "--max-block", "4",
+        "--search", "exhaustive", check=True)
+    assert out.read_bytes() == full.to_bytes()
+
+
 def test_cli_sixteen_bit_message(cli, tmp_path):
     source = tmp_path / "deep.png"
     ifsforge.write_png(str(source), textured(40, 48) / 255.0, 16)

@@ -4,6 +4,10 @@
 #include <cmath>
 #include <numeric>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/code.h"
@@ -137,14 +141,49 @@ int near_canonical_orientations(const BlockFeature& f, float margin, Orientation
   return count;
 }
 
-FeatureTree::FeatureTree(std::vector<BlockFeature> points, std::vector<std::uint32_t> tags)
-    : points_(std::move(points)), tags_(std::move(tags)) {
+namespace {
+
+FeatureTree::Point quantise(const BlockFeature& f) {
+  FeatureTree::Point p;
+  for (int i = 0; i < kFeatureDim; ++i) p[i] = std::int8_t(std::clamp(std::lround(f[i] * 127.f), -127L, 127L));
+  return p;
+}
+
+/// Squared distance of two quantised features: integers, so SSE2 and the plain loop agree exactly.
+int distance(const FeatureTree::Point& a, const FeatureTree::Point& b) {
+#ifdef __SSE2__
+  const __m128i va = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a.data()));
+  const __m128i vb = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b.data()));
+  // Sign-extend the bytes to 16 bits (each byte into the high half, then shifted down).
+  const __m128i zero = _mm_setzero_si128();
+  const __m128i d_lo = _mm_sub_epi16(_mm_srai_epi16(_mm_unpacklo_epi8(zero, va), 8), _mm_srai_epi16(_mm_unpacklo_epi8(zero, vb), 8));
+  const __m128i d_hi = _mm_sub_epi16(_mm_srai_epi16(_mm_unpackhi_epi8(zero, va), 8), _mm_srai_epi16(_mm_unpackhi_epi8(zero, vb), 8));
+  __m128i sum = _mm_add_epi32(_mm_madd_epi16(d_lo, d_lo), _mm_madd_epi16(d_hi, d_hi));
+  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(1, 0, 3, 2)));
+  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(2, 3, 0, 1)));
+  return _mm_cvtsi128_si32(sum);
+#else
+  int d = 0;
+  for (int j = 0; j < kFeatureDim; ++j) {
+    const int e = int(a[j]) - int(b[j]);
+    d += e * e;
+  }
+  return d;
+#endif
+}
+
+}  // namespace
+
+FeatureTree::FeatureTree(const std::vector<BlockFeature>& points, std::vector<std::uint32_t> tags)
+    : tags_(std::move(tags)) {
+  points_.reserve(points.size());
+  for (const BlockFeature& f : points) points_.push_back(quantise(f));
   if (!points_.empty()) {
     nodes_.reserve(4 * points_.size() / kLeafSize + 2);
     order_.resize(points_.size());
     std::iota(order_.begin(), order_.end(), 0);
     build(0, int(points_.size()));
-    std::vector<BlockFeature> p(points_.size());
+    std::vector<Point> p(points_.size());
     std::vector<std::uint32_t> t(points_.size());
     for (std::size_t i = 0; i < p.size(); ++i) {
       p[i] = points_[order_[i]];
@@ -169,12 +208,11 @@ int FeatureTree::build(int begin, int end) {
   }
   // Split the widest dimension (spread measured on at most 64 evenly spaced points) at its median.
   const int step = std::max(1, (end - begin) / 64);
-  int dim = 0;
-  float widest = -1;
+  int dim = 0, widest = -1;
   for (int d = 0; d < kFeatureDim; ++d) {
-    float lo = points_[order_[begin]][d], hi = lo;
+    int lo = points_[order_[begin]][d], hi = lo;
     for (int i = begin + step; i < end; i += step) {
-      const float v = points_[order_[i]][d];
+      const int v = points_[order_[i]][d];
       lo = std::min(lo, v);
       hi = std::max(hi, v);
     }
@@ -193,17 +231,18 @@ int FeatureTree::build(int begin, int end) {
   return index;
 }
 
-void FeatureTree::nearest(const BlockFeature& q, int k, int max_leaves, std::vector<std::uint32_t>& out) const {
+void FeatureTree::nearest(const BlockFeature& query, int k, int max_leaves, std::vector<std::uint32_t>& out) const {
   out.clear();
   if (points_.empty()) return;
+  const Point q = quantise(query);
   // Scratch reused across queries of a thread: a query allocates nothing.
-  using Entry = std::pair<float, int>;  // (lower bound, node): min-heap by bound
+  using Entry = std::pair<int, int>;  // (lower bound, node): min-heap by bound
   thread_local std::vector<Entry> queue;
-  thread_local std::vector<std::pair<float, std::uint32_t>> best;  // max-heap of the k nearest
+  thread_local std::vector<std::pair<int, std::uint32_t>> best;  // max-heap of the k nearest
   queue.clear();
   best.clear();
   const auto later = [](const Entry& a, const Entry& b) { return a > b; };
-  queue.push_back({0.f, 0});
+  queue.push_back({0, 0});
   int leaves = 0;
   while (!queue.empty() && leaves < max_leaves) {
     std::pop_heap(queue.begin(), queue.end(), later);
@@ -213,9 +252,9 @@ void FeatureTree::nearest(const BlockFeature& q, int k, int max_leaves, std::vec
     // Descend to a leaf, queueing the far sides.
     while (nodes_[node].dim >= 0) {
       const Node& n = nodes_[node];
-      const float diff = q[n.dim] - n.split;
+      const int diff = int(q[n.dim]) - n.split;
       const int near = diff < 0 ? n.left : n.right, far = diff < 0 ? n.right : n.left;
-      const float far_bound = bound + diff * diff;
+      const int far_bound = bound + diff * diff;
       if (int(best.size()) < k || far_bound < best.front().first) {
         queue.push_back({far_bound, far});
         std::push_heap(queue.begin(), queue.end(), later);
@@ -225,13 +264,7 @@ void FeatureTree::nearest(const BlockFeature& q, int k, int max_leaves, std::vec
     ++leaves;
     const Node& leaf = nodes_[node];
     for (int i = leaf.left; i < leaf.right; ++i) {
-      const BlockFeature& p = points_[i];
-      float d = 0;
-      for (int j = 0; j < kFeatureDim; ++j) {
-        const float e = q[j] - p[j];
-        d += e * e;
-      }
-      const std::pair<float, std::uint32_t> entry{d, tags_[i]};
+      const std::pair<int, std::uint32_t> entry{distance(q, points_[i]), tags_[i]};
       if (int(best.size()) < k) {
         best.push_back(entry);
         std::push_heap(best.begin(), best.end());

@@ -13,8 +13,6 @@ namespace ifsforge {
 namespace {
 
 constexpr std::size_t kJobs = 64;  // leaf chunks: fixed, so the output never depends on threads
-// Pixels one pass writes per extra thread: below it, starting a thread costs more than the pass.
-constexpr double kPixelsPerThread = 1 << 18;
 
 int scaled(int v, int log_scale) { return log_scale >= 0 ? v << log_scale : v >> -log_scale; }
 
@@ -32,7 +30,7 @@ PifsRaster blank(int w, int h, float value) {
 void apply(const PifsCode& code, const PifsPlane& plane, int l, const PifsRaster& src, bool from_half,
            PifsRaster& dst, int threads) {
   const std::size_t count = plane.leaves.size();
-  threads = std::min(resolve_threads(threads), 1 + int(double(dst.width) * dst.height / kPixelsPerThread));
+  threads = pass_threads(threads, double(dst.width) * dst.height);
   parallel_jobs(kJobs, threads, [&](std::size_t job, int) {
     const std::size_t begin = count * job / kJobs, end = count * (job + 1) / kJobs;
     for (std::size_t k = begin; k < end; ++k) {
@@ -154,7 +152,7 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
     const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);
     const int lm = half ? m + 1 : m;
     PifsRaster p = decode_plane(code, plane, lm, options.decoder, options.iterations, inner);
-    if (options.deblock) deblock(code, plane, lm, p);
+    if (options.deblock) deblock(code, plane, lm, p, inner);
     // Crop away the padding (in place: rows only move toward the front).
     const int cw = std::min(full_w, p.width), ch = std::min(full_h, p.height);
     for (int y = 1; y < ch && cw < p.width; ++y)
@@ -164,7 +162,7 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
     p.values.resize(std::size_t(cw) * ch);
     planes[k] = cw == width && ch == height ? std::move(p) : resample_area(p, width, height);
   });
-  return planes_to_image(planes, code.channels, code.color, width, height);
+  return planes_to_image(planes, code.channels, code.color, width, height, threads);
 }
 
 }  // namespace ifsforge

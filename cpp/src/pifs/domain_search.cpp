@@ -31,7 +31,7 @@ PifsRaster half_plane(const PifsRaster& p) {
   return h;
 }
 
-PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_height, int log_size) {
+PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_height, int log_size, bool with_tree) {
   PifsDomains pool;
   const int n = 1 << log_size;
   pool.log_size = log_size;
@@ -55,26 +55,110 @@ PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_hei
       const std::size_t id = std::size_t(j) * pool.nx + i;
       pool.energy[id] = sq - sum * sum / (n * n);
       BlockFeature f;
-      if (!block_feature(d, stride, n, f)) continue;
+      if (!with_tree || !block_feature(d, stride, n, f)) continue;
       const Orientation o = canonical_orientation(f);
       points.push_back(transform_feature(f, o.isometry, o.negate));
       tags.push_back(std::uint32_t(id) << 4 | std::uint32_t(o.isometry) << 1 | std::uint32_t(o.negate));
     }
   }
-  pool.tree = FeatureTree(std::move(points), std::move(tags));
+  pool.tree = FeatureTree(points, std::move(tags));
   return pool;
 }
+
+namespace {
+
+/// One range block being fitted: its statistics and the best fit so far.
+struct RangeFit {
+  const PifsCode& code;
+  const PifsDomains& domains;
+  PifsCandidate& c;
+  double s_scale, energy, dc_err, best;
+
+  /// Eq. 29 least squares for domain `id` under isometry `iso`, given ⟨r − mean_r, φ(d)⟩ = `dot`
+  /// (= ⟨r − mean_r, φ(d) − mean_d⟩), then s quantised to s_bits with |s| < 1.
+  void consider(std::size_t id, int iso, double dot) {
+    const double de = domains.energy[id];
+    const int sq_q = std::clamp(int(std::lround(dot / de * s_scale)), -code.s_limit(), code.s_limit());
+    if (sq_q == 0) return;
+    const double s = sq_q / s_scale;
+    const double err = energy - 2 * s * dot + s * s * de + dc_err;
+    if (err < best) {
+      best = err;
+      c.has_transform = true;
+      c.transform = c.flat;
+      c.transform.s = std::int8_t(sq_q);
+      c.transform.isometry = std::uint8_t(iso);
+      c.transform.dx = std::uint16_t(id % domains.nx);
+      c.transform.dy = std::uint16_t(id / domains.nx);
+      c.transform_error = err;
+    }
+  }
+};
+
+/// The reference search: every domain under every isometry. `rt[(b·n + a)·8 + iso]` is the range
+/// pixel (mean removed) that reads domain pixel (a, b) through `iso`, so the 8 dot products of a
+/// domain accumulate side by side (in float: vector lanes; a reference may round at 1e-7).
+void search_all(RangeFit& fit, const PifsRaster& half, const std::vector<float>& rt, int n) {
+  const PifsDomains& domains = fit.domains;
+  const long stride = half.width;
+  for (std::size_t id = 0; id < domains.energy.size(); ++id) {
+    if (domains.energy[id] <= 0) continue;
+    const int i = int(id % domains.nx), j = int(id / domains.nx);
+    const float* d = half.row(j * n / 2) + i * n / 2;
+    float dot[8] = {};
+    for (int b = 0; b < n; ++b)
+      for (int a = 0; a < n; ++a) {
+        const float v = d[long(b) * stride + a];
+        const float* r = &rt[std::size_t(b * n + a) * 8];
+        for (int iso = 0; iso < 8; ++iso) dot[iso] += r[iso] * v;
+      }
+    for (int iso = 0; iso < 8; ++iso) fit.consider(id, iso, dot[iso]);
+  }
+}
+
+/// The tree search: the range's feature in each near-canonical view asks for its nearest domains,
+/// each fitted exactly.
+void search_tree(RangeFit& fit, const PifsRaster& half, const PifsSearch& search, const std::vector<float>& r,
+                 double mean, const BlockFeature& f, int n) {
+  const PifsDomains& domains = fit.domains;
+  const long stride = half.width;
+  thread_local std::vector<std::uint32_t> found;
+  Orientation views[16];
+  const int view_count = near_canonical_orientations(f, search.orientation_margin, views);
+  for (int v = 0; v < view_count; ++v) {
+    // The range seen canonically; a domain seen canonically near it matches the range through
+    // the domain's orientation followed by the inverse of the range's.
+    const Orientation ro = views[v];
+    domains.tree.nearest(transform_feature(f, ro.isometry, ro.negate), search.neighbours, search.max_leaves, found);
+    const int undo = inverse_isometry(ro.isometry);
+    for (std::uint32_t tag : found) {
+      const std::size_t id = tag >> 4;
+      if (domains.energy[id] <= 0) continue;
+      const int iso = compose_isometry(int(tag >> 1) & 7, undo);
+      const int i = int(id % domains.nx), j = int(id / domains.nx);
+      const float* d = half.row(j * n / 2) + i * n / 2;
+      long origin, du, dv;
+      isometry_walk(iso, n, stride, origin, du, dv);
+      double dot = 0;
+      for (int y = 0; y < n; ++y) {
+        const float* p = d + origin + y * dv;
+        const float* rr = &r[std::size_t(y) * n];
+        for (int x = 0; x < n; ++x) dot += (rr[x] - mean) * p[x * du];
+      }
+      fit.consider(id, iso, dot);
+    }
+  }
+}
+
+}  // namespace
 
 void search_row(const PifsCode& code, const PifsRaster& plane, const PifsRaster& half, const PifsDomains& domains,
                 const PifsSearch& search, int row, PifsCandidate* out) {
   const int log_size = domains.log_size;
   const int n = 1 << log_size;
   const int bx = plane.width >> log_size;
-  const long stride = half.width;
-  const double s_scale = double(1 << (code.s_bits - 1));
-  std::vector<std::uint32_t> found;
-  std::vector<float> r(std::size_t(n) * n);
-  Orientation views[16];
+  const bool exhaustive = search.mode == PifsDomainSearch::Exhaustive;
+  std::vector<float> r(std::size_t(n) * n), rt(exhaustive ? std::size_t(n) * n * 8 : 0);
   for (int col = 0; col < bx; ++col) {
     PifsCandidate& c = out[col];
     c = PifsCandidate();
@@ -97,48 +181,20 @@ void search_row(const PifsCode& code, const PifsRaster& plane, const PifsRaster&
     c.flat.dc = std::uint8_t(dc);
     c.flat_error = energy + dc_err;
     BlockFeature f;
-    if (domains.tree.empty() || !block_feature(r.data(), n, n, f)) continue;
-    double best = c.flat_error;
-    const int view_count = near_canonical_orientations(f, search.orientation_margin, views);
-    for (int v = 0; v < view_count; ++v) {
-      // The range seen canonically; a domain seen canonically near it matches the range through
-      // the domain's orientation followed by the inverse of the range's.
-      const Orientation ro = views[v];
-      domains.tree.nearest(transform_feature(f, ro.isometry, ro.negate), search.neighbours, search.max_leaves, found);
-      const int undo = inverse_isometry(ro.isometry);
-      for (std::uint32_t tag : found) {
-        const std::size_t id = tag >> 4;
-        const int iso = compose_isometry(int(tag >> 1) & 7, undo);
-        const double de = domains.energy[id];
-        if (de <= 0) continue;
-        const int i = int(id % domains.nx), j = int(id / domains.nx);
-        const float* d = half.row(j * n / 2) + i * n / 2;
-        long origin, du, dv;
-        isometry_walk(iso, n, stride, origin, du, dv);
-        // ⟨r − mean_r, d⟩ = ⟨r − mean_r, d − mean_d⟩.
-        double dot = 0;
-        for (int y = 0; y < n; ++y) {
-          const float* p = d + origin + y * dv;
-          const float* rr = &r[std::size_t(y) * n];
-          for (int x = 0; x < n; ++x) dot += (rr[x] - mean) * p[x * du];
-        }
-        // Eq. 29 least squares, then s quantised to s_bits with |s| < 1.
-        const int sq_q = std::clamp(int(std::lround(dot / de * s_scale)), -code.s_limit(), code.s_limit());
-        if (sq_q == 0) continue;
-        const double s = sq_q / s_scale;
-        const double err = energy - 2 * s * dot + s * s * de + dc_err;
-        if (err < best) {
-          best = err;
-          c.has_transform = true;
-          c.transform = c.flat;
-          c.transform.s = std::int8_t(sq_q);
-          c.transform.isometry = std::uint8_t(iso);
-          c.transform.dx = std::uint16_t(i);
-          c.transform.dy = std::uint16_t(j);
-          c.transform_error = err;
-        }
-      }
+    if (domains.energy.empty() || !block_feature(r.data(), n, n, f)) continue;
+    RangeFit fit{code, domains, c, double(1 << (code.s_bits - 1)), energy, dc_err, c.flat_error};
+    if (!exhaustive) {
+      search_tree(fit, half, search, r, mean, f, n);
+      continue;
     }
+    for (int v = 0; v < n; ++v)
+      for (int u = 0; u < n; ++u)
+        for (int iso = 0; iso < 8; ++iso) {
+          int a, b;
+          isometry_map(iso, n, u, v, a, b);
+          rt[std::size_t(b * n + a) * 8 + iso] = float(r[std::size_t(v) * n + u] - mean);
+        }
+    search_all(fit, half, rt, n);
   }
 }
 

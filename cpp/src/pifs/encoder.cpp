@@ -1,6 +1,12 @@
 #include "ifsforge/pifs/encoder.h"
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
 #include <string>
 
 #include "ifsforge/core/error.h"
@@ -85,26 +91,51 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
     for (int log = code.min_log; log <= code.max_log; ++log)
       c.levels.emplace_back(std::size_t(c.padded_width >> log) * (c.padded_height >> log));
   }
+  // One job list: the domain pools, largest first, then the block rows, those of the smallest
+  // pools first, so a thread that finds the largest pool's tree still being built works on the
+  // other pools' rows meanwhile (a row waits only for its own pool).
   std::vector<PifsDomains> pools(planes.size() * levels);
-  parallel_jobs(
-      pools.size(), o.threads,
-      [&](std::size_t job, int) {
-        const std::size_t k = job / levels;
-        pools[job] = domain_pool(halves[k], cands[k].padded_width, cands[k].padded_height,
-                                 code.min_log + int(job % levels));
-      },
-      progress_range(progress, 0.0, 0.1));
+  std::vector<std::size_t> pool_order(pools.size());
+  for (std::size_t p = 0; p < pools.size(); ++p) pool_order[p] = p;
+  const auto pool_area = [&](std::size_t p) {
+    const PifsPlaneCandidates& c = cands[p / levels];
+    return double(c.padded_width) * c.padded_height / double(1 << 2 * (p % levels));
+  };
+  std::stable_sort(pool_order.begin(), pool_order.end(),
+                   [&](std::size_t a, std::size_t b) { return pool_area(a) > pool_area(b); });
   struct Row {
     std::size_t pool;
     int row;
   };
   std::vector<Row> rows;
-  for (std::size_t p = 0; p < pools.size(); ++p)
-    for (int row = 0; row < (cands[p / levels].padded_height >> pools[p].log_size); ++row) rows.push_back({p, row});
+  for (auto p = pool_order.rbegin(); p != pool_order.rend(); ++p)
+    for (int row = 0; row < (cands[*p / levels].padded_height >> (code.min_log + int(*p % levels))); ++row)
+      rows.push_back({*p, row});
+  std::unique_ptr<std::atomic<bool>[]> ready(new std::atomic<bool>[pools.size()]);
+  for (std::size_t p = 0; p < pools.size(); ++p) ready[p] = false;
+  std::mutex mutex;
+  std::condition_variable built;
   parallel_jobs(
-      rows.size(), o.threads,
+      pools.size() + rows.size(), o.threads,
       [&](std::size_t job, int) {
-        const Row& r = rows[job];
+        if (job < pools.size()) {
+          const std::size_t p = pool_order[job], k = p / levels;
+          pools[p] = domain_pool(halves[k], cands[k].padded_width, cands[k].padded_height,
+                                 code.min_log + int(p % levels), o.search.mode == PifsDomainSearch::Tree);
+          std::lock_guard<std::mutex> lock(mutex);
+          ready[p] = true;
+          built.notify_all();
+          return;
+        }
+        const Row& r = rows[job - pools.size()];
+        if (!ready[r.pool]) {
+          // Pools are the first jobs: this one is being built; a failed build stops the wait.
+          std::unique_lock<std::mutex> lock(mutex);
+          while (!ready[r.pool]) {
+            if (stop_requested()) throw Cancelled();
+            built.wait_for(lock, std::chrono::milliseconds(10));
+          }
+        }
         const std::size_t k = r.pool / levels;
         const PifsDomains& pool = pools[r.pool];
         PifsPlaneCandidates& c = cands[k];
@@ -112,7 +143,7 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
         search_row(code, padded[k], halves[k], pool, o.search, r.row,
                    c.levels[pool.log_size - code.min_log].data() + r.row * bx);
       },
-      progress_range(progress, 0.1, 0.9));
+      progress_range(progress, 0.0, 0.9));
   pools.clear();
   code.planes.resize(planes.size());
   for (std::size_t k = 0; k < planes.size(); ++k) {
@@ -124,35 +155,71 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
     for (std::size_t k = 0; k < planes.size(); ++k) code.planes[k].leaves = partition_threshold(code, cands[k], o.quality);
     return code;
   }
-  // Rate control: the file size falls as λ rises; bisect log λ for the largest file ≤ target.
-  // Chroma samples stand for 2×2 pixels, so their errors weigh 4×.
-  // Planes are partitioned and coded independently: in parallel, their sizes summed.
-  std::vector<std::size_t> stream_sizes(planes.size());
-  int tries = 0;
-  auto with_lambda = [&](double lambda) {
-    ++tries;
+  // Rate control: the file size falls as λ rises; search log λ for the largest file ≤ target.
+  // Chroma samples stand for 2×2 pixels, so their errors weigh 4×. Each round tries two values of
+  // λ at once (a trisection; every plane of both is one job, the largest planes first), so the
+  // rate control keeps two threads busy; the values tried never depend on the thread count.
+  struct Probe {
+    double log_lambda = 0;
+    std::vector<std::vector<PifsLeaf>> leaves;
+    std::size_t size = 0;
+  };
+  int round = 0;
+  auto try_probes = [&](std::vector<Probe>& probes) {
+    const std::size_t count = probes.size(), plane_count = planes.size();
+    std::vector<std::size_t> sizes(count * plane_count);
+    for (Probe& p : probes) p.leaves.assign(plane_count, {});
+    const double at = 0.9 + 0.008 * round++;
     parallel_jobs(
-        planes.size(), o.threads,
-        [&](std::size_t k, int) {
+        sizes.size(), o.threads,
+        [&](std::size_t job, int) {
+          const std::size_t k = job / count, p = job % count;
           const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);
-          code.planes[k].leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
-          stream_sizes[k] = encode_plane(code, code.planes[k]).size();
+          PifsPlane plane;
+          plane.width = planes[k].width;
+          plane.height = planes[k].height;
+          plane.leaves = partition_lagrangian(code, cands[k], std::exp(probes[p].log_lambda), half ? 4.0 : 1.0);
+          sizes[job] = encode_plane(code, plane).size();
+          probes[p].leaves[k] = std::move(plane.leaves);
         },
-        progress_range(progress, std::min(0.98, 0.9 + 0.002 * tries), std::min(0.99, 0.9 + 0.002 * (tries + 1))));
-    return pifs_file_size(code, stream_sizes);
+        progress_range(progress, std::min(0.98, at), std::min(0.99, at + 0.008)));
+    for (std::size_t p = 0; p < count; ++p) {
+      std::vector<std::size_t> stream_sizes(plane_count);
+      for (std::size_t k = 0; k < plane_count; ++k) stream_sizes[k] = sizes[k * count + p];
+      probes[p].size = pifs_file_size(code, stream_sizes);
+    }
+  };
+  auto keep = [&](Probe& p) {
+    for (std::size_t k = 0; k < planes.size(); ++k) code.planes[k].leaves = std::move(p.leaves[k]);
+    return code;
   };
   double lo = std::log(1e-3), hi = std::log(1e9);
-  if (with_lambda(std::exp(hi)) > target)
+  std::vector<Probe> probes(2);
+  probes[0].log_lambda = hi;
+  probes[1].log_lambda = lo;
+  try_probes(probes);
+  if (probes[0].size > target)
     throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
-                     std::to_string(pifs_file_size(code, stream_sizes)) + " bytes; use a larger max_block)");
-  if (with_lambda(std::exp(lo)) <= target) return code;
+                     std::to_string(probes[0].size) + " bytes; use a larger max_block)");
+  if (probes[1].size <= target) return keep(probes[1]);
+  Probe best = std::move(probes[0]);
   // λ to within 0.1%: the file size is a step function of λ, flat at that resolution.
   while (hi - lo > 1e-3) {
-    const double mid = 0.5 * (lo + hi);
-    if (with_lambda(std::exp(mid)) <= target) hi = mid; else lo = mid;
+    probes[0].log_lambda = lo + (hi - lo) / 3;
+    probes[1].log_lambda = lo + 2 * (hi - lo) / 3;
+    try_probes(probes);
+    if (probes[0].size <= target) {
+      hi = probes[0].log_lambda;
+      best = std::move(probes[0]);
+    } else if (probes[1].size <= target) {
+      lo = probes[0].log_lambda;
+      hi = probes[1].log_lambda;
+      best = std::move(probes[1]);
+    } else {
+      lo = probes[1].log_lambda;
+    }
   }
-  with_lambda(std::exp(hi));
-  return code;
+  return keep(best);
 }
 
 }  // namespace ifsforge

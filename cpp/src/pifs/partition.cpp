@@ -53,43 +53,58 @@ std::vector<PifsLeaf> partition_threshold(const PifsCode& code, const PifsPlaneC
   return leaves;
 }
 
-std::vector<PifsLeaf> partition_lagrangian(const PifsCode& code, const PifsPlaneCandidates& c, double lambda,
-                                           double weight) {
+namespace {
+
+/// The Lagrangian choice for one quadtree node: its leaves are appended to `out` (children's
+/// leaves are appended in place and dropped again when the whole cell is cheaper, so nothing
+/// is allocated per node).
+struct LagrangianCut {
   // Rough bit prices (the range coder's real cost is measured by the rate control).
-  constexpr double kFlatBits = 5, kTransformBits = 11;
-  std::vector<PifsLeaf> leaves;
-  std::function<double(int, int, int, std::vector<PifsLeaf>&)> best = [&](int x, int y, int log,
-                                                                           std::vector<PifsLeaf>& out) {
+  static constexpr double kFlatBits = 5, kTransformBits = 11;
+  const PifsCode& code;
+  const PifsPlaneCandidates& c;
+  double lambda, weight;
+  double domain_bits[16];
+  std::vector<PifsLeaf>& out;
+
+  double best(int x, int y, int log) {
     const PifsCandidate& k = candidate(code, c, x, y, log);
     const double split_bit = log > code.min_log ? lambda : 0.0;
     double cost = weight * k.flat_error + lambda * kFlatBits + split_bit;
     const PifsLeaf* leaf = &k.flat;
     if (k.has_transform) {
-      const double domain_bits = bits_for(domain_count(c.padded_width, log)) +
-                                 bits_for(domain_count(c.padded_height, log));
-      const double t = weight * k.transform_error + lambda * (kTransformBits + domain_bits) + split_bit;
+      const double t = weight * k.transform_error + lambda * (kTransformBits + domain_bits[log]) + split_bit;
       if (t < cost) {
         cost = t;
         leaf = &k.transform;
       }
     }
     if (log > code.min_log) {
-      std::vector<PifsLeaf> children;
+      const std::size_t mark = out.size();
       const int h = 1 << (log - 1);
+      // One statement per child: their leaves must be appended in coding order.
       double split = split_bit;
-      split += best(x, y, log - 1, children);
-      split += best(x + h, y, log - 1, children);
-      split += best(x, y + h, log - 1, children);
-      split += best(x + h, y + h, log - 1, children);
-      if (split < cost) {
-        out.insert(out.end(), children.begin(), children.end());
-        return split;
-      }
+      split += best(x, y, log - 1);
+      split += best(x + h, y, log - 1);
+      split += best(x, y + h, log - 1);
+      split += best(x + h, y + h, log - 1);
+      if (split < cost) return split;
+      out.resize(mark);
     }
     out.push_back(*leaf);
     return cost;
-  };
-  each_top(code, c, [&](int x, int y) { best(x, y, code.max_log, leaves); });
+  }
+};
+
+}  // namespace
+
+std::vector<PifsLeaf> partition_lagrangian(const PifsCode& code, const PifsPlaneCandidates& c, double lambda,
+                                           double weight) {
+  std::vector<PifsLeaf> leaves;
+  LagrangianCut cut{code, c, lambda, weight, {}, leaves};
+  for (int log = code.min_log; log <= code.max_log; ++log)
+    cut.domain_bits[log] = bits_for(domain_count(c.padded_width, log)) + bits_for(domain_count(c.padded_height, log));
+  each_top(code, c, [&](int x, int y) { cut.best(x, y, code.max_log); });
   return leaves;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/parallel.h"
 
 namespace ifsforge {
 namespace {
@@ -71,11 +72,18 @@ PifsRaster pad_plane(const PifsRaster& p, int width, int height) {
   return out;
 }
 
+int pass_threads(int threads, double pixels) {
+  constexpr double kPixelsPerThread = 1 << 20;
+  return std::min(resolve_threads(threads), 1 + int(pixels / kPixelsPerThread));
+}
+
 Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsColor color, int width,
-                      int height) {
+                      int height, int threads) {
   const bool ycc = color == PifsColor::YCbCr420 && channels >= 3;
   Image image(width, height, channels);
-  for (int y = 0; y < height; ++y)
+  // Each pixel on its own: row bands on any number of threads give the same image.
+  parallel_jobs(std::size_t(height), pass_threads(threads, double(width) * height * channels), [&](std::size_t row, int) {
+    const int y = int(row);
     for (int x = 0; x < width; ++x) {
       float v[4];
       for (int k = 0; k < channels; ++k) v[k] = planes[k].row(y)[x];
@@ -87,6 +95,7 @@ Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsC
       }
       for (int k = 0; k < channels; ++k) image.at(x, y, k) = std::clamp(v[k] / 255.f, 0.f, 1.f);
     }
+  });
   return image;
 }
 

@@ -41,10 +41,13 @@ int compose_isometry(int first, int then);
 int inverse_isometry(int iso);
 
 /// @brief A k-d tree of features, each with a 32-bit tag; approximate best-bin-first queries.
+/// Points are held quantised to 8 bits (a unit feature's components ×127): a quarter of the
+/// memory, and integer distances, exact and the same on every instruction set.
 class FeatureTree {
  public:
+  using Point = std::array<std::int8_t, kFeatureDim>;
   FeatureTree() = default;
-  FeatureTree(std::vector<BlockFeature> points, std::vector<std::uint32_t> tags);
+  FeatureTree(const std::vector<BlockFeature>& points, std::vector<std::uint32_t> tags);
   /// @brief Up to `k` tags of the nearest points, nearest first, visiting at most `max_leaves`
   /// leaves. Deterministic: the same query always gives the same answer.
   void nearest(const BlockFeature& q, int k, int max_leaves, std::vector<std::uint32_t>& out) const;
@@ -53,11 +56,11 @@ class FeatureTree {
  private:
   struct Node {
     int dim = -1;       ///< split dimension, -1 for a leaf
-    float split = 0;
+    int split = 0;
     int left = 0, right = 0;  ///< children (inner) or [left, right) point range (leaf)
   };
   int build(int begin, int end);
-  std::vector<BlockFeature> points_;
+  std::vector<Point> points_;
   std::vector<std::uint32_t> tags_;
   std::vector<Node> nodes_;
   std::vector<int> order_;

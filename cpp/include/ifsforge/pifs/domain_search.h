@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "ifsforge/core/names.h"
 #include "ifsforge/pifs/block_search.h"
 #include "ifsforge/pifs/code.h"
 
@@ -26,10 +27,22 @@ struct PifsCandidate {
   bool has_transform = false;
 };
 
+/// @brief How domains are found: the feature tree (the default), or every domain under every
+/// isometry fitted exactly (the reference the tree's loss is measured against; slow).
+enum class PifsDomainSearch : std::uint8_t { Tree = 0, Exhaustive = 1 };
+template <>
+struct EnumNames<PifsDomainSearch> {
+  static constexpr const char* what = "domain search";
+  static constexpr NamedValue<PifsDomainSearch> values[] = {
+      {PifsDomainSearch::Tree, "tree"},
+      {PifsDomainSearch::Exhaustive, "exhaustive"}};
+};
+
 /// @brief Search effort: neighbours evaluated exactly per query, k-d tree leaves visited per
 /// query, and how near a tie (in quadrant sums of unit features) still asks a second orientation.
 struct PifsSearch {
-  int neighbours = 8;
+  PifsDomainSearch mode = PifsDomainSearch::Tree;
+  int neighbours = 16;
   int max_leaves = 16;
   float orientation_margin = 0.1f;
 };
@@ -48,8 +61,10 @@ struct PifsDomains {
   FeatureTree tree;             ///< tag: domain index << 4 | canonical isometry << 1 | sign
 };
 
-/// @brief The pool for `half` = half_plane(padded plane of `padded_width` × `padded_height`).
-PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_height, int log_size);
+/// @brief The pool for `half` = half_plane(padded plane of `padded_width` × `padded_height`);
+/// without `with_tree` only the energies (the exhaustive search needs no tree).
+PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_height, int log_size,
+                        bool with_tree = true);
 
 /// @brief Candidates of the blocks in block row `row` of the padded plane, in column order,
 /// written to `out` (one per block). Depends on nothing but its arguments.

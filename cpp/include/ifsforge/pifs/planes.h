@@ -16,10 +16,14 @@ std::vector<PifsRaster> image_planes(const Image& image, PifsColor color);
 /// @brief `plane` extended to `width`×`height` by repeating its last column and row.
 PifsRaster pad_plane(const PifsRaster& plane, int width, int height);
 
+/// @brief Threads for one pass over `pixels` pixels: one more per 2^20, at most `threads` (below
+/// that, waiting for a new thread to be scheduled costs more than the pass it would share).
+int pass_threads(int threads, double pixels);
+
 /// @brief The image from planes decoded at the same output size (chroma already at full size):
 /// `width`×`height` taken from their top-left corners, converted back to RGB for YCbCr420.
 Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsColor color, int width,
-                      int height);
+                      int height, int threads = 1);
 
 /// @brief Area-weighted resampling of `plane` to `width`×`height` (box filter; exact 2×2 mean for halving).
 PifsRaster resample_area(const PifsRaster& plane, int width, int height);
