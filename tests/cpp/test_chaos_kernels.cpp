@@ -88,5 +88,39 @@ TEST(ChaosKernels, TiledCountingGivesTheSameBytesAsDirectCounting) {
   EXPECT_GT(images[0].covered(), 100000u);
 }
 
+// The general path (more than 8 maps, recurrent systems) counts a purely spatial system into
+// the lanes' narrow counters: 8-bit hits with carries (2D), 32-bit hits beside depths (3D). The
+// same integer sums and maxima as a wide accumulator per worker, so the same bytes on any thread
+// count; a 160x120 frame of the 3D systems puts the trash slot and the depth through it too.
+TEST(ChaosKernels, NarrowCountersGiveTheBytesOfAWideAccumulator) {
+  const Ifs triangle = sample("sierpinski_triangle");
+  std::vector<AffineMap> maps;
+  for (int copy = 0; copy < 3; ++copy)
+    for (std::size_t i = 0; i < triangle.size(); ++i) maps.push_back(triangle.map(i));
+  const Ifs nine("triangle x3", triangle.layout(), maps, std::vector<double>(maps.size(), 1.0));
+  for (const Ifs& ifs : {nine, sample("recurrent_squares"), sample("menger_sponge"), sample("recurrent_cubes")}) {
+    RenderOptions o;
+    o.width = 160;
+    o.height = 120;
+    o.iterations = 3'000'000;  // one pixel of 19,200 takes far more than 255 points: bytes wrap
+    o.seed = 11;
+    if (ifs.spatial_dims() == 3) o.view = View{30, 20};
+    std::vector<Raster> images;
+    for (const char* narrow : {"0", "1"})
+      for (int threads : {1, 2, 3}) {
+        setenv("IFSFORGE_CHAOS_NARROW", narrow, 1);
+        o.threads = threads;
+        images.push_back(renderer("chaos").render(ifs, o));
+        unsetenv("IFSFORGE_CHAOS_NARROW");
+      }
+    for (std::size_t k = 1; k < images.size(); ++k) {
+      EXPECT_EQ(images[0].density, images[k].density) << ifs.name() << " " << k;
+      EXPECT_EQ(images[0].depth, images[k].depth) << ifs.name() << " " << k;
+    }
+    EXPECT_EQ(images[0].depth.empty(), ifs.spatial_dims() == 2) << ifs.name();
+    EXPECT_GT(images[0].covered(), 1000u) << ifs.name();
+  }
+}
+
 }  // namespace
 }  // namespace ifsforge

@@ -44,6 +44,16 @@ class Accumulator {
       sums_[pixel * channels_ + c] += static_cast<std::uint64_t>(q + 0.5);
     }
   }
+  /// @brief Asks for `pixel`'s counters ahead of its add(): a large image's counters miss the
+  /// caches, and a loop that prefetches a few points ahead waits on several misses at once.
+  void prefetch(std::size_t pixel) const {
+    __builtin_prefetch(hits_.data() + pixel, 1);
+    if (channels_) {
+      __builtin_prefetch(sums_.data() + pixel * channels_, 1);
+      __builtin_prefetch(sums_.data() + (pixel + 1) * channels_ - 1, 1);
+    }
+    if (!nearest_.empty()) __builtin_prefetch(nearest_.data() + pixel, 1);
+  }
   /// @brief Keeps, per pixel, the largest depth towards the viewer (a z-buffer, 3D views).
   void enable_depth() { assign_large(nearest_, hits_.size(), -std::numeric_limits<float>::infinity()); }
   void add_depth(std::size_t pixel, double depth) {
