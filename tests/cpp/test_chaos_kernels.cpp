@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ifsforge/core/error.h"
@@ -88,6 +89,34 @@ TEST(ChaosKernels, TiledCountingGivesTheSameBytesAsDirectCounting) {
   EXPECT_GT(images[0].covered(), 100000u);
 }
 
+/// The chaos game of `ifs` counted into wide accumulators per worker (IFSFORGE_CHAOS_NARROW=0)
+/// and into narrow counters, each on 1, 2 and 3 threads: all six images.
+std::vector<Raster> wide_and_narrow(const Ifs& ifs, int width, int height, std::uint64_t iterations) {
+  RenderOptions o;
+  o.width = width;
+  o.height = height;
+  o.iterations = iterations;
+  o.seed = 11;
+  if (ifs.spatial_dims() == 3) o.view = View{30, 20};
+  std::vector<Raster> images;
+  for (const char* narrow : {"0", "1"})
+    for (int threads : {1, 2, 3}) {
+      setenv("IFSFORGE_CHAOS_NARROW", narrow, 1);
+      o.threads = threads;
+      images.push_back(renderer("chaos").render(ifs, o));
+      unsetenv("IFSFORGE_CHAOS_NARROW");
+    }
+  return images;
+}
+
+void expect_same_bytes(const std::vector<Raster>& images, const std::string& name) {
+  for (std::size_t k = 1; k < images.size(); ++k) {
+    EXPECT_EQ(images[0].density, images[k].density) << name << " " << k;
+    EXPECT_EQ(images[0].depth, images[k].depth) << name << " " << k;
+    EXPECT_EQ(images[0].channels, images[k].channels) << name << " " << k;
+  }
+}
+
 // The general path (more than 8 maps, recurrent systems) counts a purely spatial system into
 // the lanes' narrow counters: 8-bit hits with carries (2D), 32-bit hits beside depths (3D). The
 // same integer sums and maxima as a wide accumulator per worker, so the same bytes on any thread
@@ -99,26 +128,26 @@ TEST(ChaosKernels, NarrowCountersGiveTheBytesOfAWideAccumulator) {
     for (std::size_t i = 0; i < triangle.size(); ++i) maps.push_back(triangle.map(i));
   const Ifs nine("triangle x3", triangle.layout(), maps, std::vector<double>(maps.size(), 1.0));
   for (const Ifs& ifs : {nine, sample("recurrent_squares"), sample("menger_sponge"), sample("recurrent_cubes")}) {
-    RenderOptions o;
-    o.width = 160;
-    o.height = 120;
-    o.iterations = 3'000'000;  // one pixel of 19,200 takes far more than 255 points: bytes wrap
-    o.seed = 11;
-    if (ifs.spatial_dims() == 3) o.view = View{30, 20};
-    std::vector<Raster> images;
-    for (const char* narrow : {"0", "1"})
-      for (int threads : {1, 2, 3}) {
-        setenv("IFSFORGE_CHAOS_NARROW", narrow, 1);
-        o.threads = threads;
-        images.push_back(renderer("chaos").render(ifs, o));
-        unsetenv("IFSFORGE_CHAOS_NARROW");
-      }
-    for (std::size_t k = 1; k < images.size(); ++k) {
-      EXPECT_EQ(images[0].density, images[k].density) << ifs.name() << " " << k;
-      EXPECT_EQ(images[0].depth, images[k].depth) << ifs.name() << " " << k;
-    }
+    // 3,000,000 points on 19,200 pixels: the busy pixels take far more than 255, bytes wrap.
+    const std::vector<Raster> images = wide_and_narrow(ifs, 160, 120, 3'000'000);
+    expect_same_bytes(images, ifs.name());
     EXPECT_EQ(images[0].depth.empty(), ifs.spatial_dims() == 2) << ifs.name();
     EXPECT_GT(images[0].covered(), 1000u) << ifs.name();
+  }
+}
+
+// A 2D system with channels counts 32-bit hits and channel sums per pixel, each sum's wraps
+// adding 2^32 to the wide totals: on 16x12 pixels 2,000,000 points give each busy pixel tens of
+// thousands of quantised values of up to 2^20, so the sums wrap many times.
+TEST(ChaosKernels, ChannelSumsWrapIntoTheSameBytes) {
+  for (const char* name : {"colour5d_sierpinski_rgb", "colour5d_fern_hsi", "rgba_carpet"}) {
+    const Ifs ifs = sample(name);
+    for (const auto& size : {std::pair<int, int>{16, 12}, std::pair<int, int>{160, 120}}) {
+      const std::vector<Raster> images = wide_and_narrow(ifs, size.first, size.second, 2'000'000);
+      expect_same_bytes(images, name);
+      EXPECT_EQ(images[0].channels.size(), images[0].density.size() * (ifs.dim() - 2)) << name;
+      EXPECT_GT(images[0].covered(), std::size_t(size.first * size.second / 8)) << name;
+    }
   }
 }
 

@@ -65,6 +65,29 @@ struct NarrowSink {
   }
 };
 
+/// ... or, for a 2D system with channels, per pixel 32-bit hits and each channel's quantised
+/// sum in 32 bits (its wraps add 2^32 to the shared totals): one record per pixel, in cache.
+struct ChannelSink {
+  std::uint32_t* cells;
+  std::uint64_t* carry;  // the wide accumulator's channel sums
+  const Accumulator* acc;
+  int channels;
+  void prefetch(std::size_t pixel) const {
+    __builtin_prefetch(cells + pixel * (channels + 1), 1);
+    __builtin_prefetch(cells + pixel * (channels + 1) + channels, 1);
+  }
+  void add(std::size_t pixel, const double* values, bool, double) const {
+    std::uint32_t* cell = cells + pixel * (channels + 1);
+    ++cell[0];
+    for (int c = 0; c < channels; ++c) {
+      const auto q = static_cast<std::uint32_t>(acc->quantised(c, values[c]));
+      const std::uint32_t sum = cell[1 + c] + q;
+      if (sum < q) __atomic_fetch_add(carry + pixel * channels + c, std::uint64_t(1) << 32, __ATOMIC_RELAXED);
+      cell[1 + c] = sum;
+    }
+  }
+};
+
 /// The general nD path: double precision, any layout, channels carried. The dimension is a
 /// template parameter so the map and the projection unroll (a runtime loop cannot).
 /// The maps come from the walker's chain (model/orbit.h): a recurrent system (3.3.1) draws
@@ -139,6 +162,16 @@ template <int N>
 void accumulator_job(const Ifs& ifs, const Frame& frame, const MapChain& chain, std::uint64_t points,
                      std::uint64_t skip, std::uint64_t seed, std::uint64_t job, Accumulator& acc) {
   chaos_job_fixed<N>(ifs, frame, chain, points, skip, seed, job, AccumulatorSink{acc});
+}
+
+using ChannelJob = void (*)(const Ifs&, const Frame&, const MapChain&, std::uint64_t, std::uint64_t, std::uint64_t,
+                            std::uint64_t, const ChannelSink&);
+
+ChannelJob channel_job_for(int dim) {
+  static constexpr ChannelJob kJobs[] = {chaos_job_fixed<3, ChannelSink>, chaos_job_fixed<4, ChannelSink>,
+                                         chaos_job_fixed<5, ChannelSink>, chaos_job_fixed<6, ChannelSink>,
+                                         chaos_job_fixed<7, ChannelSink>, chaos_job_fixed<8, ChannelSink>};
+  return kJobs[dim - 3];
 }
 
 ChaosJob chaos_job_for(int dim) {
@@ -237,11 +270,14 @@ ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads
   const bool simd = (ifs.dim() == 2 || (ifs.dim() == 3 && ifs.spatial_dims() == 3)) &&
                     ifs.size() <= std::size_t(lanes::kWidth) && !ifs.recurrent() && !ifs.polar();
   // Narrow counters: any purely spatial 2D or 3D system (the general path's too: more maps,
-  // recurrent); one accumulator, and per worker 8-bit hits (in 3D, 32-bit hits beside float
-  // depths). Channels and polar maps add into an accumulator per worker.
-  const bool narrow = simd || ((ifs.dim() == 2 || ifs.dim() == 3) && ifs.spatial_dims() == ifs.dim() &&
-                                !ifs.polar() && lanes::narrow_counters());
-  const double lane_bytes = narrow ? threads * (ifs.dim() == 3 ? double(sizeof(HitDepth)) : 1.0) * pixels : 0.0;
+  // recurrent) or 2D one with channels; one accumulator, and per worker 8-bit hits (in 3D,
+  // 32-bit hits beside float depths; with channels, 32-bit hits and sums). Polar maps and 3D
+  // systems with channels add into an accumulator per worker.
+  const int spatial = ifs.spatial_dims(), channels = ifs.dim() - spatial;
+  const bool narrow =
+      simd || (!ifs.polar() && lanes::narrow_counters() && (spatial == 2 || (spatial == 3 && ifs.dim() == 3)));
+  const double cell_bytes = channels ? 4.0 * (channels + 1) : spatial == 3 ? double(sizeof(HitDepth)) : 1.0;
+  const double lane_bytes = narrow ? threads * cell_bytes * pixels : 0.0;
   check_memory((narrow ? 1 : threads) * Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) + lane_bytes,
                "a " + std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
                    " random-iteration image on " + std::to_string(threads) + " threads");
@@ -274,14 +310,25 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   // Per worker: 8-bit hits (32-bit hits beside depths in 3D) flushed into the wide
   // accumulator: in 2D when the jobs are done (their wraps went there already), in 3D also
   // whenever a 32-bit counter could overflow.
-  const bool depth = ifs.dim() == 3;
-  std::vector<LargeVector<std::uint8_t>> lows(narrow && !depth ? threads : 0);
+  // With channels: per worker 32-bit hits and sums, flushed as the 3D cells are.
+  const bool depth = ifs.spatial_dims() == 3;
+  const int channels = acc[0].channels(), stride = channels + 1;
+  const bool packed = narrow && channels > 0;
+  std::vector<LargeVector<std::uint8_t>> lows(narrow && !depth && !packed ? threads : 0);
   std::vector<LargeVector<HitDepth>> cells(narrow && depth ? threads : 0);
+  std::vector<LargeVector<std::uint32_t>> records(packed ? threads : 0);
   std::vector<std::uint64_t> pending(threads, 0);
   // Adds pixels [from, to) of a worker's narrow counters to the wide totals.
   auto add_lane = [&](int worker, std::size_t from, std::size_t to) {
     std::uint64_t* hits = acc[0].hits();
-    if (depth) {
+    if (packed) {
+      const std::uint32_t* r = records[worker].data();
+      std::uint64_t* sums = acc[0].sums();
+      for (std::size_t i = from; i < to; ++i) {
+        hits[i] += r[i * stride];
+        for (int c = 0; c < channels; ++c) sums[i * channels + c] += r[i * stride + 1 + c];
+      }
+    } else if (depth) {
       const auto& c = cells[worker];
       for (std::size_t i = from; i < to; ++i) {
         hits[i] += c[i].hits;
@@ -293,12 +340,15 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
     }
   };
   std::mutex flushing;
-  auto flush = [&](int worker) {  // in 3D, before a 32-bit counter could overflow
+  auto flush = [&](int worker) {  // 32-bit hits: before one could overflow
     {
       std::lock_guard<std::mutex> lock(flushing);
-      add_lane(worker, 0, cells[worker].size());
+      add_lane(worker, 0, pixels + 1);
     }
-    std::fill(cells[worker].begin(), cells[worker].end(), HitDepth{0, -std::numeric_limits<float>::infinity()});
+    if (packed)
+      std::fill(records[worker].begin(), records[worker].end(), 0u);
+    else
+      std::fill(cells[worker].begin(), cells[worker].end(), HitDepth{0, -std::numeric_limits<float>::infinity()});
     pending[worker] = 0;
   };
   // Large 2D images: each worker bins its slots by tile and counts them tile by tile.
@@ -320,10 +370,16 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         }
         if (depth && cells[worker].empty())
           assign_large(cells[worker], pixels + 1, HitDepth{0, -std::numeric_limits<float>::infinity()});
-        if (!depth && lows[worker].empty()) assign_large(lows[worker], pixels + 1, std::uint8_t(0));
+        if (!depth && !packed && lows[worker].empty()) assign_large(lows[worker], pixels + 1, std::uint8_t(0));
+        if (packed && records[worker].empty()) assign_large(records[worker], (pixels + 1) * stride, 0u);
         // A 32-bit counter could overflow if one pixel took every point: flush first.
-        if (depth && pending[worker] + plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
+        if ((depth || packed) && pending[worker] + plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
         pending[worker] += plan.points_per_job;
+        if (packed) {
+          const ChannelSink sink{records[worker].data(), acc[0].sums(), &acc[0], channels};
+          channel_job_for(ifs.dim())(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, sink);
+          return;
+        }
         const NarrowSink sink{depth ? nullptr : lows[worker].data(), acc[0].hits(),
                               depth ? cells[worker].data() : nullptr};
         if (!simd) {
@@ -357,7 +413,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
     parallel_jobs((pixels + 1 + kBand - 1) / kBand, threads, [&](std::size_t band, int) {
       const std::size_t from = band * kBand, to = std::min(pixels + 1, from + kBand);
       for (int t = 0; t < threads; ++t)
-        if (!(depth ? cells[t].empty() : lows[t].empty())) add_lane(t, from, to);
+        if (!(packed ? records[t].empty() : depth ? cells[t].empty() : lows[t].empty())) add_lane(t, from, to);
     });
   }
   for (std::size_t t = 1; t < acc.size(); ++t) acc[0].merge(acc[t]);

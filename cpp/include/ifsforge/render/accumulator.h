@@ -38,12 +38,15 @@ class Accumulator {
   void add(std::size_t pixel, const double* values, double mass = 0.0) {
     ++hits_[pixel];
     if (!mass_.empty()) mass_[pixel] += static_cast<std::uint64_t>(mass * kMassUnit + 0.5);
-    for (int c = 0; c < channels_; ++c) {
-      double q = (values[c] - lo_[c]) * scale_[c];
-      q = q < 0.0 ? 0.0 : (q > kChannelSteps ? kChannelSteps : q);
-      sums_[pixel * channels_ + c] += static_cast<std::uint64_t>(q + 0.5);
-    }
+    for (int c = 0; c < channels_; ++c) sums_[pixel * channels_ + c] += quantised(c, values[c]);
   }
+  /// @brief Channel `c`'s value in steps of its range: what add() sums (at most kChannelSteps).
+  std::uint64_t quantised(int c, double value) const {
+    double q = (value - lo_[c]) * scale_[c];
+    q = q < 0.0 ? 0.0 : (q > kChannelSteps ? kChannelSteps : q);
+    return static_cast<std::uint64_t>(q + 0.5);
+  }
+  std::uint64_t* sums() { return sums_.data(); }
   /// @brief Asks for `pixel`'s counters ahead of its add(): a large image's counters miss the
   /// caches, and a loop that prefetches a few points ahead waits on several misses at once.
   void prefetch(std::size_t pixel) const {
