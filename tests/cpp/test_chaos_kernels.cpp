@@ -69,28 +69,34 @@ TEST(ChaosKernels, TheLanePathReadsTheForcedInstructionSet) {
   }
 }
 
+/// The chaos game of `ifs` with the switch `variable` at 0 and at 1, each on 1, 2 and 3 threads:
+/// all six images.
+std::vector<Raster> both_ways(const char* variable, const Ifs& ifs, RenderOptions o) {
+  std::vector<Raster> images;
+  for (const char* value : {"0", "1"})
+    for (int threads : {1, 2, 3}) {
+      setenv(variable, value, 1);
+      o.threads = threads;
+      images.push_back(renderer("chaos").render(ifs, o));
+      unsetenv(variable);
+    }
+  return images;
+}
+
 // Large images are counted through tiles (points binned by tile, then counted tile by tile): the
 // same integer sums as counting each point as it comes, so the same bytes on any thread count.
 TEST(ChaosKernels, TiledCountingGivesTheSameBytesAsDirectCounting) {
-  const Ifs fern = sample("barnsley_fern");
   RenderOptions o;
   o.width = 4160;  // above the tiling threshold (4096^2 pixels)
   o.height = 4100;
   o.iterations = 6'000'000;
-  std::vector<Raster> images;
-  for (const char* tiles : {"0", "1"})
-    for (int threads : {1, 2, 3}) {
-      setenv("IFSFORGE_CHAOS_TILES", tiles, 1);
-      o.threads = threads;
-      images.push_back(renderer("chaos").render(fern, o));
-      unsetenv("IFSFORGE_CHAOS_TILES");
-    }
+  const std::vector<Raster> images = both_ways("IFSFORGE_CHAOS_TILES", sample("barnsley_fern"), o);
   for (std::size_t k = 1; k < images.size(); ++k) EXPECT_EQ(images[0].density, images[k].density) << k;
   EXPECT_GT(images[0].covered(), 100000u);
 }
 
 /// The chaos game of `ifs` counted into wide accumulators per worker (IFSFORGE_CHAOS_NARROW=0)
-/// and into narrow counters, each on 1, 2 and 3 threads: all six images.
+/// and into narrow counters, each on 1, 2 and 3 threads.
 std::vector<Raster> wide_and_narrow(const Ifs& ifs, int width, int height, std::uint64_t iterations) {
   RenderOptions o;
   o.width = width;
@@ -98,15 +104,7 @@ std::vector<Raster> wide_and_narrow(const Ifs& ifs, int width, int height, std::
   o.iterations = iterations;
   o.seed = 11;
   if (ifs.spatial_dims() == 3) o.view = View{30, 20};
-  std::vector<Raster> images;
-  for (const char* narrow : {"0", "1"})
-    for (int threads : {1, 2, 3}) {
-      setenv("IFSFORGE_CHAOS_NARROW", narrow, 1);
-      o.threads = threads;
-      images.push_back(renderer("chaos").render(ifs, o));
-      unsetenv("IFSFORGE_CHAOS_NARROW");
-    }
-  return images;
+  return both_ways("IFSFORGE_CHAOS_NARROW", ifs, o);
 }
 
 void expect_same_bytes(const std::vector<Raster>& images, const std::string& name) {
