@@ -298,19 +298,18 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   const JobPlan& plan = setup.plan;
   const bool simd = setup.simd, narrow = setup.narrow;
   const std::size_t pixels = std::size_t(frame.width()) * frame.height();
-  // The lanes count into narrow per-worker histograms flushed into one wide accumulator
-  // (integer sums and a max: the order of flushes does not matter); the general path adds
-  // into one accumulator per worker.
+  // Narrow per-worker counters (the lanes, and the general path where setup.narrow) are flushed
+  // into one wide accumulator (integer sums and a max: the order of flushes does not matter);
+  // otherwise each worker adds into an accumulator of its own.
   std::vector<Accumulator> acc;
   for (int t = 0; t < (narrow ? 1 : threads); ++t) acc.push_back(empty_accumulator(ifs, setup));
   const MapChain chain(ifs);
   // Polar maps (3.3.3) take their own simple path: the affine kernels stay specialised.
   const ChaosJob scalar_job = ifs.polar() ? polar::chaos_job : chaos_job_for(ifs.dim());
 
-  // Per worker: 8-bit hits (32-bit hits beside depths in 3D) flushed into the wide
-  // accumulator: in 2D when the jobs are done (their wraps went there already), in 3D also
-  // whenever a 32-bit counter could overflow.
-  // With channels: per worker 32-bit hits and sums, flushed as the 3D cells are.
+  // Per worker: 8-bit hits (32-bit hits beside depths in 3D; 32-bit hits and channel sums in
+  // 2D with channels) flushed into the wide accumulator: when the jobs are done (the wraps went
+  // there already), and also whenever a 32-bit hit counter could overflow.
   const bool depth = ifs.spatial_dims() == 3;
   const int channels = acc[0].channels(), stride = channels + 1;
   const bool packed = narrow && channels > 0;

@@ -46,6 +46,7 @@ class Accumulator {
     q = q < 0.0 ? 0.0 : (q > kChannelSteps ? kChannelSteps : q);
     return static_cast<std::uint64_t>(q + 0.5);
   }
+  /// @brief The channel sums, pixel-major (narrow per-worker counters add their wraps here).
   std::uint64_t* sums() { return sums_.data(); }
   /// @brief Asks for `pixel`'s counters ahead of its add(): a large image's counters miss the
   /// caches, and a loop that prefetches a few points ahead waits on several misses at once.
