@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ifsforge/core/error.h"
@@ -68,24 +69,84 @@ TEST(ChaosKernels, TheLanePathReadsTheForcedInstructionSet) {
   }
 }
 
+/// The chaos game of `ifs` with the switch `variable` at 0 and at 1, each on 1, 2 and 3 threads:
+/// all six images.
+std::vector<Raster> both_ways(const char* variable, const Ifs& ifs, RenderOptions o) {
+  std::vector<Raster> images;
+  for (const char* value : {"0", "1"})
+    for (int threads : {1, 2, 3}) {
+      setenv(variable, value, 1);
+      o.threads = threads;
+      images.push_back(renderer("chaos").render(ifs, o));
+      unsetenv(variable);
+    }
+  return images;
+}
+
 // Large images are counted through tiles (points binned by tile, then counted tile by tile): the
 // same integer sums as counting each point as it comes, so the same bytes on any thread count.
 TEST(ChaosKernels, TiledCountingGivesTheSameBytesAsDirectCounting) {
-  const Ifs fern = sample("barnsley_fern");
   RenderOptions o;
   o.width = 4160;  // above the tiling threshold (4096^2 pixels)
   o.height = 4100;
   o.iterations = 6'000'000;
-  std::vector<Raster> images;
-  for (const char* tiles : {"0", "1"})
-    for (int threads : {1, 2, 3}) {
-      setenv("IFSFORGE_CHAOS_TILES", tiles, 1);
-      o.threads = threads;
-      images.push_back(renderer("chaos").render(fern, o));
-      unsetenv("IFSFORGE_CHAOS_TILES");
-    }
+  const std::vector<Raster> images = both_ways("IFSFORGE_CHAOS_TILES", sample("barnsley_fern"), o);
   for (std::size_t k = 1; k < images.size(); ++k) EXPECT_EQ(images[0].density, images[k].density) << k;
   EXPECT_GT(images[0].covered(), 100000u);
+}
+
+/// The chaos game of `ifs` counted into wide accumulators per worker (IFSFORGE_CHAOS_NARROW=0)
+/// and into narrow counters, each on 1, 2 and 3 threads.
+std::vector<Raster> wide_and_narrow(const Ifs& ifs, int width, int height, std::uint64_t iterations) {
+  RenderOptions o;
+  o.width = width;
+  o.height = height;
+  o.iterations = iterations;
+  o.seed = 11;
+  if (ifs.spatial_dims() == 3) o.view = View{30, 20};
+  return both_ways("IFSFORGE_CHAOS_NARROW", ifs, o);
+}
+
+void expect_same_bytes(const std::vector<Raster>& images, const std::string& name) {
+  for (std::size_t k = 1; k < images.size(); ++k) {
+    EXPECT_EQ(images[0].density, images[k].density) << name << " " << k;
+    EXPECT_EQ(images[0].depth, images[k].depth) << name << " " << k;
+    EXPECT_EQ(images[0].channels, images[k].channels) << name << " " << k;
+  }
+}
+
+// The general path (more than 8 maps, recurrent systems) counts a purely spatial system into
+// the lanes' narrow counters: 8-bit hits with carries (2D), 32-bit hits beside depths (3D). The
+// same integer sums and maxima as a wide accumulator per worker, so the same bytes on any thread
+// count; a 160x120 frame of the 3D systems puts the trash slot and the depth through it too.
+TEST(ChaosKernels, NarrowCountersGiveTheBytesOfAWideAccumulator) {
+  const Ifs triangle = sample("sierpinski_triangle");
+  std::vector<AffineMap> maps;
+  for (int copy = 0; copy < 3; ++copy)
+    for (std::size_t i = 0; i < triangle.size(); ++i) maps.push_back(triangle.map(i));
+  const Ifs nine("triangle x3", triangle.layout(), maps, std::vector<double>(maps.size(), 1.0));
+  for (const Ifs& ifs : {nine, sample("recurrent_squares"), sample("menger_sponge"), sample("recurrent_cubes")}) {
+    // 3,000,000 points on 19,200 pixels: the busy pixels take far more than 255, bytes wrap.
+    const std::vector<Raster> images = wide_and_narrow(ifs, 160, 120, 3'000'000);
+    expect_same_bytes(images, ifs.name());
+    EXPECT_EQ(images[0].depth.empty(), ifs.spatial_dims() == 2) << ifs.name();
+    EXPECT_GT(images[0].covered(), 1000u) << ifs.name();
+  }
+}
+
+// A 2D system with channels counts 32-bit hits and channel sums per pixel, each sum's wraps
+// adding 2^32 to the wide totals: on 16x12 pixels 2,000,000 points give each busy pixel tens of
+// thousands of quantised values of up to 2^20, so the sums wrap many times.
+TEST(ChaosKernels, ChannelSumsWrapIntoTheSameBytes) {
+  for (const char* name : {"colour5d_sierpinski_rgb", "colour5d_fern_hsi", "rgba_carpet"}) {
+    const Ifs ifs = sample(name);
+    for (const auto& size : {std::pair<int, int>{16, 12}, std::pair<int, int>{160, 120}}) {
+      const std::vector<Raster> images = wide_and_narrow(ifs, size.first, size.second, 2'000'000);
+      expect_same_bytes(images, name);
+      EXPECT_EQ(images[0].channels.size(), images[0].density.size() * (ifs.dim() - 2)) << name;
+      EXPECT_GT(images[0].covered(), std::size_t(size.first * size.second / 8)) << name;
+    }
+  }
 }
 
 }  // namespace

@@ -33,13 +33,68 @@ JobPlan plan_jobs(std::uint64_t total, std::uint64_t lanes) {
   return {jobs, per_job};
 }
 
+using lanes::HitDepth;
+
+/// Where the general path's points go: a worker's accumulator (channels carried)...
+struct AccumulatorSink {
+  Accumulator& acc;
+  void prefetch(std::size_t pixel) const { acc.prefetch(pixel); }
+  void add(std::size_t pixel, const double* channels, bool depth, double toward) const {
+    acc.add(pixel, channels);
+    if (depth) acc.add_depth(pixel, toward);
+  }
+};
+
+/// ... or, for a purely spatial system, the narrow counters the lanes count into: 8-bit hits
+/// whose wraps add 256 to the shared totals (2D), or 32-bit hits beside the largest depth (3D).
+/// A large image's counters then stay in the caches (integer sums and a maximum: the same bytes).
+struct NarrowSink {
+  std::uint8_t* low;
+  std::uint64_t* carry;
+  HitDepth* cells;
+  void prefetch(std::size_t pixel) const { __builtin_prefetch(cells ? (void*)(cells + pixel) : (void*)(low + pixel), 1); }
+  void add(std::size_t pixel, const double*, bool depth, double toward) const {
+    if (!cells) {
+      if (++low[pixel] == 0) __atomic_fetch_add(carry + pixel, 256, __ATOMIC_RELAXED);
+      return;
+    }
+    HitDepth& cell = cells[pixel];
+    ++cell.hits;
+    const float d = static_cast<float>(toward);  // as Accumulator::add_depth
+    if (depth && d > cell.depth) cell.depth = d;
+  }
+};
+
+/// ... or, for a 2D system with channels, per pixel 32-bit hits and each channel's quantised
+/// sum in 32 bits (its wraps add 2^32 to the shared totals): one record per pixel, in cache.
+struct ChannelSink {
+  std::uint32_t* cells;
+  std::uint64_t* carry;  // the wide accumulator's channel sums
+  const Accumulator* acc;
+  int channels;
+  void prefetch(std::size_t pixel) const {
+    __builtin_prefetch(cells + pixel * (channels + 1), 1);
+    __builtin_prefetch(cells + pixel * (channels + 1) + channels, 1);
+  }
+  void add(std::size_t pixel, const double* values, bool, double) const {
+    std::uint32_t* cell = cells + pixel * (channels + 1);
+    ++cell[0];
+    for (int c = 0; c < channels; ++c) {
+      const auto q = static_cast<std::uint32_t>(acc->quantised(c, values[c]));
+      const std::uint32_t sum = cell[1 + c] + q;
+      if (sum < q) __atomic_fetch_add(carry + pixel * channels + c, std::uint64_t(1) << 32, __ATOMIC_RELAXED);
+      cell[1 + c] = sum;
+    }
+  }
+};
+
 /// The general nD path: double precision, any layout, channels carried. The dimension is a
 /// template parameter so the map and the projection unroll (a runtime loop cannot).
 /// The maps come from the walker's chain (model/orbit.h): a recurrent system (3.3.1) draws
 /// each from the row of the map before it.
-template <int N>
+template <int N, class Sink>
 void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapChain& chain, std::uint64_t points,
-                     std::uint64_t skip, std::uint64_t seed, std::uint64_t job, Accumulator& acc) {
+                     std::uint64_t skip, std::uint64_t seed, std::uint64_t job, const Sink& sink) {
   constexpr int kSpatialMax = N < 3 ? N : 3;
   const auto maps = fixed_maps<N>(ifs);
   // Pixel coordinates straight from the spatial coordinates: px = U . x + u0, py = V . x + v0.
@@ -71,6 +126,17 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapChain& chain, 
   for (std::uint64_t i = 0; i < skip; ++i) step();
   const std::size_t trash = std::size_t(frame.width()) * frame.height();
   const double w = frame.width(), h = frame.height();
+  // Each point is added kAhead points after its counters were prefetched (integer sums and a
+  // maximum: the order of the adds does not change the bytes).
+  constexpr std::uint64_t kAhead = 16;
+  struct Pending {
+    std::size_t pixel;
+    double p[N];
+    double depth;
+  } pending[kAhead];
+  auto add = [&](const Pending& point) {
+    sink.add(point.pixel, N > 3 || spatial < N ? point.p + spatial : nullptr, N >= 3 && spatial == 3, point.depth);
+  };
   for (std::uint64_t i = 0; i < points; ++i) {
     step();
     double px = u0, py = v0;
@@ -79,23 +145,41 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapChain& chain, 
       py += v[k] * p[k];
     }
     const bool inside = px >= 0.0 && px < w && py >= 0.0 && py < h;
-    const std::size_t pixel = inside ? std::size_t(py) * frame.width() + std::size_t(px) : trash;
-    acc.add(pixel, N > 3 || spatial < N ? p + spatial : nullptr);
-    if constexpr (N >= 3)
-      if (spatial == 3) acc.add_depth(pixel, toward[0] * p[0] + toward[1] * p[1] + toward[2] * p[2]);
+    Pending& slot = pending[i % kAhead];
+    if (i >= kAhead) add(slot);
+    slot.pixel = inside ? std::size_t(py) * frame.width() + std::size_t(px) : trash;
+    for (int c = 0; c < N; ++c) slot.p[c] = p[c];
+    slot.depth = N >= 3 ? toward[0] * p[0] + toward[1] * p[1] + toward[2] * p[2] : 0.0;
+    sink.prefetch(slot.pixel);
   }
+  for (std::uint64_t i = points > kAhead ? points - kAhead : 0; i < points; ++i) add(pending[i % kAhead]);
 }
 
 using ChaosJob = void (*)(const Ifs&, const Frame&, const MapChain&, std::uint64_t, std::uint64_t, std::uint64_t,
                           std::uint64_t, Accumulator&);
 
-ChaosJob chaos_job_for(int dim) {
-  static constexpr ChaosJob kJobs[] = {chaos_job_fixed<2>, chaos_job_fixed<3>, chaos_job_fixed<4>, chaos_job_fixed<5>,
-                                       chaos_job_fixed<6>, chaos_job_fixed<7>, chaos_job_fixed<8>};
-  return kJobs[dim - 2];
+template <int N>
+void accumulator_job(const Ifs& ifs, const Frame& frame, const MapChain& chain, std::uint64_t points,
+                     std::uint64_t skip, std::uint64_t seed, std::uint64_t job, Accumulator& acc) {
+  chaos_job_fixed<N>(ifs, frame, chain, points, skip, seed, job, AccumulatorSink{acc});
 }
 
-using lanes::HitDepth;
+using ChannelJob = void (*)(const Ifs&, const Frame&, const MapChain&, std::uint64_t, std::uint64_t, std::uint64_t,
+                            std::uint64_t, const ChannelSink&);
+
+ChannelJob channel_job_for(int dim) {
+  static constexpr ChannelJob kJobs[] = {chaos_job_fixed<3, ChannelSink>, chaos_job_fixed<4, ChannelSink>,
+                                         chaos_job_fixed<5, ChannelSink>, chaos_job_fixed<6, ChannelSink>,
+                                         chaos_job_fixed<7, ChannelSink>, chaos_job_fixed<8, ChannelSink>};
+  return kJobs[dim - 3];
+}
+
+ChaosJob chaos_job_for(int dim) {
+  static constexpr ChaosJob kJobs[] = {accumulator_job<2>, accumulator_job<3>, accumulator_job<4>,
+                                       accumulator_job<5>, accumulator_job<6>, accumulator_job<7>,
+                                       accumulator_job<8>};
+  return kJobs[dim - 2];
+}
 
 /// The frame's world-to-pixel map T: px = (u - xmin) sx, py = (ymax - v) sy, and in 3D
 /// the third coordinate the depth towards the viewer (T's rows are orthogonal: invertible).
@@ -168,7 +252,8 @@ struct ChaosSetup {
   Frame frame;
   JobPlan plan;
   std::vector<double> lo, hi;  // channel ranges
-  bool simd = false;
+  bool simd = false;    // the lane kernels run the jobs
+  bool narrow = false;  // the jobs count into narrow per-worker counters (every lane job does)
 };
 
 ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads) {
@@ -184,13 +269,19 @@ ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads
   // The lanes: a 2D system, or a purely spatial 3D one (its depth rides as the third lane).
   const bool simd = (ifs.dim() == 2 || (ifs.dim() == 3 && ifs.spatial_dims() == 3)) &&
                     ifs.size() <= std::size_t(lanes::kWidth) && !ifs.recurrent() && !ifs.polar();
-  // The lanes: one accumulator, and per worker 8-bit hits (in 3D, 32-bit hits beside float
-  // depths).
-  const double lane_bytes = simd ? threads * (ifs.dim() == 3 ? double(sizeof(HitDepth)) : 1.0) * pixels : 0.0;
-  check_memory((simd ? 1 : threads) * Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) + lane_bytes,
+  // Narrow counters: any purely spatial 2D or 3D system (the general path's too: more maps,
+  // recurrent) or 2D one with channels; one accumulator, and per worker 8-bit hits (in 3D,
+  // 32-bit hits beside float depths; with channels, 32-bit hits and sums). Polar maps and 3D
+  // systems with channels add into an accumulator per worker.
+  const int spatial = ifs.spatial_dims(), channels = ifs.dim() - spatial;
+  const bool narrow =
+      simd || (!ifs.polar() && lanes::narrow_counters() && (spatial == 2 || (spatial == 3 && ifs.dim() == 3)));
+  const double cell_bytes = channels ? 4.0 * (channels + 1) : spatial == 3 ? double(sizeof(HitDepth)) : 1.0;
+  const double lane_bytes = narrow ? threads * cell_bytes * pixels : 0.0;
+  check_memory((narrow ? 1 : threads) * Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) + lane_bytes,
                "a " + std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
                    " random-iteration image on " + std::to_string(threads) + " threads");
-  return {frame, plan_jobs(total, simd ? lanes::kLanes : 1), lo, hi, simd};
+  return {frame, plan_jobs(total, simd ? lanes::kLanes : 1), lo, hi, simd, narrow};
 }
 
 Accumulator empty_accumulator(const Ifs& ifs, const ChaosSetup& setup) {
@@ -205,28 +296,38 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
                              std::uint64_t first, std::uint64_t last, int threads) {
   const Frame& frame = setup.frame;
   const JobPlan& plan = setup.plan;
-  const bool simd = setup.simd;
+  const bool simd = setup.simd, narrow = setup.narrow;
   const std::size_t pixels = std::size_t(frame.width()) * frame.height();
-  // The lanes count into narrow per-worker histograms flushed into one wide accumulator
-  // (integer sums and a max: the order of flushes does not matter); the general path adds
-  // into one accumulator per worker.
+  // Narrow per-worker counters (the lanes, and the general path where setup.narrow) are flushed
+  // into one wide accumulator (integer sums and a max: the order of flushes does not matter);
+  // otherwise each worker adds into an accumulator of its own.
   std::vector<Accumulator> acc;
-  for (int t = 0; t < (setup.simd ? 1 : threads); ++t) acc.push_back(empty_accumulator(ifs, setup));
+  for (int t = 0; t < (narrow ? 1 : threads); ++t) acc.push_back(empty_accumulator(ifs, setup));
   const MapChain chain(ifs);
   // Polar maps (3.3.3) take their own simple path: the affine kernels stay specialised.
   const ChaosJob scalar_job = ifs.polar() ? polar::chaos_job : chaos_job_for(ifs.dim());
 
-  // Per worker: 8-bit hits (32-bit hits beside depths in 3D) flushed into the wide
-  // accumulator: in 2D when the jobs are done (their wraps went there already), in 3D also
-  // whenever a 32-bit counter could overflow.
-  const bool depth = ifs.dim() == 3;
-  std::vector<LargeVector<std::uint8_t>> lows(simd && !depth ? threads : 0);
-  std::vector<LargeVector<HitDepth>> cells(simd && depth ? threads : 0);
+  // Per worker: 8-bit hits (32-bit hits beside depths in 3D; 32-bit hits and channel sums in
+  // 2D with channels) flushed into the wide accumulator: when the jobs are done (the wraps went
+  // there already), and also whenever a 32-bit hit counter could overflow.
+  const bool depth = ifs.spatial_dims() == 3;
+  const int channels = acc[0].channels(), stride = channels + 1;
+  const bool packed = narrow && channels > 0;
+  std::vector<LargeVector<std::uint8_t>> lows(narrow && !depth && !packed ? threads : 0);
+  std::vector<LargeVector<HitDepth>> cells(narrow && depth ? threads : 0);
+  std::vector<LargeVector<std::uint32_t>> records(packed ? threads : 0);
   std::vector<std::uint64_t> pending(threads, 0);
   // Adds pixels [from, to) of a worker's narrow counters to the wide totals.
   auto add_lane = [&](int worker, std::size_t from, std::size_t to) {
     std::uint64_t* hits = acc[0].hits();
-    if (depth) {
+    if (packed) {
+      const std::uint32_t* r = records[worker].data();
+      std::uint64_t* sums = acc[0].sums();
+      for (std::size_t i = from; i < to; ++i) {
+        hits[i] += r[i * stride];
+        for (int c = 0; c < channels; ++c) sums[i * channels + c] += r[i * stride + 1 + c];
+      }
+    } else if (depth) {
       const auto& c = cells[worker];
       for (std::size_t i = from; i < to; ++i) {
         hits[i] += c[i].hits;
@@ -238,12 +339,15 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
     }
   };
   std::mutex flushing;
-  auto flush = [&](int worker) {  // in 3D, before a 32-bit counter could overflow
+  auto flush = [&](int worker) {  // 32-bit hits: before one could overflow
     {
       std::lock_guard<std::mutex> lock(flushing);
-      add_lane(worker, 0, cells[worker].size());
+      add_lane(worker, 0, pixels + 1);
     }
-    std::fill(cells[worker].begin(), cells[worker].end(), HitDepth{0, -std::numeric_limits<float>::infinity()});
+    if (packed)
+      std::fill(records[worker].begin(), records[worker].end(), 0u);
+    else
+      std::fill(cells[worker].begin(), cells[worker].end(), HitDepth{0, -std::numeric_limits<float>::infinity()});
     pending[worker] = 0;
   };
   // Large 2D images: each worker bins its slots by tile and counts them tile by tile.
@@ -259,45 +363,56 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
       last - first, threads,
       [&](std::size_t index, int worker) {
         const std::uint64_t job = first + index;
-        if (simd) {
-          if (depth && cells[worker].empty())
-            assign_large(cells[worker], pixels + 1, HitDepth{0, -std::numeric_limits<float>::infinity()});
-          if (!depth && lows[worker].empty()) assign_large(lows[worker], pixels + 1, std::uint8_t(0));
-          // A 32-bit counter could overflow if one pixel took every point: flush first.
-          if (depth && pending[worker] + plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
-          lanes::Job lane = lane_job(frame, n, start, plan.points_per_job, options.skip, options.seed, job);
-          if (depth) {
-            lane.cells = cells[worker].data();
-          } else {
-            lane.low = lows[worker].data();
-            lane.carry = acc[0].hits();
-          }
-          if (tiled) {
-            if (!tiles[worker]) {
-              tiles[worker] = std::make_unique<lanes::TiledCounter>(pixels + 1, lane.low, lane.carry);
-              batches[worker].resize(lanes::kTileBatch);
-            }
-            lane.batch = batches[worker].data();
-            lane.batch_size = lanes::kTileBatch;
-            lane.flush = lanes::TiledCounter::flush;
-            lane.sink = tiles[worker].get();
-          }
-          kernel(maps, lane);
-          pending[worker] += plan.points_per_job;
+        if (!narrow) {
+          scalar_job(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, acc[worker]);
           return;
         }
-        scalar_job(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, acc[worker]);
+        if (depth && cells[worker].empty())
+          assign_large(cells[worker], pixels + 1, HitDepth{0, -std::numeric_limits<float>::infinity()});
+        if (!depth && !packed && lows[worker].empty()) assign_large(lows[worker], pixels + 1, std::uint8_t(0));
+        if (packed && records[worker].empty()) assign_large(records[worker], (pixels + 1) * stride, 0u);
+        // A 32-bit counter could overflow if one pixel took every point: flush first.
+        if ((depth || packed) && pending[worker] + plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
+        pending[worker] += plan.points_per_job;
+        if (packed) {
+          const ChannelSink sink{records[worker].data(), acc[0].sums(), &acc[0], channels};
+          channel_job_for(ifs.dim())(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, sink);
+          return;
+        }
+        const NarrowSink sink{depth ? nullptr : lows[worker].data(), acc[0].hits(),
+                              depth ? cells[worker].data() : nullptr};
+        if (!simd) {
+          const int dim = ifs.dim();
+          (dim == 2 ? chaos_job_fixed<2, NarrowSink> : chaos_job_fixed<3, NarrowSink>)(
+              ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, sink);
+          return;
+        }
+        lanes::Job lane = lane_job(frame, n, start, plan.points_per_job, options.skip, options.seed, job);
+        lane.low = sink.low;
+        lane.carry = sink.carry;
+        lane.cells = sink.cells;
+        if (tiled) {
+          if (!tiles[worker]) {
+            tiles[worker] = std::make_unique<lanes::TiledCounter>(pixels + 1, lane.low, lane.carry);
+            batches[worker].resize(lanes::kTileBatch);
+          }
+          lane.batch = batches[worker].data();
+          lane.batch_size = lanes::kTileBatch;
+          lane.flush = lanes::TiledCounter::flush;
+          lane.sink = tiles[worker].get();
+        }
+        kernel(maps, lane);
       },
       options.progress);
 
   // The workers' counters into the totals in pixel bands on every core (sums and maxima: the
   // same bytes for any split).
-  if (simd) {
+  if (narrow) {
     constexpr std::size_t kBand = 1 << 16;
     parallel_jobs((pixels + 1 + kBand - 1) / kBand, threads, [&](std::size_t band, int) {
       const std::size_t from = band * kBand, to = std::min(pixels + 1, from + kBand);
       for (int t = 0; t < threads; ++t)
-        if (!(depth ? cells[t].empty() : lows[t].empty())) add_lane(t, from, to);
+        if (!(packed ? records[t].empty() : depth ? cells[t].empty() : lows[t].empty())) add_lane(t, from, to);
     });
   }
   for (std::size_t t = 1; t < acc.size(); ++t) acc[0].merge(acc[t]);

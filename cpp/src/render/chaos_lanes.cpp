@@ -1,6 +1,6 @@
 // Which lane kernel runs: chosen per render from the CPU (and IFSFORGE_ISA), so one binary built
 // for any x86-64 still takes the wide kernel where the CPU has it; and whether large images are
-// counted through tiles.
+// counted through tiles, and whether the general path counts into narrow counters.
 #include <cstdlib>
 #include <cstring>
 
@@ -35,6 +35,11 @@ const char* lane_isa() {
 bool lane_tiles() {
   const char* tiles = std::getenv("IFSFORGE_CHAOS_TILES");
   return !(tiles && std::strcmp(tiles, "0") == 0);
+}
+
+bool narrow_counters() {
+  const char* narrow = std::getenv("IFSFORGE_CHAOS_NARROW");
+  return !(narrow && std::strcmp(narrow, "0") == 0);
 }
 
 Kernel lane_kernel(int n) {

@@ -67,4 +67,9 @@ const char* lane_isa();
 /// IFSFORGE_CHAOS_TILES=0, which benchmarks and tests use to compare the two (the same bytes).
 bool lane_tiles();
 
+/// Whether the general path counts a purely spatial system into the lanes' narrow counters: yes
+/// unless IFSFORGE_CHAOS_NARROW=0, which tests and benchmarks use to compare them with a wide
+/// accumulator per worker (the same bytes).
+bool narrow_counters();
+
 }  // namespace ifsforge::lanes

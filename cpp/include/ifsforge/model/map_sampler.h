@@ -11,7 +11,10 @@ class MapSampler {
   /// @brief A map index for one 64-bit uniform random word.
   std::uint32_t operator()(std::uint64_t random) const {
     const std::uint32_t column = static_cast<std::uint32_t>(((random >> 32) * size_) >> 32);
-    return static_cast<std::uint32_t>(random) < threshold_[column] ? column : alias_[column];
+    // A mask, not a branch: where columns are split (a recurrent row, unequal probabilities)
+    // the choice is a coin toss that a branch predictor misses half the time.
+    const std::uint32_t keep = 0u - std::uint32_t(static_cast<std::uint32_t>(random) < threshold_[column]);
+    return (column & keep) | (alias_[column] & ~keep);
   }
   std::size_t size() const { return size_; }
 

@@ -38,11 +38,25 @@ class Accumulator {
   void add(std::size_t pixel, const double* values, double mass = 0.0) {
     ++hits_[pixel];
     if (!mass_.empty()) mass_[pixel] += static_cast<std::uint64_t>(mass * kMassUnit + 0.5);
-    for (int c = 0; c < channels_; ++c) {
-      double q = (values[c] - lo_[c]) * scale_[c];
-      q = q < 0.0 ? 0.0 : (q > kChannelSteps ? kChannelSteps : q);
-      sums_[pixel * channels_ + c] += static_cast<std::uint64_t>(q + 0.5);
+    for (int c = 0; c < channels_; ++c) sums_[pixel * channels_ + c] += quantised(c, values[c]);
+  }
+  /// @brief Channel `c`'s value in steps of its range: what add() sums (at most kChannelSteps).
+  std::uint64_t quantised(int c, double value) const {
+    double q = (value - lo_[c]) * scale_[c];
+    q = q < 0.0 ? 0.0 : (q > kChannelSteps ? kChannelSteps : q);
+    return static_cast<std::uint64_t>(q + 0.5);
+  }
+  /// @brief The channel sums, pixel-major (narrow per-worker counters add their wraps here).
+  std::uint64_t* sums() { return sums_.data(); }
+  /// @brief Asks for `pixel`'s counters ahead of its add(): a large image's counters miss the
+  /// caches, and a loop that prefetches a few points ahead waits on several misses at once.
+  void prefetch(std::size_t pixel) const {
+    __builtin_prefetch(hits_.data() + pixel, 1);
+    if (channels_) {
+      __builtin_prefetch(sums_.data() + pixel * channels_, 1);
+      __builtin_prefetch(sums_.data() + (pixel + 1) * channels_ - 1, 1);
     }
+    if (!nearest_.empty()) __builtin_prefetch(nearest_.data() + pixel, 1);
   }
   /// @brief Keeps, per pixel, the largest depth towards the viewer (a z-buffer, 3D views).
   void enable_depth() { assign_large(nearest_, hits_.size(), -std::numeric_limits<float>::infinity()); }

@@ -1,0 +1,83 @@
+// The chaos game's cost per point for each kind of system, against the gray 3-map triangle (2D)
+// or the tetrahedron (3D): a colour system (channels carried), more than 8 maps (the triangle's
+// maps three times over: the same attractor), the 20-map Menger sponge and recurrent systems.
+// CPU nanoseconds per point of one thread at 1024² (the render's fixed cost taken out, and
+// shown). A plain program, run from the repository's root: it reads the systems from
+// samples/systems.
+//
+//   build/cpp/bench/bench_chaos_paths [--points 3e7] [--repeat 3] [--samples DIR]
+//   /usr/bin/python3 cpp/bench/results.py bench_chaos_paths --plain   # written to RESULTS.md
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "bench_timing.h"
+#include "ifsforge/io/ifs_json.h"
+#include "ifsforge/render/renderer.h"
+
+using namespace ifsforge;
+
+namespace {
+
+/// The triangle's maps `copies` times over, uniform: the same attractor, copies * 3 maps.
+Ifs repeated(const Ifs& ifs, int copies) {
+  std::vector<AffineMap> maps;
+  for (int k = 0; k < copies; ++k)
+    for (std::size_t i = 0; i < ifs.size(); ++i) maps.push_back(ifs.map(i));
+  return Ifs(ifs.name() + " x" + std::to_string(copies), ifs.layout(), maps,
+             std::vector<double>(maps.size(), 1.0));
+}
+
+struct Case {
+  std::string label;
+  Ifs ifs;
+  bool reference;  ///< the row the following rows are measured against
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (bench::flag(argc, argv, "help")) {
+    std::puts("bench_chaos_paths [--points P (3e7)] [--repeat R (3)] [--samples DIR]");
+    return 0;
+  }
+  const auto points = static_cast<std::uint64_t>(std::stod(bench::option(argc, argv, "points", "3e7")));
+  const int repeat = std::stoi(bench::option(argc, argv, "repeat", "3"));
+  const std::string dir = bench::option(argc, argv, "samples", "samples/systems");
+  auto sample = [&](const char* name) { return read_ifs_json(dir + "/" + name + ".json"); };
+  const Ifs triangle = sample("sierpinski_triangle");
+  const std::vector<Case> cases = {
+      {"gray triangle, 3 maps (2D reference)", triangle, true},
+      {"colour triangle, xy+rgb (colour5d_sierpinski_rgb)", sample("colour5d_sierpinski_rgb"), false},
+      {"triangle, 9 maps (its maps three times)", repeated(triangle, 3), false},
+      {"recurrent squares, 4 maps (recurrent_squares)", sample("recurrent_squares"), false},
+      {"tetrahedron, 4 maps, 3D view (3D reference)", sample("sierpinski_tetrahedron"), true},
+      {"Menger sponge, 20 maps, 3D view", sample("menger_sponge"), false},
+      {"recurrent cubes, 3D view (recurrent_cubes)", sample("recurrent_cubes"), false},
+  };
+
+  std::printf("CPU nanoseconds per point, one thread, a 1024² image, %.3g points per render less the "
+              "render's fixed cost (a 1,024-point render's), best of %d; the ratio is to the reference row above it (target: at most 2×).\n\n",
+              double(points), repeat);
+  std::printf("| system | maps | fixed CPU ms | CPU ns per point | × reference |\n| --- | ---: | ---: | ---: | ---: |\n");
+  double reference = 0;
+  for (const Case& c : cases) {
+    auto cpu_seconds = [&](std::uint64_t n) {
+      RenderOptions o;
+      o.width = o.height = 1024;
+      o.iterations = n;
+      o.threads = 1;
+      if (c.ifs.spatial_dims() == 3) o.view = View{30, 20};
+      return bench::best_of(repeat, [&] { (void)renderer("chaos").render(c.ifs, o); }).cpu;
+    };
+    // The render's fixed cost (framing, the channels' bounds, buffers, the finish) measured with
+    // 1,024 points and taken out: what is left is the cost of the points.
+    const double fixed = cpu_seconds(1024);
+    const double ns = (cpu_seconds(points) - fixed) * 1e9 / double(points);
+    if (c.reference) reference = ns;
+    std::printf("| %s | %zu | %.0f | %.2f | %.2f× |\n", c.label.c_str(), c.ifs.size(), fixed * 1e3, ns,
+                ns / reference);
+    std::fflush(stdout);
+  }
+  return 0;
+}
