@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import BUILD_PYTHON, ROOT
+from conftest import BUILD_PYTHON, ROOT, xvfb_run
 
 BLENDER = shutil.which("blender")
 pytestmark = pytest.mark.skipif(BLENDER is None, reason="needs Blender")
@@ -58,6 +58,7 @@ def script(name):
     return str(ROOT / "tests" / "blender" / name)
 
 
+@pytest.mark.long
 def test_artist_journey(tmp_path):
     # The zip: the add-on, its samples and the compiled module for this Python.
     made = subprocess.run(["bash", str(ROOT / "blender_addon" / "package.sh"), str(BUILD_PYTHON.parent),
@@ -86,14 +87,14 @@ def test_artist_journey(tmp_path):
     # A fresh scene with a window: the menus, every generator, save, undo, redo, a preset.
     out = tmp_path / "journey"
     out.mkdir()
-    report = run(["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", BLENDER, "--enable-event-simulate",
+    report = run([*xvfb_run("1280x800"), BLENDER, "--enable-event-simulate",
                   "--python", script("journey_scene.py"), "--", "--out", str(out)], env, 420)
     values = report["values"]
     assert values["menus_drawn"] == ["VIEW3D_MT_add", "IFSFORGE_MT_add", "TOPBAR_MT_file_import"]
     assert values["add_Volume"][0] == "VOLUME" and values["add_Image"][0] == "EMPTY"
 
     # The preset in another fresh Blender makes the same object (same file digest, same result).
-    run(["xvfb-run", "-a", "-s", "-screen 0 1024x768x24", BLENDER, "--python", script("journey_preset.py"), "--",
+    run([*xvfb_run("1024x768"), BLENDER, "--python", script("journey_preset.py"), "--",
          "--preset", values["preset"], "--expect", json.dumps(values["preset_object"])], env, 180)
 
     # The .blend in a Blender without the add-on (factory settings, ifsforge hidden): every file
