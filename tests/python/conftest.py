@@ -1,6 +1,7 @@
 """Shared fixtures. The suite tests the Python binding and the CLI, not the C++ core again."""
 import os
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -33,6 +34,21 @@ def patience(seconds):
     except (OSError, ValueError, IndexError):
         pass
     return seconds * max(1.0, load / (os.cpu_count() or 1))
+
+
+def run_group(command, timeout, **kwargs):
+    """subprocess.run (text, output captured) in a process group of its own, all of which goes on
+    a timeout: killing xvfb-run alone leaves its Blender holding the pipes, and the wait for them
+    hangs. The timeout is the quiet machine's, stretched by the load (patience)."""
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True, **kwargs)
+    try:
+        stdout, stderr = process.communicate(timeout=patience(timeout))
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.communicate()
+        raise
+    return subprocess.CompletedProcess(process.args, process.returncode, stdout, stderr)
 
 
 def xvfb_run(screen):

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import BUILD_PYTHON, ROOT, xvfb_run
+from conftest import BUILD_PYTHON, ROOT, run_group, xvfb_run
 
 BLENDER = shutil.which("blender")
 pytestmark = pytest.mark.skipif(BLENDER is None, reason="needs Blender")
@@ -42,8 +42,7 @@ def blender_env(tmp_path):
 
 def run(command, env, timeout):
     """Runs a Blender script; returns its RESULT (asserting every check passed)."""
-    result = subprocess.run(command, capture_output=True, text=True, env=env, timeout=timeout,
-                            start_new_session=True)
+    result = run_group(command, timeout, env=env)
     output = result.stdout + result.stderr
     lines = [line for line in result.stdout.splitlines() if line.startswith("RESULT ")]
     assert lines, f"{command[-3:]} did not finish:\n{output[-6000:]}"
@@ -104,8 +103,8 @@ def test_artist_journey(tmp_path):
     probe.write_text(PROBE)
     factory = dict(env, BLENDER_USER_SCRIPTS=str(tmp_path / "bare" / "scripts"),
                    BLENDER_USER_CONFIG=str(tmp_path / "bare" / "config"))
-    result = subprocess.run([BLENDER, "-b", "--factory-startup", str(blend), "--python", str(probe), "--",
-                             str(tmp_path / "bare.png")], capture_output=True, text=True, env=factory, timeout=300)
+    result = run_group([BLENDER, "-b", "--factory-startup", str(blend), "--python", str(probe), "--",
+                        str(tmp_path / "bare.png")], 300, env=factory)
     output = result.stdout + result.stderr
     seen = json.loads(next(line for line in result.stdout.splitlines() if line.startswith("PROBE "))[6:])
     assert not seen["addon"] and not seen["imports"], seen
