@@ -10,7 +10,7 @@ build="${IFSFORGE_BUILD_DIR:-$here/build}"
 packages=(build-essential cmake pkg-config libgtest-dev libbenchmark-dev
   blender povray libopenvdb-dev libboost-iostreams-dev python3-openvdb libopenvdb-tools
   libopenmesh-dev libtinygltf-dev pybind11-dev nlohmann-json3-dev libpng-dev
-  python3-numpy python3-pytest python3-tqdm python3-imath xvfb xauth
+  python3-numpy python3-pytest python3-pytest-xdist python3-tqdm python3-imath xvfb xauth
   python3-skimage python3-pil python3-matplotlib python3-distributed clang libclang-rt-14-dev
   python3-pip python3-venv python3-setuptools python3-wheel)
 missing=()

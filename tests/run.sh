@@ -7,6 +7,9 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here/build"
 ctest --output-on-failure -j "$(nproc)"
 cd "$here"
-PYTHONPATH="$here/build/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m pytest -q "$here/tests/python"
-# Every fuzz target 30 s (ASan + UBSan); a crash fails the run.
-"$here/tests/fuzz/run.sh" 30
+# Two workers (pytest-xdist), one per core of the smallest machine we test on; tests sharing a
+# module-scoped fixture stay on one worker (tests/python/conftest.py groups them).
+PYTHONPATH="$here/build/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m pytest -q -n 2 --dist loadgroup \
+  "$here/tests/python"
+# Every fuzz target 30 s (ASan + UBSan), two at a time; a crash fails the run.
+"$here/tests/fuzz/run.sh" 30 2

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# tests/fuzz/run.sh SECONDS: builds the libFuzzer targets (ASan + UBSan) in build-fuzz, then runs
-# each for SECONDS on a corpus seeded from samples/ and from the hostile regression inputs.
-# Exits non-zero on the first crash (the reproducer is left in build-fuzz/crashes/).
+# tests/fuzz/run.sh SECONDS [PARALLEL]: builds the libFuzzer targets (ASan + UBSan) in build-fuzz,
+# then runs each for SECONDS on a corpus seeded from samples/ and from the hostile regression
+# inputs, PARALLEL targets at a time (default 2: one per core of the smallest machine we test on).
+# Exits non-zero when any target crashed (the reproducer is left in build-fuzz/crashes/); prints
+# each target's executed units and the CPU time fuzzed.
 set -euo pipefail
 seconds="${1:-30}"
+parallel="${2:-2}"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="$here/build-fuzz"
 cmake -S "$here/tests/fuzz" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
@@ -80,21 +83,42 @@ if [ "${IFSFORGE_FUZZ_VDB_SEEDS:-0}" = 1 ] && /usr/bin/python3 -c "import pyopen
   /usr/bin/python3 -c "import pyopenvdb as v; g = v.createLevelSetSphere(4.0, voxelSize=0.5); v.write('$seeds/vdb_info/sphere_level_set.vdb', grids=[g])"
 fi
 
-status=0
-for target in ifs_json fractint recipes mesh png vdb_info pifs job_bytes; do
-  corpus="$build/corpus/$target"
+targets=(ifs_json fractint recipes mesh png vdb_info pifs job_bytes)
+# One target: its log, its exit code and the CPU seconds it used (bash's `time`, user + system).
+fuzz() {
+  local target="$1" corpus="$build/corpus/$1"
   mkdir -p "$corpus"
-  echo "fuzz_$target: ${seconds} s"
+  rm -f "$build/$target.rc" "$build/$target.cpu"
   # A fixed seed and run count make the run the same sequence of inputs on every machine (the
   # time limit only cuts a slow machine's run short): CI cannot turn red by chance.
-  if ! ASAN_OPTIONS=detect_leaks=0 "$build/fuzz_$target" -seed=1 -runs=$((seconds * 1000)) \
+  local TIMEFORMAT="%U %S" rc=0
+  { time ASAN_OPTIONS=detect_leaks=0 "$build/fuzz_$target" -seed=1 -runs=$((seconds * 1000)) \
       -max_total_time="$seconds" -max_len=1048576 \
       -rss_limit_mb=4096 -artifact_prefix="$build/crashes/$target-" -print_final_stats=1 \
-      "$corpus" "$seeds/$target" 2>"$build/$target.log"; then
+      "$corpus" "$seeds/$target" 2>"$build/$target.log" || rc=$?; } 2>"$build/$target.cpu"
+  echo "$rc" >"$build/$target.rc"
+}
+echo "fuzzing ${#targets[@]} targets, ${seconds} s each, ${parallel} at a time"
+running=0
+for target in "${targets[@]}"; do
+  if [ "$running" -ge "$parallel" ]; then wait -n || true; running=$((running - 1)); fi
+  fuzz "$target" &
+  running=$((running + 1))
+done
+wait || true
+
+status=0
+cpu=0
+for target in "${targets[@]}"; do
+  units="$(grep -oE "stat::number_of_executed_units: *[0-9]+" "$build/$target.log" | grep -oE "[0-9]+$" || echo 0)"
+  used="$(awk '{print $1 + $2}' "$build/$target.cpu" 2>/dev/null || echo 0)"
+  cpu="$(awk -v a="$cpu" -v b="$used" 'BEGIN {print a + b}')"
+  printf 'fuzz_%-10s %8s units  %6.1f CPU-s\n' "$target" "$units" "$used"
+  if [ "$(cat "$build/$target.rc" 2>/dev/null || echo 1)" != 0 ]; then
     echo "fuzz_$target FAILED: see $build/$target.log and $build/crashes/" >&2
     tail -40 "$build/$target.log" >&2
     status=1
   fi
-  grep -E "stat::number_of_executed_units" "$build/$target.log" || true
 done
+awk -v s="$cpu" 'BEGIN {printf "fuzzed %.1f CPU-s (%.4f CPU-hours)\n", s, s / 3600}'
 exit $status

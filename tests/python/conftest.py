@@ -1,6 +1,7 @@
 """Shared fixtures. The suite tests the Python binding and the CLI, not the C++ core again."""
 import os
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -23,8 +24,56 @@ def samples():
 
 def patience(seconds):
     """A responsiveness limit stretched by the machine's load: a command that must stop within a
-    second on a quiet machine gets its share of the cores on a busy one (load / cores times more)."""
-    return seconds * max(1.0, os.getloadavg()[0] / (os.cpu_count() or 1))
+    second on a quiet machine gets its share of the cores on a busy one (load / cores times more).
+    The load is the larger of the last minute's average and the threads runnable now, less this
+    one: a neighbour (the other test worker) that started seconds ago is not yet in the average."""
+    load = os.getloadavg()[0]
+    try:
+        with open("/proc/loadavg") as f:
+            load = max(load, int(f.read().split()[3].split("/")[0]) - 1)
+    except (OSError, ValueError, IndexError):
+        pass
+    return seconds * max(1.0, load / (os.cpu_count() or 1))
+
+
+def run_group(command, timeout, **kwargs):
+    """subprocess.run (text, output captured) in a process group of its own, all of which goes on
+    a timeout: killing xvfb-run alone leaves its Blender holding the pipes, and the wait for them
+    hangs. The timeout is the quiet machine's, stretched by the load (patience)."""
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True, **kwargs)
+    try:
+        stdout, stderr = process.communicate(timeout=patience(timeout))
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.communicate()
+        raise
+    return subprocess.CompletedProcess(process.args, process.returncode, stdout, stderr)
+
+
+def xvfb_run(screen):
+    """xvfb-run with a display number of this process's own: `-a` alone takes the first free number,
+    and two runs starting together (the suite's two workers, another checkout's suite) take the
+    same one and one of them fails."""
+    return ["xvfb-run", "-a", "-n", str(100 + 10 * (os.getpid() % 4000)), "-s", f"-screen 0 {screen}x24"]
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "long: a test of a minute or more, started first (see below)")
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(items):
+    """The order and groups pytest-xdist's workers take tests in (tests/run.sh: -n 2 --dist
+    loadgroup). Long tests go first, so that none starts last and leaves the other worker idle;
+    tests sharing a module-scoped fixture (one render, one Dask cluster) go to one worker, which
+    makes it once."""
+    items.sort(key=lambda item: item.get_closest_marker("long") is None)  # stable: file order otherwise
+    for item in items:
+        fixtures = getattr(item, "_fixtureinfo", None)
+        shared = fixtures and any(d.scope == "module" for defs in fixtures.name2fixturedefs.values() for d in defs)
+        if shared and not item.get_closest_marker("xdist_group"):
+            item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::")[0]))
 
 
 def ifsforge_command():

@@ -4,7 +4,6 @@ in tests/blender/ (each prints CHECK lines and a RESULT line, see addon_harness.
 import importlib.util
 import json
 import os
-import signal
 import shutil
 import subprocess
 import sys
@@ -13,7 +12,7 @@ import numpy as np
 import pytest
 
 import ifsforge
-from conftest import BUILD_PYTHON, ROOT
+from conftest import BUILD_PYTHON, ROOT, patience, run_group, xvfb_run
 
 BLENDER = shutil.which("blender")
 
@@ -32,21 +31,13 @@ def run_blender(script, tmp_path, timeout=120, window=False):
     returns the parsed RESULT (asserts every check passed)."""
     command = [BLENDER, "-b", "--factory-startup"]
     if window:
-        command = ["xvfb-run", "-a", "-s", "-screen 0 1024x800x24", BLENDER, "--factory-startup",
+        command = [*xvfb_run("1024x800"), BLENDER, "--factory-startup",
                    "--enable-event-simulate"]
-    # Its own process group: on a timeout the whole group goes (xvfb-run's Blender child too).
-    process = subprocess.Popen(
+    result = run_group(
         command + ["--python", str(ROOT / "tests" / "blender" / script), "--",
-                   "--python-path", str(BUILD_PYTHON), "--out", str(tmp_path)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-        env=dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache"), BLENDER_USER_SCRIPTS=str(tmp_path / "scripts")))
-    try:
-        stdout, stderr = process.communicate(timeout=timeout)
-    except subprocess.TimeoutExpired:
-        os.killpg(process.pid, signal.SIGKILL)
-        process.communicate()
-        raise
-    result = subprocess.CompletedProcess(process.args, process.returncode, stdout, stderr)
+                   "--python-path", str(BUILD_PYTHON), "--out", str(tmp_path)], timeout,
+        env=dict(os.environ, XDG_CACHE_HOME=str(tmp_path / "cache"), BLENDER_USER_SCRIPTS=str(tmp_path / "scripts"),
+                 BLENDER_USER_CONFIG=str(tmp_path / "config")))
     if window:  # panels and the draw handler run inside Blender's loop: a bug there only prints
         assert "Traceback" not in result.stdout + result.stderr, (result.stdout + result.stderr)[-4000:]
     lines = [line for line in result.stdout.splitlines() if line.startswith("RESULT ")]
@@ -101,20 +92,20 @@ def test_codec_defaults_and_errors(samples):
 
 def test_design_in_blender(tmp_path):
     report = run_blender("addon_design.py", tmp_path)
-    assert report["values"]["preview_update_ms_median"] < 1000  # measured by the benchmark, not here
+    assert report["values"]["preview_update_ms_median"] < patience(1.0) * 1000  # measured by the benchmark, not here
 
 
 def test_collage_target_in_blender(tmp_path):
     report = run_blender("addon_collage.py", tmp_path)
-    assert report["values"]["collage_update_ms_median"] < 50
+    assert report["values"]["collage_update_ms_median"] < patience(0.05) * 1000
 
 
+@pytest.mark.long
 def test_install_script(tmp_path):
     env = dict(os.environ, BLENDER_USER_SCRIPTS=str(tmp_path / "scripts"), BLENDER_USER_CONFIG=str(tmp_path / "config"))
     env.pop("PYTHONPATH", None)
     build = BUILD_PYTHON.parent
-    result = subprocess.run(["bash", str(ROOT / "blender_addon" / "install.sh"), str(build)], capture_output=True,
-                            text=True, env=env, timeout=120)
+    result = run_group(["bash", str(ROOT / "blender_addon" / "install.sh"), str(build)], 120, env=env)
     assert result.returncode == 0, result.stderr
     assert "enabled" in result.stdout
     addon = tmp_path / "scripts" / "addons" / "ifsforge_addon"
@@ -126,7 +117,7 @@ def test_install_script(tmp_path):
     probe = ("import addon_utils, bpy, ifsforge\n"
              "print('ENABLED', addon_utils.check('ifsforge_addon'), hasattr(bpy.types, 'IFSFORGE_PT_design'))\n"
              "print('MODULE', ifsforge.__file__)\n")
-    out = subprocess.run([BLENDER, "-b", "--python-expr", probe], capture_output=True, text=True, env=env, timeout=60)
+    out = run_group([BLENDER, "-b", "--python-expr", probe], 60, env=env)
     assert "ENABLED (True, True) True" in out.stdout, out.stdout + out.stderr
     assert f"MODULE {addon / 'vendor' / 'ifsforge' / '__init__.py'}" in out.stdout, out.stdout
 
@@ -161,6 +152,7 @@ def test_animation_and_bake_in_blender(tmp_path):
     run_blender("addon_animation.py", tmp_path, timeout=300)
 
 
+@pytest.mark.long
 def test_povray_scene_export_matches_blender(tmp_path):
     report = run_blender("addon_povray.py", tmp_path, timeout=300)
     assert report["values"]["silhouette_iou"] >= 0.85
@@ -174,6 +166,7 @@ def test_blender_conventions(tmp_path):
     run_blender("addon_conventions.py", tmp_path)
 
 
+@pytest.mark.long
 def test_viewport_and_panels_with_a_window(tmp_path):
     # Drawing needs a GPU context: Blender gets a window on a virtual X display (Mesa's
     # software OpenGL). Any exception in a panel's or the draw handler's code prints a traceback.
@@ -186,6 +179,7 @@ def test_fractal_texture_in_blender(tmp_path):
     assert report["values"]["generated_psnr"] > 25
 
 
+@pytest.mark.long
 def test_volume_look_in_blender(tmp_path):
     report = run_blender("addon_volume_look.py", tmp_path, timeout=300)
     opacity = report["values"]["pyramid_opacity_by_resolution"]

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import BUILD_PYTHON, ROOT
+from conftest import BUILD_PYTHON, ROOT, run_group, xvfb_run
 
 BLENDER = shutil.which("blender")
 pytestmark = pytest.mark.skipif(BLENDER is None, reason="needs Blender")
@@ -42,8 +42,7 @@ def blender_env(tmp_path):
 
 def run(command, env, timeout):
     """Runs a Blender script; returns its RESULT (asserting every check passed)."""
-    result = subprocess.run(command, capture_output=True, text=True, env=env, timeout=timeout,
-                            start_new_session=True)
+    result = run_group(command, timeout, env=env)
     output = result.stdout + result.stderr
     lines = [line for line in result.stdout.splitlines() if line.startswith("RESULT ")]
     assert lines, f"{command[-3:]} did not finish:\n{output[-6000:]}"
@@ -58,6 +57,7 @@ def script(name):
     return str(ROOT / "tests" / "blender" / name)
 
 
+@pytest.mark.long
 def test_artist_journey(tmp_path):
     # The zip: the add-on, its samples and the compiled module for this Python.
     made = subprocess.run(["bash", str(ROOT / "blender_addon" / "package.sh"), str(BUILD_PYTHON.parent),
@@ -86,14 +86,14 @@ def test_artist_journey(tmp_path):
     # A fresh scene with a window: the menus, every generator, save, undo, redo, a preset.
     out = tmp_path / "journey"
     out.mkdir()
-    report = run(["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", BLENDER, "--enable-event-simulate",
+    report = run([*xvfb_run("1280x800"), BLENDER, "--enable-event-simulate",
                   "--python", script("journey_scene.py"), "--", "--out", str(out)], env, 420)
     values = report["values"]
     assert values["menus_drawn"] == ["VIEW3D_MT_add", "IFSFORGE_MT_add", "TOPBAR_MT_file_import"]
     assert values["add_Volume"][0] == "VOLUME" and values["add_Image"][0] == "EMPTY"
 
     # The preset in another fresh Blender makes the same object (same file digest, same result).
-    run(["xvfb-run", "-a", "-s", "-screen 0 1024x768x24", BLENDER, "--python", script("journey_preset.py"), "--",
+    run([*xvfb_run("1024x768"), BLENDER, "--python", script("journey_preset.py"), "--",
          "--preset", values["preset"], "--expect", json.dumps(values["preset_object"])], env, 180)
 
     # The .blend in a Blender without the add-on (factory settings, ifsforge hidden): every file
@@ -103,8 +103,8 @@ def test_artist_journey(tmp_path):
     probe.write_text(PROBE)
     factory = dict(env, BLENDER_USER_SCRIPTS=str(tmp_path / "bare" / "scripts"),
                    BLENDER_USER_CONFIG=str(tmp_path / "bare" / "config"))
-    result = subprocess.run([BLENDER, "-b", "--factory-startup", str(blend), "--python", str(probe), "--",
-                             str(tmp_path / "bare.png")], capture_output=True, text=True, env=factory, timeout=300)
+    result = run_group([BLENDER, "-b", "--factory-startup", str(blend), "--python", str(probe), "--",
+                        str(tmp_path / "bare.png")], 300, env=factory)
     output = result.stdout + result.stderr
     seen = json.loads(next(line for line in result.stdout.splitlines() if line.startswith("PROBE "))[6:])
     assert not seen["addon"] and not seen["imports"], seen

@@ -132,6 +132,7 @@ def inputs(tmp_path_factory):
     return folder
 
 
+@pytest.mark.long
 def test_accepted_hostile_values_give_a_result_or_a_clear_refusal(inputs, tmp_path):
     """The values the parser lets through, run by the installed command."""
     env = {"PYTHONPATH": str(BUILD_PYTHON), "IFSFORGE_MEMORY_BUDGET_MB": "400", "PATH": "/usr/bin:/bin"}

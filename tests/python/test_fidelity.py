@@ -49,6 +49,7 @@ def accepted_by_prr(system):
     return not system.recurrent and system.condensation is None
 
 
+@pytest.mark.long
 def test_default_prr_renders_every_sample_at_1024():
     # Systems whose pieces shrink too slowly for the pixel-size stop (the superfractal pair's
     # overlapping union) fall back to Eq. 59's depth or deeper, never to an error.
@@ -86,6 +87,7 @@ def reference_mask(system, sample, window):
     return ifsforge.render(system, "prr", 512, binary=True, window=window).mask
 
 
+@pytest.mark.long
 @pytest.mark.parametrize("sample", PLANAR)
 def test_pixel_grid_algorithms_agree_with_prr(sample):
     system = ifsforge.load(os.path.join(HERE, "..", "..", "samples", "systems", sample))

@@ -71,6 +71,7 @@ def tetrahedron_mask(n=64):
     return ((x & y) == 0) & ((y & z) == 0) & ((x & z) == 0)
 
 
+@pytest.mark.long
 def test_fit_recovers_a_sierpinski_tetrahedron_from_a_vdb(cli, tmp_path):
     cli("volume", SAMPLES / "sierpinski_tetrahedron.json", "-o", "t.vdb", "--res", "64", check=True)
     target = ifsforge.read_voxel_target(str(tmp_path / "t.vdb"))
@@ -111,6 +112,7 @@ def cube_obj(path, lo=-1.0, hi=1.0):
         "f " + " ".join(map(str, f)) + "\n" for f in faces))
 
 
+@pytest.mark.long
 def test_a_mesh_is_voxelised_inside(tmp_path):
     # A flat triangle is a sheet one voxel thick (its surface passes within half a voxel).
     (tmp_path / "flat.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")

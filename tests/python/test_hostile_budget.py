@@ -106,6 +106,7 @@ def test_morph_streams_its_frames(tmp_path):
     assert peak < BUDGET_MB + INTERPRETER_MB, f"peak {peak:.0f} MB"
 
 
+@pytest.mark.long
 def test_warp_streams_its_frames(tmp_path):
     # Each frame is written and dropped: the peak does not grow with the frame count.
     target = tmp_path / "target.png"

@@ -15,8 +15,9 @@ from PIL import Image
 from test_blender_addon import run_blender
 
 skimage_color = pytest.importorskip("skimage.color")
-pytestmark = pytest.mark.skipif(not shutil.which("blender") or not shutil.which("povray"),
-                                reason="needs Blender and POV-Ray")
+# long: the renders below, one Blender and one POV-Ray run that every test shares.
+pytestmark = [pytest.mark.skipif(not shutil.which("blender") or not shutil.which("povray"),
+                                 reason="needs Blender and POV-Ray"), pytest.mark.long]
 
 MAX_DELTA_E = 10.0
 MIN_IOU = 0.9
