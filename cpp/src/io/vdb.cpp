@@ -46,16 +46,12 @@ std::vector<detail::StreamGrid> stream_grids(const Volume& header, const VdbWrit
       grid = openvdb::FloatGrid::create();
     }
     grids.push_back({make(grid, recipe.name, options.half), recipe.components, [recipe, nc](const VoxelSpan& band, float* values) {
-      if (recipe.components != 3) {
-        for (std::size_t v = 0; v < band.size; ++v) recipe.evaluate(band.channels + v * nc, values + v);
-        return;
-      }
-      // Blender's Principled Volume reads the colour grid as linear (the one colour rule).
-      thread_local LinearColors linear;
       for (std::size_t v = 0; v < band.size; ++v) {
-        float* out = values + v * 3;
+        float* out = values + v * recipe.components;
         recipe.evaluate(band.channels + v * nc, out);
-        for (int c = 0; c < 3; ++c) out[c] = linear(out[c]);
+        // Blender's Principled Volume reads the colour grid as linear (the one colour rule).
+        if (recipe.components == 3)
+          for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(out[c]);
       }
     }, std::nullopt});
   }
