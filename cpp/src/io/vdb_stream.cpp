@@ -375,7 +375,12 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
         values.resize(span.size * grids[g].components);
         grids[g].values(span, values.data());
       }
+      // The band's bytes before Blosc, reserved at once (growing by doubling would copy them),
+      // with room for a larger band, so that the thread's next bands reuse the buffer.
+      std::size_t need = 0;
+      for (const LeafTopology* leaf : leaves) need += kLeafMaskBytes + 1 + leaf->count * encodings[g].value_bytes();
       w.bytes.clear();
+      if (w.bytes.capacity() < need) w.bytes.reserve(need + need / 2);
       for (std::size_t l = 0; l < leaves.size(); ++l) {
         if ((l & 1023) == 1023 && stop_requested()) throw Cancelled();  // Blosc takes a while per leaf
         const std::size_t before = w.bytes.size();
