@@ -7,6 +7,8 @@
 // Run: build/cpp/bench/bench_pifs [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
+#include "process_usage.h"
+
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -66,6 +68,8 @@ void Decode512(benchmark::State& state) {
   PifsDecodeOptions d;
   d.scale = double(state.range(1));
   d.threads = int(state.range(2));
+  const double side = 512.0 * double(state.range(1));
+  const ProcessUsage usage(state, side * side * double(state.range(0)) * 4.0);  // the planes: a float per sample
   for (auto _ : state) benchmark::DoNotOptimize(pifs_decode(code, d));
 }
 

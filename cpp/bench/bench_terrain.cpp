@@ -15,6 +15,7 @@
 #include "ifsforge/io/terrain_mesh_file.h"
 #include "ifsforge/interpolation/vertical_scaling.h"
 #include "ifsforge/texture/palette.h"
+#include "process_usage.h"
 
 using namespace ifsforge;
 
@@ -42,6 +43,7 @@ PaletteSpec earth() {
 void RegularTerrain(benchmark::State& state) {
   const int n = int(state.range(0)), threads = int(state.range(1));
   const TerrainControls c = controls();
+  const ProcessUsage usage(state, 4.0 * n * n);  // the heights: one float per sample
   for (auto _ : state) benchmark::DoNotOptimize(make_terrain(c, n, n, threads).heights.data());
   state.counters["samples/s"] = benchmark::Counter(double(n) * n, benchmark::Counter::kIsIterationInvariantRate);
 }

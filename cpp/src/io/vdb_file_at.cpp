@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "ifsforge/core/parallel.h"
@@ -19,9 +20,11 @@ std::string content_uuid(const std::string& written, const FileAt& file, std::ui
   constexpr std::uint64_t kBlock = 4u << 20, kPrime = 0x100000001b3ull;
   const std::size_t blocks = static_cast<std::size_t>((end - begin + kBlock - 1) / kBlock);
   std::vector<std::array<std::uint64_t, 2>> hashes(blocks);
-  std::vector<std::vector<char>> buffers(threads, std::vector<char>(kBlock));
+  // Left unset: each block is read over before it is hashed.
+  std::vector<std::unique_ptr<char[]>> buffers(threads);
+  for (auto& buffer : buffers) buffer.reset(new char[kBlock]);
   parallel_jobs(blocks, static_cast<int>(buffers.size()), [&](std::size_t k, int worker) {
-    char* data = buffers[worker].data();
+    char* data = buffers[worker].get();
     const std::uint64_t at = begin + k * kBlock, size = std::min(kBlock, end - at);
     for (std::uint64_t done = 0; done < size;) {
       const ssize_t n = ::pread(reader.fd, data + done, size - done, static_cast<off_t>(at + done));

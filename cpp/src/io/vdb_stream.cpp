@@ -50,8 +50,8 @@ struct BandScratch {
   std::vector<std::uint32_t> start;       ///< pass 2: each leaf's first voxel in by_leaf
   std::vector<std::uint32_t> end;         ///< pass 2: where each leaf's voxels end in by_leaf
   std::vector<std::uint32_t> by_leaf;     ///< pass 2: the voxels grouped by leaf, each group ascending
-  std::vector<float> values;
-  std::vector<openvdb::math::half> halves;
+  float values[Leaf::SIZE * 3];                 ///< one leaf's values, gathered for Blosc
+  openvdb::math::half halves[Leaf::SIZE * 3];  ///< one leaf's values as halves
   std::string bytes;
   AppendBuffer append;
   std::ostream blosc{&append};
@@ -257,10 +257,9 @@ std::int64_t append_leaf(const LeafTopology& leaf, const std::uint32_t* voxels, 
   const std::size_t n = std::size_t(leaf.count) * e.components;
   const char* data = nullptr;
   if (e.half) {
-    w.halves.resize(n);
     for (std::size_t i = 0, k = 0; i < leaf.count; ++i)
       for (int c = 0; c < e.components; ++c) w.halves[k++] = openvdb::math::half(values[std::size_t(voxels[i]) * e.components + c]);
-    data = reinterpret_cast<const char*>(w.halves.data());
+    data = reinterpret_cast<const char*>(w.halves);
   } else {
     const std::size_t at = out.size();
     if (!e.blosc) {
@@ -269,10 +268,9 @@ std::int64_t append_leaf(const LeafTopology& leaf, const std::uint32_t* voxels, 
         std::memcpy(&out[at + i * e.components * 4], &values[std::size_t(voxels[i]) * e.components], e.components * 4);
       return 0;
     }
-    w.values.resize(n);
     for (std::size_t i = 0; i < leaf.count; ++i)
       std::memcpy(&w.values[i * e.components], &values[std::size_t(voxels[i]) * e.components], e.components * 4);
-    data = reinterpret_cast<const char*>(w.values.data());
+    data = reinterpret_cast<const char*>(w.values);
   }
   if (!e.blosc) {
     out.append(data, n * 2);
@@ -377,7 +375,12 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
         values.resize(span.size * grids[g].components);
         grids[g].values(span, values.data());
       }
+      // The band's bytes before Blosc, reserved at once (growing by doubling would copy them),
+      // with room for a larger band, so that the thread's next bands reuse the buffer.
+      std::size_t need = 0;
+      for (const LeafTopology* leaf : leaves) need += kLeafMaskBytes + 1 + leaf->count * encodings[g].value_bytes();
       w.bytes.clear();
+      if (w.bytes.capacity() < need) w.bytes.reserve(need + need / 2);
       for (std::size_t l = 0; l < leaves.size(); ++l) {
         if ((l & 1023) == 1023 && stop_requested()) throw Cancelled();  // Blosc takes a while per leaf
         const std::size_t before = w.bytes.size();

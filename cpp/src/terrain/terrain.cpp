@@ -7,6 +7,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/interpolation/grid_recursion.h"
 #include "ifsforge/interpolation/vertical_scaling.h"
@@ -262,7 +263,8 @@ Terrain make_terrain(const TerrainControls& c, int columns, int rows, int thread
   for (std::size_t r = 0; r < cr; ++r) leading[r] = interpolate_along(along, c.heights[r], circular, a22_u);
 
   // Step 4 for the heights: every vertical (radial) vector across the leading vectors.
-  t.heights.resize(samples);
+  // Faulted in on every core, huge pages where the kernel gives them, before the one-thread zeroing.
+  resize_large(t.heights, samples);
   interpolate_across(GridRecursion(maps_v, height), a22_v, leading, t.heights.data(), width, threads, progress);
 
   if (displaced) {
@@ -276,8 +278,8 @@ Terrain make_terrain(const TerrainControls& c, int columns, int rows, int thread
       lead_u[r] = interpolate_along(along, su[r], circular, a22_shift);
       lead_v[r] = interpolate_along(along, sv[r], circular, a22_shift);
     }
-    t.u.resize(samples);
-    t.v.resize(samples);
+    resize_large(t.u, samples);
+    resize_large(t.v, samples);
     const double spacing_u = 1.0 / double(maps_u), spacing_v = 1.0 / double(maps_v);
     const std::size_t band = 64, jobs = (height + band - 1) / band;
     parallel_jobs(jobs, threads, [&](std::size_t job, int) {
