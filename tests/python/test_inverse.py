@@ -66,12 +66,12 @@ def test_fit_recovers_a_sierpinski_triangle(cli, tmp_path):
 
 
 def test_maps_auto_stops_at_the_count_that_pays(cli, tmp_path):
-    # The triangle is three half copies: a fourth map buys nothing, so auto probes 2, 3 and 4
-    # and fits the three it chose.
+    # The triangle is three half copies: a fourth and a fifth map buy nothing, so auto probes
+    # 2 to 5 and fits the three it chose.
     ifsforge.write_png(str(tmp_path / "t.png"), sierpinski_target(48).astype(np.float32))
     summary = json.loads(cli("fit", "t.png", "-o", "fit.json", "--maps", "auto", "--restarts", "1", "--json",
                              check=True).stdout)
-    assert summary["maps"] == 3 and [p["maps"] for p in summary["probes"]] == [2, 3, 4], summary
+    assert summary["maps"] == 3 and [p["maps"] for p in summary["probes"]] == [2, 3, 4, 5], summary
     assert len(ifsforge.read_json(str(tmp_path / "fit.json"))) == 3
 
 

@@ -20,6 +20,7 @@ AUTO_MAPS = (2, 3, 4, 5, 6, 8)  # what --maps auto tries
 AUTO_MAP_COST = 0.01            # IoU a map must buy to be kept under --maps auto
 AUTO_PROBE_RESTARTS = 4         # restarts of a count's probe under --maps auto: one of each kind of start
 AUTO_PROBE_SHARE = 0.25         # of the time left that a probe may spend under --maps auto with a time limit
+AUTO_PATIENCE = 2               # counts in a row that may not pay before --maps auto stops
 SHAPE_EXTENSIONS = (".vdb", ".obj", ".ply", ".stl", ".off")  # 3D targets
 
 
@@ -32,8 +33,8 @@ def register(subparsers):
                    "color: fitted per channel too), or a 3D shape: " + ", ".join(SHAPE_EXTENSIONS))
     p.add_argument("-o", "--output", required=True, help="the system to write (.json)")
     p.add_argument("--maps", default=None, help=f"number of maps (default {o.maps}; 3D {o3.maps}), or 'auto' "
-                   "(short fits of %s in turn while a map raises the IoU by %g, then the full fit of the count chosen)"
-                   % (", ".join(map(str, AUTO_MAPS)), AUTO_MAP_COST))
+                   "(short fits of %s in turn until %d in a row raise the IoU by less than %g a map, then the full fit "
+                   "of the best)" % (", ".join(map(str, AUTO_MAPS)), AUTO_PATIENCE, AUTO_MAP_COST))
     p.add_argument("--time-limit", type=common.float_option(0, 1e9), default=o.time_limit,
                    help="seconds (0: none); a search cut short depends on the machine's speed")
     p.add_argument("--seed", type=common.SEED, default=o.seed)
@@ -59,8 +60,9 @@ def register(subparsers):
 def fit_best(fit, target, maps, time_limit=None, **options):
     """fit(target, maps=n, ...) for one map count, or for maps='auto' the count chosen by probes:
     short fits (AUTO_PROBE_RESTARTS restarts, without the last search on the IoU) of the counts of
-    AUTO_MAPS in turn while each extra map raises the probe's IoU by AUTO_MAP_COST or more, then
-    the full fit of the count chosen. With a time limit, the probes and the fit share it (a probe
+    AUTO_MAPS in turn until AUTO_PATIENCE counts in a row fail to beat the best by AUTO_MAP_COST
+    per extra map (a snowflake's structure shows only once its five copies may be placed), then
+    the full fit of the best count. With a time limit, the probes and the fit share it (a probe
     may spend AUTO_PROBE_SHARE of what is left). `fit` is ifsforge.fit or ifsforge.fit_3d, `target`
     its positional and keyword target arguments, `options` its options' fields. Returns the result
     dict plus 'maps' (and under 'auto', 'probes': each count tried and its probe's IoU)."""
@@ -73,7 +75,7 @@ def fit_best(fit, target, maps, time_limit=None, **options):
     probe_options = dict(options, restarts=min(options.get("restarts", AUTO_PROBE_RESTARTS), AUTO_PROBE_RESTARTS),
                          final_generations=0)
     probe_options.pop("progress", None)
-    probes, chosen, kept = [], None, None
+    probes, chosen, kept, unpaid = [], None, None, 0
     for n in AUTO_MAPS:
         limit = None
         if deadline is not None:
@@ -84,8 +86,11 @@ def fit_best(fit, target, maps, time_limit=None, **options):
         probe = fit(*args, **keywords, maps=n, time_limit=limit, **probe_options)
         probes.append({"maps": n, "iou": probe["iou"]})
         if kept is not None and probe["iou"] - AUTO_MAP_COST * n <= kept - AUTO_MAP_COST * chosen:
-            break  # this map did not pay: nor will more
-        chosen, kept = n, probe["iou"]
+            unpaid += 1
+            if unpaid == AUTO_PATIENCE:
+                break
+            continue
+        chosen, kept, unpaid = n, probe["iou"], 0
     limit = None if deadline is None else max(deadline - time.monotonic(), 1e-3)
     result = fit(*args, **keywords, maps=chosen, time_limit=limit, **options)
     result["maps"], result["probes"] = chosen, probes
