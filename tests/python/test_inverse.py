@@ -65,10 +65,20 @@ def test_fit_recovers_a_sierpinski_triangle(cli, tmp_path):
     assert (drawn & target).sum() / (drawn | target).sum() >= 0.95
 
 
+def test_maps_auto_stops_at_the_count_that_pays(cli, tmp_path):
+    # The triangle is three half copies: a fourth and a fifth map buy nothing, so auto probes
+    # 2 to 5 and fits the three it chose.
+    ifsforge.write_png(str(tmp_path / "t.png"), sierpinski_target(48).astype(np.float32))
+    summary = json.loads(cli("fit", "t.png", "-o", "fit.json", "--maps", "auto", "--restarts", "1", "--json",
+                             check=True).stdout)
+    assert summary["maps"] == 3 and [p["maps"] for p in summary["probes"]] == [2, 3, 4, 5], summary
+    assert len(ifsforge.read_json(str(tmp_path / "fit.json"))) == 3
+
+
 def test_fit_is_identical_for_any_thread_count():
     target = sierpinski_target(40)
-    # Three restarts: one of each start (k-means, turned k-means, the cover by turned copies).
-    runs = [ifsforge.fit(target, maps=2, restarts=3, generations=30, attractor_generations=5,
+    # Four restarts: one of each start (k-means, turned k-means, the two covers by turned copies).
+    runs = [ifsforge.fit(target, maps=2, restarts=4, generations=30, attractor_generations=5,
                          refine_generations=5, final_generations=5, seed=3, threads=t) for t in (1, 2)]
     assert ifsforge.to_json(runs[0]["system"]) == ifsforge.to_json(runs[1]["system"])
     other = ifsforge.fit(target, maps=2, restarts=1, generations=30, attractor_generations=5,

@@ -116,12 +116,14 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   const int n = o.maps * kParams;
   for (int r = 0; r < o.restarts && !stop(); ++r) {
     Rng rng(o.seed, 1000 + r);
-    // Three kinds of start, in turn: the k-means collage as it is, the k-means parts turned one
-    // at a time, and the target covered by turned copies of itself (its own structure).
-    const int kind = r % 3;
+    // Four kinds of start, in turn: the k-means collage as it is, the k-means parts turned one
+    // at a time, and the target covered by turned copies of itself (its own structure), judged on
+    // the search's grid and on the refinement's (fit_seed.h).
+    const int kind = r % 4;
     std::vector<double> x0;
-    if (kind == 2) {
-      x0 = self_similar_cover(target, grid, o.maps, o.max_contraction, threads, rng, result.evaluations);
+    if (kind >= 2) {
+      x0 = self_similar_cover(full, target, grid, o.maps, kind == 2 ? o.raster : o.refine_raster, o.max_contraction,
+                              threads, rng, result.evaluations);
     } else {
       const Boxes boxes = pixel_clusters(target, grid, o.maps, rng);
       x0 = initial_collage(boxes);

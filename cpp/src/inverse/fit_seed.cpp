@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fit_clusters.h"
+#include "fit_moments.h"
 #include "fit_shared.h"
 #include "ifsforge/core/parallel.h"
 
@@ -20,87 +22,176 @@ constexpr double kGiveUp = 0.3;       // share of a copy's first cells off the t
 constexpr std::size_t kCoverRefined = 8;  // best copies refined by a local climb
 constexpr int kCoverSlack = 2;            // cells the target grows by for the lattice
 constexpr double kCoverTieBreak = 1e-3;   // below one cell: breaks ties only
+constexpr std::size_t kMostParts = 32;    // largest parts of the target whose moments give candidates
+constexpr std::size_t kPartCells = 4;     // fewer cells give no orientation worth trying
+constexpr std::size_t kComplements = 4;   // largest parts whose complement is a piece too
+constexpr std::size_t kJudgedPixels = 65536;  // picture pixels at most that the climb copies (evenly spread)
 
 struct Candidate {
   double score = -std::numeric_limits<double>::infinity();
   std::array<double, 6> p{};
 };
 
+/// The moment maps (fit_moments.h) of the target's pieces: its parts once grown by 0 to
+/// kCoverSlack cells (`grown`, padded by `pad`; the first is the target), the whole less each of
+/// the largest of them, and its k-means clusters into `maps`.
+std::vector<std::array<double, 6>> moment_candidates(const PixelSet& target, const FitGrid& grid,
+                                                     const std::vector<std::vector<std::uint8_t>>& grown, int pad,
+                                                     int maps, double max_contraction, Rng& rng) {
+  const int W = target.width + 2 * pad, H = target.height + 2 * pad;
+  const std::vector<std::uint8_t>& on = grown[0];
+  auto plane = [&](std::size_t q) { return grid.to_plane(int(q % W) - pad + 0.5, int(q / W) - pad + 0.5); };
+  std::vector<std::array<double, 2>> whole;
+  for (std::size_t q = 0; q < on.size(); ++q)
+    if (on[q]) whole.push_back(plane(q));
+  std::vector<std::vector<std::array<double, 2>>> pieces;
+  // A gap narrower than the growth joins two parts: each growth finds the parts of its scale.
+  std::vector<std::uint8_t> in_part(on.size());
+  for (const auto& mask : grown) {
+    const auto parts = mask_parts(mask, on, W, H, kMostParts);
+    for (const auto& part : parts) {
+      pieces.emplace_back();
+      for (std::size_t q : part) pieces.back().push_back(plane(q));
+    }
+    // The whole less one of its largest parts: the other copies together (with two maps, exactly
+    // the other copy, as a spiral's large turned copy is the whole less its small one).
+    for (std::size_t k = 0; k < std::min(parts.size(), kComplements); ++k) {
+      std::fill(in_part.begin(), in_part.end(), 0);
+      for (std::size_t q : parts[k]) in_part[q] = 1;
+      pieces.emplace_back();
+      for (std::size_t q = 0; q < on.size(); ++q)
+        if (on[q] && !in_part[q]) pieces.back().push_back(plane(q));
+    }
+  }
+  if (maps > 1) {  // each cell to its nearest cluster centroid: the k-means partition
+    const Clusters<2> clusters = cluster_boxes<2>(whole, maps, 1.0 / grid.pixels_per_unit, rng);
+    std::vector<std::vector<std::array<double, 2>>> parts(maps);
+    for (const auto& p : whole) {
+      int nearest = 0;
+      for (int c = 1; c < maps; ++c)
+        if (std::hypot(p[0] - clusters.mass[c][0], p[1] - clusters.mass[c][1]) <
+            std::hypot(p[0] - clusters.mass[nearest][0], p[1] - clusters.mass[nearest][1]))
+          nearest = c;
+      parts[nearest].push_back(p);
+    }
+    pieces.insert(pieces.end(), parts.begin(), parts.end());
+  }
+  const Moments all = moments_of(whole);
+  std::vector<std::array<double, 6>> out;
+  for (const auto& piece : pieces)
+    if (piece.size() >= kPartCells)
+      for (const auto& p : moment_maps(all, moments_of(piece), max_contraction, kCoverTurns)) out.push_back(p);
+  return out;
+}
+
+/// A copy's worth judged on one grid: target cells it newly covers, less those it puts off the
+/// target (or off `on`, a grown target) and on earlier copies.
+class CopyJudge {
+ public:
+  /// `target` on `grid`; the copies are of `points` (grid cell units), by default the cells' centres.
+  CopyJudge(const FitGrid& grid, const PixelSet& target, int workers, std::vector<std::array<double, 2>> points = {})
+      : points(std::move(points)), grid_(grid), pad_(std::max(target.width, target.height) / 2),
+        w_(target.width + 2 * pad_), h_(target.height + 2 * pad_), on_(std::size_t(w_) * h_, 0),
+        covered_(on_.size(), 0), stamps_(workers, std::vector<std::uint32_t>(on_.size(), 0)), marks_(workers, 0) {
+    const bool centres = this->points.empty();
+    for (int y = 0; y < target.height; ++y)
+      for (int x = 0; x < target.width; ++x)
+        if (target.cells[std::size_t(y) * target.width + x]) {
+          if (centres) this->points.push_back({x + 0.5, y + 0.5});
+          on_[std::size_t(y + pad_) * w_ + x + pad_] = 1;
+        }
+  }
+  std::vector<std::array<double, 2>> points;  ///< what is copied, in the order it is judged
+  const std::vector<std::uint8_t>& on() const { return on_; }
+  int pad() const { return pad_; }
+  int width() const { return w_; }
+  int height() const { return h_; }
+  /// The worth of w(target) against `on` (on() or a grown copy of it); with `give_up`,
+  /// -infinity once its first cells stray too often.
+  double worth(const AffineMap& w, int worker, const std::vector<std::uint8_t>& on, bool give_up) {
+    const PixelMap pm = grid_.pixel_map(w);
+    auto& stamp = stamps_[worker];
+    const std::uint32_t mark = ++marks_[worker];
+    double fresh = 0, outside = 0, overlap = 0;
+    std::size_t seen = 0;
+    for (const auto& point : points) {
+      ++seen;
+      const std::size_t q = cell_of(pm, point);
+      if (stamp[q] == mark) continue;
+      stamp[q] = mark;
+      if (!on[q]) {
+        if (++outside > kGiveUp * double(seen) + 8 && give_up) return -std::numeric_limits<double>::infinity();
+      } else {
+        (covered_[q] ? overlap : fresh) += 1;
+      }
+    }
+    return fresh - kOutsideCost * outside - kOverlapCost * overlap;
+  }
+  void cover(const AffineMap& w) {
+    const PixelMap pm = grid_.pixel_map(w);
+    for (const auto& point : points) covered_[cell_of(pm, point)] = 1;
+  }
+
+ private:
+  std::size_t cell_of(const PixelMap& m, const std::array<double, 2>& c) const {
+    const double qx = m[0] * c[0] + m[1] * c[1] + m[2] + pad_, qy = m[3] * c[0] + m[4] * c[1] + m[5] + pad_;
+    return std::size_t(std::clamp(qy, 0.0, h_ - 1.0)) * w_ + std::size_t(std::clamp(qx, 0.0, w_ - 1.0));
+  }
+  FitGrid grid_;
+  int pad_, w_, h_;
+  std::vector<std::uint8_t> on_, covered_;
+  std::vector<std::vector<std::uint32_t>> stamps_;
+  std::vector<std::uint32_t> marks_;
+};
+
 }  // namespace
 
-std::vector<double> self_similar_cover(const PixelSet& target, const FitGrid& grid, int maps, double max_contraction,
-                                       int threads, Rng& rng, std::uint64_t& evaluations) {
-  const int w = target.width, h = target.height, pad = std::max(w, h) / 2, W = w + 2 * pad, H = h + 2 * pad;
-  // Cell centres in a seeded order, so that a copy's first cells are a fair sample of it.
-  std::vector<std::array<double, 2>> cells;
-  std::array<double, 2> centroid{0, 0};
-  std::vector<std::uint8_t> on_target(std::size_t(W) * H, 0);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (target.cells[std::size_t(y) * w + x]) {
-        cells.push_back({x + 0.5, y + 0.5});
-        on_target[std::size_t(y + pad) * W + x + pad] = 1;
-        const auto q = grid.to_plane(x + 0.5, y + 0.5);
-        centroid[0] += q[0], centroid[1] += q[1];
-      }
-  centroid[0] /= cells.size(), centroid[1] /= cells.size();
+std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& target, const FitGrid& grid, int maps,
+                                       int judge_raster, double max_contraction, int threads, Rng& rng,
+                                       std::uint64_t& evaluations) {
+  const int w = target.width, h = target.height, workers = resolve_threads(threads);
+  // The lattice is judged on the search's grid, in a seeded order of its cells so that a copy's
+  // first cells are a fair sample of it. The climb and the choice copy the picture's own pixels:
+  // copies of the cells' centres fall a fraction of a cell beside a thin target's cells, so that a
+  // spiral's true turned copy scores no better than the copy of that copy.
+  CopyJudge coarse(grid, target, workers);
+  auto& cells = coarse.points;
   for (std::size_t i = cells.size(); i > 1; --i) std::swap(cells[i - 1], cells[std::size_t(rng.uniform() * i)]);
+  const FitGrid fine_grid = FitGrid::for_target(full, std::min(std::max(full.width, full.height), judge_raster));
+  std::vector<std::array<double, 2>> pixels;  // the picture's pixels in the judging grid's cells
+  const std::size_t stride = (full.count() + kJudgedPixels - 1) / kJudgedPixels;
+  const double f = fine_grid.pixels_per_unit / fine_grid.side;
+  for (std::size_t i = 0, seen = 0; i < full.cells.size(); ++i)
+    if (full.cells[i] && seen++ % stride == 0) pixels.push_back({(i % full.width + 0.5) * f, (i / full.width + 0.5) * f});
+  CopyJudge fine(fine_grid, fine_grid.downsample(full), workers, std::move(pixels));
+  std::array<double, 2> centroid{0, 0};
+  for (const auto& c : cells) {
+    const auto q = grid.to_plane(c[0], c[1]);
+    centroid[0] += q[0] / cells.size(), centroid[1] += q[1] / cells.size();
+  }
   std::vector<std::array<double, 2>> places;  // plane points a copy's centroid is put on
   const int ox = int(rng.uniform() * kCoverStride), oy = int(rng.uniform() * kCoverStride);
   for (int y = oy; y < h; y += kCoverStride)
     for (int x = ox; x < w; x += kCoverStride)
       if (target.cells[std::size_t(y) * w + x]) places.push_back(grid.to_plane(x + 0.5, y + 0.5));
   const double turn = rng.uniform();
-  std::vector<std::uint8_t> covered(on_target.size(), 0);
   const int scales = int(std::size(kCoverScales)), jobs = scales * kCoverTurns;
-  const int workers = resolve_threads(threads);
-  std::vector<std::vector<std::uint32_t>> stamps(workers, std::vector<std::uint32_t>(on_target.size(), 0));
-  std::vector<std::uint32_t> stamp_count(workers, 0);
-  auto cell_of = [&](const PixelMap& m, const std::array<double, 2>& c) {
-    const double qx = m[0] * c[0] + m[1] * c[1] + m[2] + pad, qy = m[3] * c[0] + m[4] * c[1] + m[5] + pad;
-    return std::size_t(std::clamp(qy, 0.0, H - 1.0)) * W + std::size_t(std::clamp(qx, 0.0, W - 1.0));
-  };
-  // A copy's worth: target cells it newly covers, less those off the target and on earlier
-  // copies; a copy whose first cells stray too often is dropped (-infinity).
   // The target grown by kCoverSlack cells (Chebyshev): the lattice of turns and places lands
   // near a thin attractor's copies, not on them, so the lattice is judged on the grown target
   // and its best copies climb onto the exact one.
-  std::vector<std::uint8_t> near_target = on_target;
-  for (int pass = 0; pass < kCoverSlack; ++pass) {
-    const std::vector<std::uint8_t> was = near_target;
-    for (int y = 1; y + 1 < H; ++y)
-      for (int x = 1; x + 1 < W; ++x)
-        if (!was[std::size_t(y) * W + x])
-          for (int dy = -1; dy <= 1 && !near_target[std::size_t(y) * W + x]; ++dy)
-            for (int dx = -1; dx <= 1; ++dx)
-              if (was[std::size_t(y + dy) * W + x + dx]) {
-                near_target[std::size_t(y) * W + x] = 1;
-                break;
-              }
-  }
-  auto score_of = [&](const double* p, int worker, const std::vector<std::uint8_t>& on) {
+  std::vector<std::vector<std::uint8_t>> grown = {coarse.on()};  // grown by 0, 1, ... kCoverSlack cells
+  for (int pass = 0; pass < kCoverSlack; ++pass) grown.push_back(grow_cells(grown.back(), coarse.width(), coarse.height()));
+  const std::vector<std::uint8_t>& near_target = grown.back();
+  const std::vector<std::array<double, 6>> shaped =
+      moment_candidates(target, grid, grown, coarse.pad(), maps, max_contraction, rng);
+  auto score_of = [&](const double* p, int worker, bool lattice) {
     AffineMap m;
     decode_map(p, 2, max_contraction, m);
-    const PixelMap pm = grid.pixel_map(m);
-    auto& stamp = stamps[worker];
-    const std::uint32_t mark = ++stamp_count[worker];
-    double fresh = 0, outside = 0, overlap = 0;
-    std::size_t seen = 0;
-    for (const auto& cell : cells) {
-      ++seen;
-      const std::size_t q = cell_of(pm, cell);
-      if (stamp[q] == mark) continue;
-      stamp[q] = mark;
-      if (!on[q]) {
-        if (++outside > kGiveUp * double(seen) + 8 && &on == &near_target) return -std::numeric_limits<double>::infinity();
-      } else {
-        (covered[q] ? overlap : fresh) += 1;
-      }
-    }
+    const double worth = lattice ? coarse.worth(m, worker, near_target, true) : fine.worth(m, worker, fine.on(), false);
     // Among copies that cover alike (a symmetric target's turns and mirrors), the least turned
     // and unmirrored: the maps a person would write, and the ones colour fits expect.
     const double turned = std::abs(std::remainder(p[2], 2 * M_PI)) / M_PI + (p[0] < 0);
-    return fresh - kOutsideCost * outside - kOverlapCost * overlap - kCoverTieBreak * turned;
+    return worth - kCoverTieBreak * turned;
   };
   std::vector<double> x0;
   for (int c = 0; c < maps; ++c) {
@@ -117,7 +208,7 @@ std::vector<double> self_similar_cover(const PixelSet& target, const FitGrid& gr
         for (const auto& place : places) {
           p[4] = place[0] - cx;
           p[5] = place[1] - cy;
-          const double score = score_of(p, worker, near_target);
+          const double score = score_of(p, worker, true);
           if (score > best[job].score) best[job].score = score, std::copy(p, p + 6, best[job].p.begin());
         }
       }
@@ -125,12 +216,18 @@ std::vector<double> self_similar_cover(const PixelSet& target, const FitGrid& gr
     evaluations += std::uint64_t(jobs) * 2 * places.size();
     // The lattice of turns and places is coarse for a thin attractor (a spiral's copy 5 degrees
     // off lies mostly off it): the best few climb by halving steps of scale, turn and place.
+    // Each lattice job's best copy and every moment map of the pieces (exact turns and scales, off
+    // the lattice) are judged again by the picture's pixels, and the best few climb.
+    for (const auto& p : shaped) best.push_back({0, p});
+    parallel_jobs(best.size(), workers, [&](std::size_t k, int worker) {
+      if (std::isfinite(best[k].score)) best[k].score = score_of(best[k].p.data(), worker, false);
+    });
+    evaluations += best.size();
     std::stable_sort(best.begin(), best.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
     best.resize(kCoverRefined);
     parallel_jobs(best.size(), workers, [&](std::size_t k, int worker) {
       Candidate& b = best[k];
       if (!std::isfinite(b.score)) return;
-      b.score = score_of(b.p.data(), worker, on_target);
       double step[3] = {0.04, 4 * M_PI / 180, 1.0 / grid.pixels_per_unit};
       for (int level = 0; level < 4; ++level, step[0] /= 2, step[1] /= 2, step[2] /= 2)
         for (bool better = true; better;) {
@@ -146,7 +243,7 @@ std::vector<double> self_similar_cover(const PixelSet& target, const FitGrid& gr
               } else {
                 p[2 + axis] += sign * step[2];
               }
-              const double score = score_of(p.data(), worker, on_target);
+              const double score = score_of(p.data(), worker, false);
               if (score > b.score) b.score = score, b.p = p, better = true;
             }
         }
@@ -161,8 +258,8 @@ std::vector<double> self_similar_cover(const PixelSet& target, const FitGrid& gr
     }
     AffineMap m;
     decode_map(chosen->p.data(), 2, max_contraction, m);
-    const PixelMap pm = grid.pixel_map(m);
-    for (const auto& cell : cells) covered[cell_of(pm, cell)] = 1;
+    coarse.cover(m);
+    fine.cover(m);
     x0.insert(x0.end(), chosen->p.begin(), chosen->p.end());
   }
   return x0;

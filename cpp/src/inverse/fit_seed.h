@@ -13,8 +13,12 @@ namespace ifsforge {
 /// similarities, chosen greedily: each the copy w(target) that covers most of the target not yet
 /// covered, against the cells it puts off the target and on earlier copies, among kCoverScales x
 /// kCoverTurns (from a seeded offset) x 2 mirrors with its centroid on a seeded lattice of target
-/// cells. The same for any thread count; candidates tried are added to `evaluations`.
-std::vector<double> self_similar_cover(const PixelSet& target, const FitGrid& grid, int maps, double max_contraction,
-                                       int threads, Rng& rng, std::uint64_t& evaluations);
+/// cells, and the moment maps of the target's pieces (fit_moments.h); the best few of each climb,
+/// judged by where the picture `full`'s own pixels land on a grid of `judge_raster` cells along
+/// the long side (the search's: lenient to a thin target's large copies; the picture's: strict with
+/// copies of nearly the whole). The same for any thread count; candidates tried are added to `evaluations`.
+std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& target, const FitGrid& grid, int maps,
+                                       int judge_raster, double max_contraction, int threads, Rng& rng,
+                                       std::uint64_t& evaluations);
 
 }  // namespace ifsforge

@@ -18,6 +18,9 @@ from ifsforge.progress import ProgressBar
 
 AUTO_MAPS = (2, 3, 4, 5, 6, 8)  # what --maps auto tries
 AUTO_MAP_COST = 0.01            # IoU a map must buy to be kept under --maps auto
+AUTO_PROBE_RESTARTS = 4         # restarts of a count's probe under --maps auto: one of each kind of start
+AUTO_PROBE_SHARE = 0.25         # of the time left that a probe may spend under --maps auto with a time limit
+AUTO_PATIENCE = 2               # counts in a row that may not pay before --maps auto stops
 SHAPE_EXTENSIONS = (".vdb", ".obj", ".ply", ".stl", ".off")  # 3D targets
 
 
@@ -30,7 +33,8 @@ def register(subparsers):
                    "color: fitted per channel too), or a 3D shape: " + ", ".join(SHAPE_EXTENSIONS))
     p.add_argument("-o", "--output", required=True, help="the system to write (.json)")
     p.add_argument("--maps", default=None, help=f"number of maps (default {o.maps}; 3D {o3.maps}), or 'auto' "
-                   "(tries %s in turn while a map raises the IoU by %g)" % (", ".join(map(str, AUTO_MAPS)), AUTO_MAP_COST))
+                   "(short fits of %s in turn until %d in a row raise the IoU by less than %g a map, then the full fit "
+                   "of the best)" % (", ".join(map(str, AUTO_MAPS)), AUTO_PATIENCE, AUTO_MAP_COST))
     p.add_argument("--time-limit", type=common.float_option(0, 1e9), default=o.time_limit,
                    help="seconds (0: none); a search cut short depends on the machine's speed")
     p.add_argument("--seed", type=common.SEED, default=o.seed)
@@ -54,36 +58,53 @@ def register(subparsers):
 
 
 def fit_best(fit, target, maps, time_limit=None, **options):
-    """fit(target, maps=n, ...) for one map count, or for maps='auto' the counts of AUTO_MAPS in
-    turn while each extra map raises the IoU by AUTO_MAP_COST or more, the time limit shared by
-    the counts tried (each may spend half of what is left); `fit` is ifsforge.fit or
-    ifsforge.fit_3d, `target` its positional and keyword target arguments, `options` its options'
-    fields. Returns the result dict plus 'maps'."""
+    """fit(target, maps=n, ...) for one map count, or for maps='auto' the count chosen by probes:
+    short fits (AUTO_PROBE_RESTARTS restarts, without the last search on the IoU) of the counts of
+    AUTO_MAPS in turn until AUTO_PATIENCE counts in a row fail to beat the best by AUTO_MAP_COST
+    per extra map (a snowflake's structure shows only once its five copies may be placed), then
+    the full fit of the best count. With a time limit, the probes and the fit share it (a probe
+    may spend AUTO_PROBE_SHARE of what is left). `fit` is ifsforge.fit or ifsforge.fit_3d, `target`
+    its positional and keyword target arguments, `options` its options' fields. Returns the result
+    dict plus 'maps' (and under 'auto', 'probes': each count tried and its probe's IoU)."""
     args, keywords = target
     if maps != "auto":
         result = fit(*args, **keywords, maps=int(maps), time_limit=time_limit, **options)
         result["maps"] = int(maps)
         return result
     deadline = time.monotonic() + time_limit if time_limit else None
-    best = None
+    probe_options = dict(options, restarts=min(options.get("restarts", AUTO_PROBE_RESTARTS), AUTO_PROBE_RESTARTS),
+                         final_generations=0)
+    probe_options.pop("progress", None)
+    probes, chosen, kept, unpaid = [], None, None, 0
     for n in AUTO_MAPS:
         limit = None
         if deadline is not None:
             left = deadline - time.monotonic()
-            if best is not None and left <= 0:
+            if chosen is not None and left <= 0:
                 break
-            limit = max(left, 1e-3) / 2
-        result = fit(*args, **keywords, maps=n, time_limit=limit, **options)
-        result["maps"] = n
-        if best is not None and result["iou"] - AUTO_MAP_COST * n <= best["iou"] - AUTO_MAP_COST * best["maps"]:
-            break  # this map did not pay: nor will more
-        best = result
-    return best
+            limit = max(left, 1e-3) * AUTO_PROBE_SHARE
+        probe = fit(*args, **keywords, maps=n, time_limit=limit, **probe_options)
+        probes.append({"maps": n, "iou": probe["iou"]})
+        if kept is not None and probe["iou"] - AUTO_MAP_COST * n <= kept - AUTO_MAP_COST * chosen:
+            unpaid += 1
+            if unpaid == AUTO_PATIENCE:
+                break
+            continue
+        chosen, kept, unpaid = n, probe["iou"], 0
+    limit = None if deadline is None else max(deadline - time.monotonic(), 1e-3)
+    result = fit(*args, **keywords, maps=chosen, time_limit=limit, **options)
+    result["maps"], result["probes"] = chosen, probes
+    return result
 
 
 def fit_picture(picture, maps, threshold, time_limit=None, **options):
     """fit() of a picture (a bool mask or a picture thresholded at `threshold`): see fit_best."""
     return fit_best(ifsforge.fit, ((picture,), {"threshold": threshold}), maps, time_limit, **options)
+
+
+def auto_probes(result):
+    """The probes of --maps auto for the JSON summary (none for a given count)."""
+    return {"probes": result["probes"]} if "probes" in result else {}
 
 
 def common_options(args, defaults):
@@ -108,7 +129,7 @@ def run_picture(args, bar):
     summary = {"output": args.output, "maps": result["maps"], "iou": result["iou"],
                "collage_distance_pixels": collage["distance_pixels"], "bound_pixels": collage["bound_pixels"],
                "contraction": collage["contraction"], "evaluations": result["evaluations"],
-               "restarts": result["restarts"], "time_limited": result["time_limited"]}
+               "restarts": result["restarts"], "time_limited": result["time_limited"], **auto_probes(result)}
     text = (f"{args.output}: {result['maps']} maps, attractor IoU {result['iou']:.3f}, collage distance "
             f"{collage['distance_pixels']:.2f} px (attractor within {collage['bound_pixels']:.2f} px), "
             f"s = {collage['contraction']:.3f}, {result['evaluations']} evaluations")
@@ -137,7 +158,7 @@ def run_shape(args, bar):
     summary = {"output": args.output, "maps": result["maps"], "iou": iou, "search_iou": result["iou"],
                "proxy": result["proxy"], "voxels": list(shape), "bounds": box,
                "contraction": max(system.contraction_factors()), "evaluations": result["evaluations"],
-               "restarts": result["restarts"], "time_limited": result["time_limited"]}
+               "restarts": result["restarts"], "time_limited": result["time_limited"], **auto_probes(result)}
     bounds = " ".join(f"{v:.6g}" for v in box)
     text = (f"{args.output}: {result['maps']} maps, attractor IoU {iou:.3f} on the {'x'.join(map(str, shape))} "
             f"target as `ifsforge volume {args.output} --bounds {bounds} --res {max(shape)}` renders it "

@@ -1,0 +1,70 @@
+// The structural candidates of the planar fit's cover start (cpp/src/inverse/fit_moments.h):
+// a similarity's image of a point set is matched by one of the moment maps exactly, at any turn.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "../../cpp/src/inverse/fit_moments.h"
+#include "../../cpp/src/inverse/fit_shared.h"
+#include "ifsforge/core/random.h"
+
+namespace ifsforge {
+namespace {
+
+TEST(FitMoments, SomeMomentMapIsTheSimilarityThatMadeThePiece) {
+  // An elongated, lopsided cloud: its covariance has a clear principal axis.
+  Rng rng(3, 0);
+  std::vector<std::array<double, 2>> whole;
+  for (int i = 0; i < 400; ++i) {
+    const double u = rng.uniform(), v = rng.uniform();
+    whole.push_back({0.2 + 0.6 * u * u, 0.1 + 0.2 * v + 0.1 * u});
+  }
+  for (double turn : {0.3, 2.5, -2.9, 4.0})  // radians: turns beyond any half circle too
+    for (double sign : {1.0, -1.0}) {      // unmirrored and mirrored
+      const double p[6] = {sign * 0.4, 0.4, turn, turn, 0.3, -0.2};
+      AffineMap w;
+      decode_map(p, 2, 0.9, w);
+      std::vector<std::array<double, 2>> piece;
+      for (const auto& q : whole)
+        piece.push_back({w.a(0, 0) * q[0] + w.a(0, 1) * q[1] + w.b(0), w.a(1, 0) * q[0] + w.a(1, 1) * q[1] + w.b(1)});
+      double nearest = 1e9;
+      for (const auto& c : moment_maps(moments_of(whole), moments_of(piece), 0.9, 0)) {
+        AffineMap m;
+        decode_map(c.data(), 2, 0.9, m);
+        double d = std::abs(m.b(0) - w.b(0)) + std::abs(m.b(1) - w.b(1));
+        for (int r = 0; r < 2; ++r)
+          for (int k = 0; k < 2; ++k) d += std::abs(m.a(r, k) - w.a(r, k));
+        nearest = std::min(nearest, d);
+      }
+      EXPECT_LT(nearest, 1e-9) << "turn " << turn << " sign " << sign;
+    }
+}
+
+TEST(FitMoments, MomentMapsTryTheFullCircle) {
+  Moments round;
+  round.xx = round.yy = 1;
+  const auto maps = moment_maps(round, round, 0.9, 36);
+  ASSERT_EQ(maps.size(), 2u * (4 + 36));
+  EXPECT_DOUBLE_EQ(maps[4 + 18][2], M_PI);  // the 18th of 36 turns: half the circle
+}
+
+TEST(FitMoments, MaskPartsAreTheSeparatedBlocksLargestFirst) {
+  const int w = 10, h = 6;
+  std::vector<std::uint8_t> grown(w * h, 0), on(w * h, 0);
+  auto fill = [&](int x0, int y0, int x1, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) grown[y * w + x] = 1, on[y * w + x] = (x + y) % 2;
+  };
+  fill(0, 0, 2, 2);   // 4 cells, 2 of them on
+  fill(4, 1, 10, 5);  // 24 cells, 12 on
+  const auto parts = mask_parts(grown, on, w, h, 8);
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0].size(), 12u);
+  EXPECT_EQ(parts[1].size(), 2u);
+  EXPECT_EQ(mask_parts(grown, on, w, h, 1).size(), 1u);
+  fill(2, 0, 4, 2);  // a bridge: one part, no pieces
+  EXPECT_TRUE(mask_parts(grown, on, w, h, 8).empty());
+}
+
+}  // namespace
+}  // namespace ifsforge
