@@ -229,6 +229,23 @@ TEST(VolumeDeterminism, SameBytesWithOneAndTwoThreads) {
   }
 }
 
+// A piece's mass with no point of its own goes to a voxel of its job that holds one, never to
+// a cell the worker's next job inherits: the HSI tower (pieces whose first representative lies
+// on a voxel face) gives the same measure whichever jobs a worker ran before.
+TEST(VolumeDeterminism, MeasureOfPiecesOnVoxelFacesIsTheSameOnAnyThreadCount) {
+  const Ifs ifs = read_ifs_json(std::string(IFSFORGE_SOURCE_DIR) + "/samples/systems/volume_hsi_tower.json");
+  VolumeOptions o = options(65);
+  o.density = VolumeDensity::Measure;
+  o.threads = 1;
+  const Volume one = render_volume(ifs, "prr", o);
+  for (int threads : {2, 3}) {
+    o.threads = threads;
+    const Volume other = render_volume(ifs, "prr", o);
+    EXPECT_EQ(one.keys, other.keys) << threads;
+    EXPECT_EQ(one.density, other.density) << threads;
+  }
+}
+
 // The grid holds the attractor where the IFS puts it: the occupied voxels of the sponge span
 // the unit cube, to within a voxel.
 TEST(VolumeGrid, DefaultBoundsAreTheAttractorsBox) {

@@ -205,7 +205,7 @@ struct PieceExpander {
       for (std::uint32_t i = 0; i < maps; ++i) expand(child + i, mass, length);
       return;
     }
-    if (weigh) acc.add_voxel(marked, nullptr, piece, false);
+    if (weigh) acc.add_mass(marked, first, last, piece);
     reached(k, length);
   }
 };

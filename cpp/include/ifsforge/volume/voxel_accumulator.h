@@ -45,6 +45,9 @@ class VoxelAccumulator {
       // A cell is (hits, mass, channel sums) side by side: one cache line per point.
       const std::size_t index = (di * size_[1] + dj) * size_[2] + dk;
       std::uint64_t* cell = &cells_[index * stride_];
+      // Mass alone belongs to a voxel that holds a point (finish() emits and clears only
+      // those): see add_mass, which finds one.
+      if (!hit && !occupied_[index]) return;
       cell[1] += units;
       if (!hit) return;
       ++cell[0];
@@ -54,6 +57,34 @@ class VoxelAccumulator {
     }
     for (int c = 0; c < channels_; ++c) values_[c] = hit ? quantizer_.quantize(c, channels[c]) : 0;
     overflow_.push(VoxelGrid::key(v[0], v[1], v[2]), hit ? 1 : 0, units, values_.data());
+  }
+  /// @brief A piece's mass, with no point of its own: at `u` when that voxel holds a point of
+  /// the job, else at the first voxel of [first, last] (inclusive, per axis) that does, else
+  /// nowhere in the box (a voxel outside the job's box takes it as a list entry). The choice
+  /// depends on the job alone, never on what the accumulator held before it.
+  void add_mass(const double* u, const std::int64_t* first, const std::int64_t* last, double mass) {
+    if (!in_box(u) || occupied_voxel(u)) {
+      add_voxel(u, nullptr, mass, false);
+      return;
+    }
+    for (std::int64_t i = std::max(first[0], lo_[0]); i <= last[0] && i - lo_[0] < std::int64_t(size_[0]); ++i)
+      for (std::int64_t j = std::max(first[1], lo_[1]); j <= last[1] && j - lo_[1] < std::int64_t(size_[1]); ++j)
+        for (std::int64_t k = std::max(first[2], lo_[2]); k <= last[2] && k - lo_[2] < std::int64_t(size_[2]); ++k) {
+          const std::size_t index = ((i - lo_[0]) * size_[1] + (j - lo_[1])) * size_[2] + (k - lo_[2]);
+          if (!occupied_[index]) continue;
+          cells_[index * stride_ + 1] += static_cast<std::uint64_t>(mass * kVolumeMassUnit + 0.5);
+          return;
+        }
+  }
+  /// @brief True when the voxel at continuous voxel coordinates `u` is on the grid and in the
+  /// job's box.
+  bool in_box(const double* u) const {
+    for (int a = 0; a < 3; ++a) {
+      const double f = std::floor(u[a]);
+      if (!(f >= 0.0 && f < grid_.dims[a])) return false;
+      if (static_cast<std::uint64_t>(static_cast<std::int64_t>(f) - lo_[a]) >= size_[a]) return false;
+    }
+    return true;
   }
   /// @brief True when the voxel at continuous voxel coordinates `u` lies in the job's box and
   /// holds a point.
