@@ -1,7 +1,7 @@
 // The library's arithmetic is the same in every build: the compiler fuses no a*b + c into one
 // multiply-add on its own (-ffp-contract=off), so a native build (-march=native, FMA) rounds like
-// the portable one and their outputs are the same bytes. Composing maps is the recursion's inner
-// step (PRR, DIA, vector instances); here its products are chosen so that fusing changes the sum.
+// the portable one and their outputs are the same bytes. Composing maps is the inner step of the
+// recursive renderers (PRR, volume PRR); here its products are chosen so that fusing changes the sum.
 #include <gtest/gtest.h>
 
 #include <cmath>
