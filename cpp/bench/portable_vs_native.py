@@ -39,7 +39,7 @@ CORE = 0  # one core, so every build's threads share the same single CPU
 
 def run(build, program, pattern, isa=None):
     """{benchmark name: {measure: ms}} from one run of one benchmark program on one core."""
-    path = Path(build) / "cpp" / "bench" / program
+    path = (Path(build) / "cpp" / "bench" / program).resolve()
     if not path.exists():
         sys.exit(f"{path} does not exist: build {program} in {build} first")
     env = dict(os.environ)
@@ -47,7 +47,8 @@ def run(build, program, pattern, isa=None):
     if isa:
         env["IFSFORGE_ISA"] = isa
     out = subprocess.run(["taskset", "-c", str(CORE), str(path), f"--benchmark_filter={pattern}",
-                          "--benchmark_format=csv"], env=env, capture_output=True, text=True, check=True).stdout
+                          "--benchmark_format=csv"], env=env, capture_output=True, text=True, check=True,
+                         cwd=path.parent).stdout  # bench_volume finds the samples from its build folder
     start = out.find("name,")
     rows = {}
     for row in csv.DictReader(io.StringIO(out[start:])):
