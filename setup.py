@@ -8,7 +8,7 @@ Environment:
   IFSFORGE_CMAKE_BUILD_DIR  a CMake build folder already configured and built (such as build/ from
                             cpp/bootstrap.sh): the package is installed from it, nothing compiles.
                             Without it, a fresh folder below build-wheel/ is configured and built.
-  IFSFORGE_CMAKE_ARGS       more arguments for that fresh configure, e.g. -DIFSFORGE_PORTABLE=ON
+  IFSFORGE_CMAKE_ARGS       more arguments for that fresh configure, e.g. -DIFSFORGE_NATIVE=ON
   CMAKE_BUILD_PARALLEL_LEVEL  compile jobs (default: one per CPU)
 """
 import os

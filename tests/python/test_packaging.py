@@ -74,13 +74,13 @@ def configure(tmp_path, source, *args):
 
 def test_the_build_configures_without_googletest_and_google_benchmark(tmp_path):
     build, out = configure(tmp_path, ROOT, "-DCMAKE_DISABLE_FIND_PACKAGE_GTest=ON",
-                           "-DCMAKE_DISABLE_FIND_PACKAGE_benchmark=ON", "-DIFSFORGE_PORTABLE=ON")
+                           "-DCMAKE_DISABLE_FIND_PACKAGE_benchmark=ON")
     assert "GoogleTest not found, the C++ test suite is skipped" in out
     assert "Google Benchmark not found, its benchmark programs are skipped" in out
     makefile = (build / "Makefile").read_text()
     assert "ifsforge_tests" not in makefile and "bench_render" not in makefile
     assert re.search(r"^ifsforge:", makefile, re.M)  # the library still builds
-    assert "-march" not in (build / "cpp/CMakeFiles/ifsforge.dir/flags.make").read_text()
+    assert "-march" not in (build / "cpp/CMakeFiles/ifsforge.dir/flags.make").read_text()  # portable by default
 
 
 def test_a_project_that_adds_ifsforge_as_a_subdirectory_builds_no_tests_or_benchmarks(tmp_path):
