@@ -52,6 +52,7 @@ py::dict cost(const PifsCode& code) {
 
 void bind_pifs(py::module_& m) {
   add_choices<PifsDecoder>(m, "decoder");
+  add_choices<PifsZoom>(m, "zoom");
   add_choices<PifsDomainSearch>(m, "search");
   add_choices<PifsColor>(m, "color");
   options_class<PifsDecodeOptions>(m, "PifsDecodeOptions",
@@ -73,6 +74,10 @@ void bind_pifs(py::module_& m) {
       .def_readwrite("iterations", &PifsDecodeOptions::iterations,
                      "fixed-point iterations (0: the default; coarsest level, or every level when iterative)")
       .def_readwrite("deblock", &PifsDecodeOptions::deblock, "smooth both sides of every range-block edge")
+      .def_property("zoom", [](const PifsDecodeOptions& o) { return std::string(name_of(o.zoom)); },
+                    [](PifsDecodeOptions& o, const std::string& z) { o.zoom = parse_name<PifsZoom>(z); },
+                    "above 1x: hybrid (fractal detail on the bicubic upscale, back-projected onto the 1x "
+                    "decode) or fractal (the plain fractal decode)")
       .def_readwrite("threads", &PifsDecodeOptions::threads, "0: every core; the image never depends on it");
   py::class_<PifsCode>(m, "PifsCode", "A partitioned IFS code of an image (seed 3.3.2); decodes at any size.")
       .def_readonly("width", &PifsCode::width)

@@ -50,6 +50,7 @@ PifsDecodeOptions plain(double scale = 1.0) {
   PifsDecodeOptions o;
   o.scale = scale;
   o.deblock = false;
+  o.zoom = PifsZoom::Fractal;
   return o;
 }
 

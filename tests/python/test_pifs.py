@@ -53,9 +53,27 @@ def test_encode_decode_any_size_and_bytes_round_trip():
 def test_two_times_averaged_matches_one_time():
     code = ifsforge.pifs_encode(textured(64, 96), ratio=10)
     one = code.decode(deblock=False)
-    two = code.decode(scale=2, deblock=False)
+    two = code.decode(scale=2, deblock=False, zoom="fractal")
     averaged = two.reshape(64, 2, 96, 2).mean(axis=(1, 3))
     assert psnr(one, averaged) > 30
+
+
+def test_zoom_filter_averages_back_to_the_one_time_decode(cli, tmp_path):
+    code = ifsforge.pifs_encode(textured(64, 96), ratio=10)
+    one = code.decode()
+    for scale in (2, 4):
+        hybrid = code.decode(scale=scale)
+        averaged = hybrid.reshape(64, scale, 96, scale).mean(axis=(1, 3))
+        assert psnr(one, averaged) > 40
+        assert not np.array_equal(hybrid, code.decode(scale=scale, zoom="fractal"))
+    path = tmp_path / "t.pifs"
+    ifsforge.write_pifs(str(path), code)
+    pngs = {}
+    for zoom in ("hybrid", "fractal"):
+        cli("decompress", path, "-o", tmp_path / f"{zoom}.png", "--scale", "2", "--zoom", zoom, check=True)
+        pngs[zoom] = ifsforge.read_png(str(tmp_path / f"{zoom}.png"))
+        assert np.abs(pngs[zoom] - np.clip(code.decode(scale=2, zoom=zoom), 0, 1)).max() <= 0.5 / 255 + 1e-6
+    assert not np.array_equal(pngs["hybrid"], pngs["fractal"])
 
 
 def test_rgba_alpha_is_a_plane_and_threads_give_same_bytes(tmp_path):

@@ -8,6 +8,7 @@
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/deblock.h"
 #include "ifsforge/pifs/planes.h"
+#include "ifsforge/pifs/zoom.h"
 
 namespace ifsforge {
 namespace {
@@ -139,8 +140,9 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
   const int full_w = int(std::ceil(code.width * std::ldexp(1.0, m)));
   const int full_h = int(std::ceil(code.height * std::ldexp(1.0, m)));
   // Each plane is decoded at the power-of-two size (its raster and the iteration's second
-  // buffer), then resampled; the image holds every channel of the output.
-  check_memory(double(full_w) * full_h * 4.0 * (2 * code.planes.size() + 1) + double(width) * height * code.channels * 8.0,
+  // buffer, and three more while the zoom filter runs), then resampled; the image holds every
+  // channel of the output.
+  check_memory(double(full_w) * full_h * 4.0 * (5 * code.planes.size() + 1) + double(width) * height * code.channels * 8.0,
                "decoding a " + std::to_string(width) + "x" + std::to_string(height) + " image");
   // Planes decode independently: in parallel, each on its share of the threads.
   std::vector<PifsRaster> planes(code.planes.size());
@@ -153,6 +155,13 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
     const int lm = half ? m + 1 : m;
     PifsRaster p = decode_plane(code, plane, lm, options.decoder, options.iterations, inner);
     if (options.deblock) deblock(code, plane, lm, p, inner);
+    // A magnified output: the plane's own-size decode anchors the zoom filter (native-size
+    // output, chroma included, is left as decoded).
+    if (options.zoom == PifsZoom::Hybrid && m > 0 && lm > 0) {
+      PifsRaster native = decode_plane(code, plane, 0, options.decoder, options.iterations, inner);
+      if (options.deblock) deblock(code, plane, 0, native, inner);
+      p = zoom_filter(p, native, lm, inner);
+    }
     // Crop away the padding (in place: rows only move toward the front).
     const int cw = std::min(full_w, p.width), ch = std::min(full_h, p.height);
     for (int y = 1; y < ch && cw < p.width; ++y)

@@ -19,12 +19,23 @@ struct EnumNames<PifsDecoder> {
       {PifsDecoder::Iterative, "iterative"}};
 };
 
+/// @brief What a magnified decode (scale above 1) returns: `hybrid` (the default) is the zoom
+/// post-filter of zoom.h, which beats bicubic upscaling of the 1× decode; `fractal` is the plain
+/// fractal decode at the output scale.
+enum class PifsZoom { Hybrid, Fractal };
+template <>
+struct EnumNames<PifsZoom> {
+  static constexpr const char* what = "zoom";
+  static constexpr NamedValue<PifsZoom> values[] = {{PifsZoom::Hybrid, "hybrid"}, {PifsZoom::Fractal, "fractal"}};
+};
+
 struct PifsDecodeOptions {
   double scale = 1.0;           ///< output size = image size × scale (rounded), when width = 0
   int width = 0, height = 0;    ///< explicit output size (both > 0)
   PifsDecoder decoder = PifsDecoder::Hierarchical;
   int iterations = 0;           ///< 0: kDefaultIterations (coarsest level, or every level for Iterative)
   bool deblock = true;          ///< smooth the two pixels either side of every range-block edge
+  PifsZoom zoom = PifsZoom::Hybrid;  ///< above 1×: the zoom post-filter or the plain fractal decode
   int threads = 0;
 };
 

@@ -20,6 +20,10 @@ def register(subparsers):
                    "0: the default")
     p.add_argument("--decoder", choices=ifsforge.choices["decoder"], default=o.decoder)
     p.add_argument("--no-deblock", action="store_true", help="skip the range-block edge filter")
+    p.add_argument("--zoom", choices=ifsforge.choices["zoom"], default=o.zoom,
+                   help="above 1x: hybrid (default) blends a share of the fractal detail onto the bicubic "
+                   "upscale of the 1x decode and back-projects it onto that decode, which beats bicubic "
+                   "upscaling; fractal is the plain fractal decode at the output size")
     p.add_argument("--bits", type=int, choices=[8, 16], default=8, help="PNG bits per sample")
     p.add_argument("--threads", type=common.THREADS, default=o.threads, help="0: every core (the image never depends on it)")
     p.set_defaults(run=run)
@@ -33,7 +37,8 @@ def run(args):
         raise ifsforge.InputError("--size expects two positive integers W H")
     code = ifsforge.read_pifs(args.input)
     image = code.decode(scale=args.scale, size=tuple(args.size) if args.size else None, decoder=args.decoder,
-                        iterations=args.iterations, deblock=not args.no_deblock, threads=args.threads)
+                        iterations=args.iterations, deblock=not args.no_deblock, zoom=args.zoom,
+                        threads=args.threads)
     ifsforge.write_png(args.output, image, args.bits)
     print(f"{args.output}: {image.shape[1]}x{image.shape[0]} from {code.width}x{code.height}")
     return 0
