@@ -75,11 +75,12 @@ PifsRaster upscale_bicubic(const PifsRaster& r, int log_factor, int threads) {
 }
 
 PifsRaster zoom_filter(const PifsRaster& fractal, const PifsRaster& native, int log_factor, int threads) {
+  const ZoomSettings z = log_factor == 1 ? kZoomAt2 : kZoomAt4;
   PifsRaster x = upscale_bicubic(native, log_factor, threads);
   for (std::size_t i = 0; i < x.values.size(); ++i)
-    x.values[i] = (1 - kZoomFractalShare) * x.values[i] + kZoomFractalShare * fractal.values[i];
+    x.values[i] = (1 - z.fractal_share) * x.values[i] + z.fractal_share * fractal.values[i];
   // Iterative back-projection: the magnified image should average back to what was decoded.
-  for (int pass = 0; pass < kZoomBackProjections; ++pass) {
+  for (int pass = 0; pass < z.back_projections; ++pass) {
     PifsRaster error = resample_area(x, native.width, native.height);
     for (std::size_t i = 0; i < error.values.size(); ++i) error.values[i] = native.values[i] - error.values[i];
     const PifsRaster correction = upscale_bicubic(error, log_factor, threads);

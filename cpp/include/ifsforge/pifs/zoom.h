@@ -7,23 +7,27 @@
 
 namespace ifsforge {
 
-/// @brief Share of the fractal decode in the magnified image (the rest: the bicubic upscale of the
-/// native decode). Tuned on the training photos of cpp/bench/pifs_zoom.py at 2× and 4×; more
-/// fractal detail sharpens but costs PSNR on smooth photos.
-constexpr float kZoomFractalShare = 0.2f;
+/// @brief The filter at one magnification: `fractal_share` of the fractal decode (the rest: the
+/// bicubic upscale of the native decode), then `back_projections` passes (each: the error of the
+/// f×f means against the native decode, upscaled bicubic and added).
+struct ZoomSettings {
+  float fractal_share;
+  int back_projections;
+};
 
-/// @brief Back-projection passes (each: the error of the 2^k × 2^k means against the native decode,
-/// upscaled bicubic and added). One pass gains most; more pull in the native decode's own coding
-/// error and lose at 4×.
-constexpr int kZoomBackProjections = 1;
+/// @brief The settings at 2× and at 4× and above, chosen on the training photos of
+/// cpp/bench/pifs_zoom.py (its --sweep): more fractal detail sharpens but costs PSNR on smooth
+/// photos; back-projection gains at 2× but at 4× pulls in the native decode's coding error.
+constexpr ZoomSettings kZoomAt2{0.2f, 1};
+constexpr ZoomSettings kZoomAt4{0.1f, 0};
 
 /// @brief `raster` magnified 2^log_factor times by Keys' cubic convolution (a = −1/2, the
 /// "bicubic" of image tools), pixel centres aligned, edges repeated. The same on any `threads`.
 PifsRaster upscale_bicubic(const PifsRaster& raster, int log_factor, int threads = 1);
 
 /// @brief The magnified plane: `fractal` (the decode at 2^log_factor × `native`'s size) blended
-/// with the bicubic upscale of `native` by kZoomFractalShare, then back-projected onto `native`
-/// kZoomBackProjections times. The same on any `threads`.
+/// with the bicubic upscale of `native`, then back-projected onto `native`, by kZoomAt2 or
+/// kZoomAt4. The same on any `threads`.
 PifsRaster zoom_filter(const PifsRaster& fractal, const PifsRaster& native, int log_factor, int threads = 1);
 
 }  // namespace ifsforge
