@@ -6,14 +6,13 @@ For each test photograph (eleven from python3-skimage, gray and colour) and comp
 rate control (file <= target), JPEG is Pillow's optimised baseline with the quality searched for
 the largest file not above the target, JPEG 2000 is Pillow's OpenJPEG with the rate searched the
 same way. PSNR (all channels) and SSIM against the original. Then Table 1's form: the ratio each
-method reaches at the PSNR PIFS has at 100:1. Then super-resolution (compress the 2x-downsampled
-image, decode at 2x / bicubic-upscale the JPEG of the same bytes, compare with the original) and
-encode/decode times at 512x512.
+method reaches at the PSNR PIFS has at 100:1, and encode/decode times at 512x512. Decoding at
+other scales: pifs_zoom.py.
 
     PYTHONPATH=build/python cpp/bench/pifs_vs_jpeg.py [--out out/pifs] [--threads 2]
 
 Needs python3-skimage (test images, SSIM), python3-pil, python3-matplotlib (the plot).
-Writes OUT/results.json, OUT/rate_distortion.png and OUT/superres_<image>.png; prints Markdown tables.
+Writes OUT/results.json and OUT/rate_distortion.png; prints Markdown tables.
 """
 import argparse
 import io
@@ -151,40 +150,6 @@ def table1(images, rows, threads):
     return out
 
 
-def gradient_energy(image):
-    """Sharpness: mean squared difference of neighbouring pixels, across and down."""
-    a = np.asarray(image, np.float64)
-    return float(np.mean(np.diff(a, axis=0) ** 2) + np.mean(np.diff(a, axis=1) ** 2))
-
-
-def superres(images, out_dir, threads, ratio=20):
-    """Compress the 2x-downsampled image at raw/ratio bytes; PIFS decodes at 2x, JPEG is upscaled bicubic."""
-    rows = []
-    for name, image in images.items():
-        h, w = image.shape[:2]
-        small = Image.fromarray(image).reduce(2)
-        small_np = np.array(small)
-        target = small_np.size // ratio
-        size, _, code = pifs(small_np, target, threads)
-        fractal = to8(code.decode(size=(w, h), threads=threads))
-        js, jdec = jpeg(small_np, target)
-        bicubic = np.array(Image.fromarray(jdec).resize((w, h), Image.BICUBIC))
-        plain = np.array(small.resize((w, h), Image.BICUBIC))
-        pifs_bicubic = np.array(Image.fromarray(to8(code.decode(threads=threads))).resize((w, h), Image.BICUBIC))
-        rows.append({"image": name, "bytes": target, "pifs_bytes": size, "jpeg_bytes": js,
-                     "pifs_2x_psnr": psnr(image, fractal), "jpeg_bicubic_psnr": psnr(image, bicubic),
-                     "pifs_bicubic_psnr": psnr(image, pifs_bicubic),
-                     "pifs_2x_gradient": gradient_energy(fractal) / gradient_energy(image),
-                     "pifs_bicubic_gradient": gradient_energy(pifs_bicubic) / gradient_energy(image),
-                     "uncompressed_bicubic_psnr": psnr(image, plain),
-                     "pifs_2x_ssim": ssim(image, fractal), "jpeg_bicubic_ssim": ssim(image, bicubic)})
-        crop = tuple(slice(s // 4, s // 4 + 160) for s in (h, w))
-        strip = np.concatenate([image[crop], fractal[crop], bicubic[crop]], axis=1)
-        Image.fromarray(strip).resize((strip.shape[1] * 2, strip.shape[0] * 2), Image.NEAREST).save(
-            out_dir / f"superres_{name}.png")
-    return rows
-
-
 def timings(threads):
     camera, astronaut = data.camera(), data.astronaut()
     def best(f, runs):
@@ -245,11 +210,9 @@ def report(args, out):
     images = {name: f() for name, f in IMAGES.items()}
     rows = rate_distortion(images, args.threads)
     t1 = table1(images, rows, args.threads)
-    sr = superres(images, out_dir, args.threads)
     times = timings(args.threads)
     plot(rows, out_dir / "rate_distortion.png")
-    (out_dir / "results.json").write_text(json.dumps({"rate_distortion": rows, "table1": t1, "superres": sr,
-                                                      "times": times}, indent=1))
+    (out_dir / "results.json").write_text(json.dumps({"rate_distortion": rows, "table1": t1, "times": times}, indent=1))
     out.print("\n| image | target | PIFS PSNR / SSIM (ratio) | JPEG | JPEG 2000 |")
     out.print("|---|---|---|---|---|")
     for name in images:
@@ -264,13 +227,6 @@ def report(args, out):
     for e in t1:
         cells = [f"{e[m][0]:.1f}:1 | {e[m][1]:.2f}" if m in e else "— | —" for m in ("PIFS", "JPEG", "JPEG 2000")]
         out.print(f"| {e['image']} | " + " | ".join(cells) + " |")
-    out.print("\n| image (2x super-resolution, 20:1 of the half-size image) | PIFS decoded 2x | PIFS 1x + bicubic | "
-              "gradient energy 2x / bicubic (original 1) | JPEG + bicubic | uncompressed + bicubic |")
-    out.print("|---|---|---|---|---|---|")
-    for r in sr:
-        out.print(f"| {r['image']} | {r['pifs_2x_psnr']:.2f} dB / {r['pifs_2x_ssim']:.3f} | {r['pifs_bicubic_psnr']:.2f} dB | "
-                  f"{r['pifs_2x_gradient']:.2f} / {r['pifs_bicubic_gradient']:.2f} | "
-                  f"{r['jpeg_bicubic_psnr']:.2f} dB / {r['jpeg_bicubic_ssim']:.3f} | {r['uncompressed_bicubic_psnr']:.2f} dB |")
     out.print("\nEncoding and decoding times (seconds):\n\n```json\n" + json.dumps(times, indent=1) + "\n```")
 
 

@@ -2,7 +2,7 @@
 
 make(out) writes into out/pifs/:
   rate_distortion.png     PSNR against compression ratio: PIFS, JPEG, JPEG 2000 (equal bytes)
-  superres_<image>.png    original | PIFS decoded 2x | JPEG + bicubic, from the half-size image
+  zoom_<image>.png        original | PIFS decoded 2x | bicubic of its 1x decode, from the half-size image
   chelsea_50to1.pifs      a 50:1 code, and chelsea_closeup_4x.png: a crop of it decoded at 4x
 Run alone: python3 samples/pifs/make_gallery.py [OUT]   (needs python3-skimage, -pil, -matplotlib)
 """
@@ -17,8 +17,8 @@ import ifsforge
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
-def bench():
-    spec = importlib.util.spec_from_file_location("pifs_vs_jpeg", ROOT / "cpp" / "bench" / "pifs_vs_jpeg.py")
+def bench(name="pifs_vs_jpeg"):
+    spec = importlib.util.spec_from_file_location(name, ROOT / "cpp" / "bench" / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -30,14 +30,14 @@ def make(out):
     b = bench()
     images = {name: f() for name, f in b.IMAGES.items()}
     b.plot(b.rate_distortion(images, 0), folder / "rate_distortion.png")
-    b.superres(images, folder, 0)
+    bench("pifs_zoom").strips(folder, 0)
     chelsea = images["chelsea"]
     code = ifsforge.pifs_encode(chelsea, ratio=50)
     ifsforge.write_pifs(str(folder / "chelsea_50to1.pifs"), code)
     big = code.decode(scale=4)
     h, w = big.shape[:2]
     ifsforge.write_png(str(folder / "chelsea_closeup_4x.png"), np.ascontiguousarray(big[h // 3:h // 3 + 512, w // 3:w // 3 + 512]))
-    print(f"  rate-distortion plot, super-resolution strips and a 4x close-up in {folder}")
+    print(f"  rate-distortion plot, zoom strips and a 4x close-up in {folder}")
 
 
 if __name__ == "__main__":
