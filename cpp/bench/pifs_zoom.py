@@ -7,9 +7,9 @@ The file is decoded at 2x or 4x, back to the original's size, and compared with 
 three ways: the default decode (zoom=hybrid: the zoom filter of cpp/include/ifsforge/pifs/zoom.h),
 the plain fractal decode (zoom=fractal), and the baseline, bicubic upscaling of the 1x decode.
 
-The zoom filter's constants were chosen on the TRAINING photos only (the sweep below emulates the
-filter in numpy from the plain fractal decode and the 1x decode, for each share of fractal detail
-and number of back-projection passes); the HELD-OUT photos check them.
+The zoom filter's constants were chosen on the TRAINING photos only (--sweep emulates the filter
+in numpy from the plain fractal decode and the 1x decode, for each share of fractal detail and
+back-projection step); the HELD-OUT photos check them.
 
     PYTHONPATH=build/python cpp/bench/pifs_zoom.py [--threads 2] [--sweep]
 
@@ -52,23 +52,26 @@ def bicubic(image, width, height):
 
 
 def case(original, scale, ratio, threads):
-    """The three upscales of one photo at one scale and ratio (8-bit, the original's size)."""
+    """The three upscales of one photo at one scale and ratio (8-bit, the original's size), and
+    the 1x decode's PSNR with and without deblocking."""
     h, w = (s - s % scale for s in original.shape[:2])
     original = original[:h, :w]
     small = np.array(Image.fromarray(original).reduce(scale))
     code = ifsforge.pifs_encode(small, bytes=small.size // ratio, threads=threads)
     one = to8(code.decode(threads=threads))
+    # The 1x decode against the reduced photo itself, with and without the deblocking filter.
+    native = (psnr(small, one), psnr(small, to8(code.decode(deblock=False, threads=threads))))
     ups = {"hybrid": to8(code.decode(size=(w, h), threads=threads)),
            "fractal": to8(code.decode(size=(w, h), zoom="fractal", threads=threads)),
            "bicubic": np.round(np.clip(bicubic(one, w, h), 0, 255)).astype(np.uint8)}
-    return original, code, ups
+    return original, code, ups, native
 
 
 def strips(folder, threads, ratio=20):
     """zoom_<image>.png for the gallery: original | default 2x decode | bicubic of the 1x decode,
     a 160-pixel crop of each, from a file of the half-size photo, shown at 2x."""
     for name in ("camera", "coins", "astronaut"):
-        original, _, ups = case(PHOTOS[name](), 2, ratio, threads)
+        original, _, ups, _ = case(PHOTOS[name](), 2, ratio, threads)
         h, w = original.shape[:2]
         crop = tuple(slice(s // 4, s // 4 + 160) for s in (h, w))
         strip = np.concatenate([original[crop], ups["hybrid"][crop], ups["bicubic"][crop]], axis=1)
@@ -82,10 +85,10 @@ def measure(threads):
         photo = PHOTOS[name]()
         for scale in SCALES:
             for ratio in RATIOS:
-                original, _, ups = case(photo, scale, ratio, threads)
+                original, _, ups, native = case(photo, scale, ratio, threads)
                 sharp = gradient_energy(original)
                 row = {"image": name, "group": "training" if name in TRAINING else "held-out",
-                       "scale": scale, "ratio": ratio}
+                       "scale": scale, "ratio": ratio, "native": native}
                 for method, up in ups.items():
                     row[method] = (psnr(original, up), ssim(original, up), gradient_energy(up) / sharp)
                 rows.append(row)
@@ -93,27 +96,27 @@ def measure(threads):
     return rows
 
 
-def sweep(threads, shares=(0, 0.1, 0.2, 0.3, 0.5), passes=(0, 1, 2, 4)):
-    """Mean and worst gain over bicubic (dB) on the training photos for each filter setting,
-    emulated per channel: share of the fractal decode on the bicubic upscale, then back-projections."""
+def sweep(threads, shares=(0, 0.1, 0.2, 0.3), steps=(0, 0.25, 0.5, 1)):
+    """Gains over bicubic (dB) on the training photos for each filter setting, emulated per
+    channel: a share of the fractal decode on the bicubic upscale, then one back-projection step."""
     gains = {}
     for name in TRAINING:
         photo = PHOTOS[name]()
         for scale in SCALES:
             for ratio in RATIOS:
-                original, code, ups = case(photo, scale, ratio, threads)
+                original, code, ups, _ = case(photo, scale, ratio, threads)
                 h, w = original.shape[:2]
-                native = code.decode(deblock=True, threads=threads) * 255.0
+                native = code.decode(threads=threads) * 255.0
                 fractal = code.decode(size=(w, h), zoom="fractal", threads=threads) * 255.0
                 base = psnr(original, ups["bicubic"])
                 up = bicubic(native, w, h)
                 for share in shares:
                     x = (1 - share) * up + share * fractal
-                    for p in range(max(passes) + 1):
-                        if p in passes:
-                            gains.setdefault((scale, share, p), []).append(psnr(original, np.clip(np.round(x), 0, 255)) - base)
-                        shape = (h // scale, scale, w // scale, scale) + x.shape[2:]
-                        x = x + bicubic(native - x.reshape(shape).mean(axis=(1, 3)), w, h)
+                    shape = (h // scale, scale, w // scale, scale) + x.shape[2:]
+                    error = bicubic(native - x.reshape(shape).mean(axis=(1, 3)), w, h)
+                    for step in steps:
+                        gains.setdefault((scale, share, step), []).append(
+                            psnr(original, np.clip(np.round(x + step * error), 0, 255)) - base)
     return gains
 
 
@@ -135,15 +138,16 @@ def cell(m):
 def report(args, out):
     if args.sweep:
         gains = sweep(args.threads)
-        out.print("\nThe zoom filter on the training photos (gain over bicubic in dB, mean / worst over photos "
-                  "and ratios), emulated in numpy:\n")
-        out.print("| scale | fractal share | 0 back-projections | 1 | 2 | 4 |")
-        out.print("|---|---|---|---|---|---|")
+        out.print("\nThe zoom filter on the training photos, emulated in numpy: photos improved over bicubic, "
+                  "and the mean / worst gain in dB, for each share of fractal detail and back-projection step.\n")
+        steps = sorted({k[2] for k in gains})
+        out.print("| scale | fractal share | " + " | ".join(f"step {s}" for s in steps) + " |")
+        out.print("|---|---|" + "---|" * len(steps))
         for scale in SCALES:
             for share in sorted({k[1] for k in gains}):
-                cells = [f"{statistics.mean(gains[(scale, share, p)]):+.2f} / {min(gains[(scale, share, p)]):+.2f}"
-                         for p in sorted({k[2] for k in gains})]
-                out.print(f"| {scale}x | {share} | " + " | ".join(cells) + " |")
+                g = [gains[(scale, share, s)] for s in steps]
+                out.print(f"| {scale}x | {share} | " + " | ".join(
+                    f"{sum(x > 0 for x in d)}/{len(d)}: {statistics.mean(d):+.2f} / {min(d):+.2f}" for d in g) + " |")
     rows = measure(args.threads)
     out.print("\nSummary: photos where the default decode (hybrid) beats bicubic upscaling of the 1x decode in "
               "PSNR, its mean and worst gain; the same for the plain fractal decode.\n")
@@ -158,6 +162,16 @@ def report(args, out):
                     d = [r[method][0] - r["bicubic"][0] for r in sel]
                     cells.append(f"{sum(x > 0 for x in d)}/{len(d)} | {statistics.mean(d):+.2f} dB | {min(d):+.2f} dB")
                 out.print(f"| {group} | {scale}x | {ratio}:1 | " + " | ".join(cells) + " |")
+    out.print("\nThe deblocking filter at 1x (the files above decoded at their own size, against the reduced "
+              "photo): PSNR gain over no filter, mean and worst.\n")
+    out.print("| group | 10:1 | 20:1 | 50:1 |")
+    out.print("|---|---|---|---|")
+    for group in ("training", "held-out"):
+        cells = []
+        for ratio in RATIOS:
+            d = [r["native"][0] - r["native"][1] for r in rows if r["group"] == group and r["ratio"] == ratio]
+            cells.append(f"{statistics.mean(d):+.2f} / {min(d):+.2f} dB")
+        out.print(f"| {group} | " + " | ".join(cells) + " |")
     out.print("\nEvery case: PSNR (dB) / SSIM against the original, and sharpness (gradient energy / the "
               "original's) of hybrid, fractal and bicubic.\n")
     out.print("| image | group | scale | ratio | hybrid | fractal | bicubic | hybrid − bicubic | sharpness h / f / b |")

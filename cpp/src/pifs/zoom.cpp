@@ -79,12 +79,12 @@ PifsRaster zoom_filter(const PifsRaster& fractal, const PifsRaster& native, int 
   PifsRaster x = upscale_bicubic(native, log_factor, threads);
   for (std::size_t i = 0; i < x.values.size(); ++i)
     x.values[i] = (1 - z.fractal_share) * x.values[i] + z.fractal_share * fractal.values[i];
-  // Iterative back-projection: the magnified image should average back to what was decoded.
-  for (int pass = 0; pass < z.back_projections; ++pass) {
+  // Back-projection: the magnified image should average back to what was decoded.
+  if (z.back_projection > 0) {
     PifsRaster error = resample_area(x, native.width, native.height);
     for (std::size_t i = 0; i < error.values.size(); ++i) error.values[i] = native.values[i] - error.values[i];
     const PifsRaster correction = upscale_bicubic(error, log_factor, threads);
-    for (std::size_t i = 0; i < x.values.size(); ++i) x.values[i] += correction.values[i];
+    for (std::size_t i = 0; i < x.values.size(); ++i) x.values[i] += z.back_projection * correction.values[i];
   }
   return x;
 }

@@ -1,25 +1,27 @@
 #pragma once
 /// @file The post-filter of a magnified decode (seed 3.3.2.2's resolution independence put to
 /// use): the fractal decode at 2^k × a plane's size keeps only a share of its detail, on top of the
-/// bicubic upscale of the native decode, and is then back-projected so that its 2^k × 2^k means
-/// give the native decode again.
+/// bicubic upscale of the native decode, and is then back-projected toward images whose 2^k × 2^k
+/// means give the native decode again.
 #include "ifsforge/pifs/domain_search.h"
 
 namespace ifsforge {
 
 /// @brief The filter at one magnification: `fractal_share` of the fractal decode (the rest: the
-/// bicubic upscale of the native decode), then `back_projections` passes (each: the error of the
-/// f×f means against the native decode, upscaled bicubic and added).
+/// bicubic upscale of the native decode), then one back-projection pass weighted by
+/// `back_projection` (the error of the f×f means against the native decode, upscaled bicubic and
+/// added; 1 is the classic full step, 0 none).
 struct ZoomSettings {
   float fractal_share;
-  int back_projections;
+  float back_projection;
 };
 
 /// @brief The settings at 2× and at 4× and above, chosen on the training photos of
-/// cpp/bench/pifs_zoom.py (its --sweep): more fractal detail sharpens but costs PSNR on smooth
-/// photos; back-projection gains at 2× but at 4× pulls in the native decode's coding error.
-constexpr ZoomSettings kZoomAt2{0.2f, 1};
-constexpr ZoomSettings kZoomAt4{0.1f, 0};
+/// cpp/bench/pifs_zoom.py (its --sweep) for the most photos improved over bicubic: more fractal
+/// detail sharpens but costs PSNR on smooth photos; a full back-projection gains most on average
+/// but pulls in the native decode's coding error at high ratios and at 4×.
+constexpr ZoomSettings kZoomAt2{0.2f, 0.25f};
+constexpr ZoomSettings kZoomAt4{0.1f, 0.f};
 
 /// @brief `raster` magnified 2^log_factor times by Keys' cubic convolution (a = −1/2, the
 /// "bicubic" of image tools), pixel centres aligned, edges repeated. The same on any `threads`.
