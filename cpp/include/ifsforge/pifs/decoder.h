@@ -20,8 +20,8 @@ struct EnumNames<PifsDecoder> {
 };
 
 /// @brief What a magnified decode (scale above 1) returns: `hybrid` (the default) is the zoom
-/// post-filter of zoom.h, which beats bicubic upscaling of the 1× decode; `fractal` is the plain
-/// fractal decode at the output scale.
+/// post-filter of zoom.h, tuned against bicubic upscaling of the 1× decode; `fractal` is the
+/// plain fractal decode at the output scale.
 enum class PifsZoom { Hybrid, Fractal };
 template <>
 struct EnumNames<PifsZoom> {

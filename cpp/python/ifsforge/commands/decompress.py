@@ -21,9 +21,9 @@ def register(subparsers):
     p.add_argument("--decoder", choices=ifsforge.choices["decoder"], default=o.decoder)
     p.add_argument("--no-deblock", action="store_true", help="skip the range-block edge filter")
     p.add_argument("--zoom", choices=ifsforge.choices["zoom"], default=o.zoom,
-                   help="above 1x: hybrid (default) blends a share of the fractal detail onto the bicubic "
-                   "upscale of the 1x decode and back-projects it onto that decode, which beats bicubic "
-                   "upscaling; fractal is the plain fractal decode at the output size")
+                   help="above 1x: hybrid (default) mixes a share of the fractal detail into the bicubic "
+                   "upscale of the 1x decode and back-projects it toward that decode; fractal is the plain "
+                   "fractal decode at the output size")
     p.add_argument("--bits", type=int, choices=[8, 16], default=8, help="PNG bits per sample")
     p.add_argument("--threads", type=common.THREADS, default=o.threads, help="0: every core (the image never depends on it)")
     p.set_defaults(run=run)
