@@ -15,6 +15,7 @@ SETTINGS = [
     (ifsforge.TerrainPovOptions, "shape", "pov_shape"),
     (ifsforge.TerrainPovOptions, "camera", "pov_camera"),
     (lambda: ifsforge.VdbWriteOptions(), "color_scale", "color_scale"),
+    (ifsforge.PifsDecodeOptions, "zoom", "zoom"),
 ]
 
 
@@ -33,7 +34,8 @@ def test_every_choice_is_accepted_and_read_back(make, prop, key):
     ("volume", "--density", "density"), ("volume", "--escape-norm", "escape_norm"),
     ("volume", "--color-scale", "color_scale"), ("instances", "--color-by", "color_source"),
     ("terrain", "--signs", "signs"), ("terrain", "--pov-shape", "pov_shape"),
-    ("terrain", "--pov-camera", "pov_camera"), ("decompress", "--decoder", "decoder")])
+    ("terrain", "--pov-camera", "pov_camera"), ("decompress", "--decoder", "decoder"),
+    ("decompress", "--zoom", "zoom")])
 def test_cli_offers_the_core_names(cli, command, option, key):
     result = cli(command, "--help", check=True)
     assert "{" + ",".join(ifsforge.choices[key]) + "}" in result.stdout.replace("\n", "").replace(" ", "")
