@@ -13,28 +13,13 @@
 #include "ifsforge/pifs/decoder.h"
 #include "ifsforge/pifs/encoder.h"
 #include "ifsforge/pifs/plane_coding.h"
+#include "pifs_test.h"
 
 using namespace ifsforge;
+using pifs_test::psnr;
+using pifs_test::textured;
 
 namespace {
-
-Image textured(int w, int h, int channels) {
-  Image im(w, h, channels);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      for (int c = 0; c < channels; ++c)
-        im.at(x, y, c) = float(0.5 + 0.3 * std::sin(x / (7.0 + c)) * std::cos(y / 11.0) +
-                               0.12 * std::sin((x + 2 * y) / 3.0 + c) + (x > w / 2 ? 0.05 : -0.05));
-  return im;
-}
-
-double psnr(const Image& a, const Image& b) {
-  EXPECT_EQ(a.pixels.size(), b.pixels.size());
-  double se = 0;
-  for (std::size_t i = 0; i < a.pixels.size(); ++i) se += std::pow(double(a.pixels[i]) - b.pixels[i], 2);
-  const double mse = se / a.pixels.size();
-  return mse == 0 ? 1e9 : 10 * std::log10(1.0 / mse);
-}
 
 Image average2x2(const Image& big) {
   Image out(big.width / 2, big.height / 2, big.channels);

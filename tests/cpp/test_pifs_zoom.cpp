@@ -8,20 +8,13 @@
 #include "ifsforge/pifs/decoder.h"
 #include "ifsforge/pifs/encoder.h"
 #include "ifsforge/pifs/zoom.h"
+#include "pifs_test.h"
 
 using namespace ifsforge;
+using pifs_test::psnr;
+using pifs_test::textured;
 
 namespace {
-
-Image textured(int w, int h, int channels) {
-  Image im(w, h, channels);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      for (int c = 0; c < channels; ++c)
-        im.at(x, y, c) = float(0.5 + 0.3 * std::sin(x / (5.0 + c)) * std::cos(y / 9.0) +
-                               0.12 * std::sin((x + 2 * y) / 3.0 + c));
-  return im;
-}
 
 /// The f×f means of `big` (f = big.width / width).
 Image averaged(const Image& big, int width, int height) {
@@ -31,13 +24,6 @@ Image averaged(const Image& big, int width, int height) {
     for (int x = 0; x < big.width; ++x)
       for (int c = 0; c < big.channels; ++c) out.at(x / f, y / f, c) += big.at(x, y, c) / float(f * f);
   return out;
-}
-
-double psnr(const Image& a, const Image& b) {
-  EXPECT_EQ(a.pixels.size(), b.pixels.size());
-  double se = 0;
-  for (std::size_t i = 0; i < a.pixels.size(); ++i) se += std::pow(double(a.pixels[i]) - b.pixels[i], 2);
-  return 10 * std::log10(a.pixels.size() / std::max(se, 1e-30));
 }
 
 }  // namespace
