@@ -79,10 +79,13 @@ TEST(PifsZoom, ConstantImageStaysConstantAtEveryScale) {
 }
 
 TEST(PifsZoom, SameOutputForAnyThreadCount) {
-  // 1024×768 per plane at 8×: the filter's passes split into jobs.
-  const PifsCode code = pifs_encode(textured(128, 96, 3), PifsEncodeOptions{});
+  // 2048×1200 pixels at 2× (the setting with a back-projection step): the filter's passes split.
+  // Larger scales go through Pifs.LargeDecodeIsTheSameForAnyThreadCount.
+  PifsEncodeOptions o;
+  o.ratio = 50;
+  const PifsCode code = pifs_encode(textured(1024, 600, 1), o);
   PifsDecodeOptions d;
-  d.scale = 8;
+  d.scale = 2;
   d.threads = 1;
   const Image one = pifs_decode(code, d);
   for (int threads : {2, 5}) {
