@@ -11,24 +11,36 @@
 namespace ifsforge::chains {
 namespace {
 
-/// Each lane's map's coefficients (a row by row, then b), for four lanes at once: with at most
-/// four maps from registers that hold every map's (a permute per coefficient), else each lane's
-/// row loaded and the four rows transposed (loads and shuffles are cheaper than gathers).
+/// Each lane's map's coefficients (a row by row, then b), for four lanes at once. A coefficient
+/// that every map shares (the same bits: similitudes of one ratio share their a) is a constant;
+/// the others, with at most four maps, come from registers that hold every map's (a permute
+/// each), else from each lane's row, loaded, the four rows transposed a register at a time
+/// (loads and shuffles cost less than gathers).
 template <int N, bool kFew>
 struct Coefficients {
   static constexpr int kCount = N * N + N;
   static constexpr int kPadded = (kCount + 3) / 4 * 4;  // whole registers
+  __m256d shared[kPadded];  // map 0's, broadcast
   __m256d tables[kFew ? kCount : 1];
+  bool varies[kPadded];  // kFew: per coefficient; else per register of four
   const double* rows;
   long long stride;  // kPadded, as Plan lays the rows out
 
   explicit Coefficients(const Maps& m) : rows(m.coefficients), stride(m.stride) {
-    if constexpr (kFew)
+    for (int k = 0; k < kPadded; ++k) {
+      shared[k] = _mm256_set1_pd(rows[k]);
+      varies[k] = false;
+      for (int i = 1; i < m.count; ++i) varies[k] |= __builtin_memcmp(rows + i * stride + k, rows + k, sizeof(double)) != 0;
+    }
+    if constexpr (kFew) {
       for (int k = 0; k < kCount; ++k) {
         alignas(32) double across[kWidth] = {};
         for (int i = 0; i < m.count; ++i) across[i] = rows[i * stride + k];
         tables[k] = _mm256_load_pd(across);
       }
+    } else {
+      for (int j = 0; j < kPadded; j += 4) varies[j] = varies[j] || varies[j + 1] || varies[j + 2] || varies[j + 3];
+    }
   }
 
   void fetch(__m256i map, __m256d* out) const {
@@ -36,12 +48,18 @@ struct Coefficients {
       // Map i's double is floats 2i and 2i + 1 of a table.
       const __m256i twice = _mm256_slli_epi64(map, 1);
       const __m256i pair = _mm256_or_si256(twice, _mm256_slli_epi64(_mm256_add_epi64(twice, _mm256_set1_epi64x(1)), 32));
+#pragma GCC unroll 80
       for (int k = 0; k < kCount; ++k)
-        out[k] = _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(tables[k]), pair));
+        out[k] = varies[k] ? _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(tables[k]), pair)) : shared[k];
     } else {
       alignas(32) std::uint64_t at[kWidth];
       _mm256_store_si256(reinterpret_cast<__m256i*>(at), _mm256_mul_epu32(map, _mm256_set1_epi64x(stride)));
+#pragma GCC unroll 20
       for (int j = 0; j < kPadded; j += 4) {
+        if (!varies[j]) {
+          for (int k = j; k < j + 4; ++k) out[k] = shared[k];
+          continue;
+        }
         const __m256d r0 = _mm256_loadu_pd(rows + at[0] + j), r1 = _mm256_loadu_pd(rows + at[1] + j);
         const __m256d r2 = _mm256_loadu_pd(rows + at[2] + j), r3 = _mm256_loadu_pd(rows + at[3] + j);
         const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
