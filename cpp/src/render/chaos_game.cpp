@@ -366,7 +366,8 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   const lanes::Kernel kernel = simd ? lanes::lane_kernel(n) : nullptr;
   const Point start = ifs.start_point();
   // The general path's affine jobs run side by side in the chain lanes, a task of up to 8 jobs
-  // (each job's chain and points unchanged: the same bytes); else one job per task.
+  // (each job's chain and points unchanged: the same bytes); else one job per task. A task of
+  // one job takes the one-job loop: lanes that carry a single chain cost more than it.
   const bool chained = !simd && !ifs.polar() && chains::enabled() && pixels < (std::size_t(1) << 31);
   const std::unique_ptr<chains::Plan> chain_plan = chained ? std::make_unique<chains::Plan>(ifs, frame, chain) : nullptr;
   const std::uint64_t per_task = chained ? chains::jobs_per_task(last - first, threads) : 1;
@@ -376,11 +377,12 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
       [&](std::size_t index, int worker) {
         const std::uint64_t job = first + index * per_task;
         const int count = static_cast<int>(std::min(per_task, last - job));
+        const bool side_by_side = chained && count > 1;
         auto run_chains = [&](const auto& sink) {
           chain_plan->run(job, count, plan.points_per_job, options.skip, options.seed, sink);
         };
         if (!narrow) {
-          if (chained)
+          if (side_by_side)
             run_chains(AccumulatorSink{acc[worker]});
           else
             scalar_job(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, acc[worker]);
@@ -395,7 +397,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         pending[worker] += count * plan.points_per_job;
         if (packed) {
           const ChannelSink sink{records[worker].data(), acc[0].sums(), &acc[0], channels};
-          if (chained)
+          if (side_by_side)
             run_chains(sink);
           else
             channel_job_for(ifs.dim())(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, sink);
@@ -403,7 +405,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         }
         const NarrowSink sink{depth ? nullptr : lows[worker].data(), acc[0].hits(),
                               depth ? cells[worker].data() : nullptr};
-        if (chained) {
+        if (side_by_side) {
           run_chains(sink);
           return;
         }
