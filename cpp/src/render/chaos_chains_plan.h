@@ -32,8 +32,9 @@ class Plan {
   Plan& operator=(const Plan&) = delete;
 
   /// Jobs [first, first + count) (count at most kMaxChains): each draws `points` points after
-  /// `skip` unplotted ones, exactly as the general path's one-job loop does, into `sink` (its
-  /// counters() and bytes per pixel, and add(pixel, channels, depth?, depth)).
+  /// `skip` unplotted ones, exactly as the general path's one-job loop does, into `sink`: its
+  /// add(pixel, channels, depth?, depth), and counters() and counter_bytes(), where the kernel
+  /// prefetches each pixel's counters.
   template <class Sink>
   void run(std::uint64_t first, int count, std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
            const Sink& sink) const {
