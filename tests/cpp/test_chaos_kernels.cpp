@@ -156,10 +156,11 @@ TEST(ChaosKernels, ChannelSumsWrapIntoTheSameBytes) {
 // The general path's jobs run side by side in the chain lanes, one job per lane: each lane is
 // that job's one-job loop (IFSFORGE_CHAOS_CHAINS=0), operation for operation, on both
 // instruction sets and any thread count, so the image is the same bytes. The systems are the
-// benchmark's (bench_chaos_paths) and one per other sink: 2D with channels, more than 8 maps,
-// recurrent in 2D and 3D, a 3D system with a channel (a wide accumulator per worker); 9e6
-// points are 3 jobs (on 2 threads, tasks of 2 and 1), 2.1e7 points 6 (one register of chains
-// and a part of another).
+// benchmark's (bench_chaos_paths: 2D with channels, more than 8 maps, recurrent in 2D and 3D),
+// a 3D system with a channel (a wide accumulator per worker) and the carpet (xy+rgba, 8 maps:
+// six dimensions, each lane's coefficients loaded and transposed); 9e6
+// points are 3 jobs (on 2 threads a task of 2 and one of 1, which takes the one-job loop),
+// 2.1e7 points 6 (on 1 thread, one register of chains and a part of another).
 TEST(ChaosKernels, ChainLanesGiveTheBytesOfTheOneJobLoop) {
   const Ifs triangle = sample("sierpinski_triangle");
   std::vector<AffineMap> maps;
@@ -169,7 +170,8 @@ TEST(ChaosKernels, ChainLanesGiveTheBytesOfTheOneJobLoop) {
   const std::vector<std::pair<Ifs, std::uint64_t>> systems = {
       {sample("colour5d_sierpinski_rgb"), 9'000'000}, {nine, 21'000'000},
       {sample("recurrent_squares"), 9'000'000},       {sample("menger_sponge"), 9'000'000},
-      {sample("recurrent_cubes"), 21'000'000},        {sample("volume_tetrahedron_alpha"), 9'000'000}};
+      {sample("recurrent_cubes"), 21'000'000},        {sample("volume_tetrahedron_alpha"), 9'000'000},
+      {sample("rgba_carpet"), 9'000'000}};
   for (const auto& [ifs, iterations] : systems) {
     RenderOptions o;
     o.width = 160;
