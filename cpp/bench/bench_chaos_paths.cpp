@@ -5,7 +5,7 @@
 // shown). A plain program, run from the repository's root: it reads the systems from
 // samples/systems.
 //
-//   build/cpp/bench/bench_chaos_paths [--points 3e7] [--repeat 3] [--samples DIR]
+//   build/cpp/bench/bench_chaos_paths [--points 3e7] [--repeat 3] [--samples DIR] [--only TEXT]
 //   /usr/bin/python3 cpp/bench/results.py bench_chaos_paths --plain   # written to RESULTS.md
 #include <cstdio>
 #include <string>
@@ -38,12 +38,13 @@ struct Case {
 
 int main(int argc, char** argv) {
   if (bench::flag(argc, argv, "help")) {
-    std::puts("bench_chaos_paths [--points P (3e7)] [--repeat R (3)] [--samples DIR]");
+    std::puts("bench_chaos_paths [--points P (3e7)] [--repeat R (3)] [--samples DIR] [--only TEXT]");
     return 0;
   }
   const auto points = static_cast<std::uint64_t>(std::stod(bench::option(argc, argv, "points", "3e7")));
   const int repeat = std::stoi(bench::option(argc, argv, "repeat", "3"));
   const std::string dir = bench::option(argc, argv, "samples", "samples/systems");
+  const std::string only = bench::option(argc, argv, "only", "");  // the rows whose label has it, and their references
   auto sample = [&](const char* name) { return read_ifs_json(dir + "/" + name + ".json"); };
   const Ifs triangle = sample("sierpinski_triangle");
   const std::vector<Case> cases = {
@@ -62,6 +63,7 @@ int main(int argc, char** argv) {
   std::printf("| system | maps | fixed CPU ms | CPU ns per point | × reference |\n| --- | ---: | ---: | ---: | ---: |\n");
   double reference = 0;
   for (const Case& c : cases) {
+    if (!c.reference && c.label.find(only) == std::string::npos) continue;
     auto cpu_seconds = [&](std::uint64_t n) {
       RenderOptions o;
       o.width = o.height = 1024;

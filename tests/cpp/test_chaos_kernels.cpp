@@ -19,17 +19,21 @@ Ifs sample(const std::string& name) {
   return read_ifs_json(std::string(IFSFORGE_SOURCE_DIR) + "/samples/systems/" + name + ".json");
 }
 
-Raster render_on(const char* isa, const Ifs& ifs, int threads) {
+Raster render_with(const char* isa, const Ifs& ifs, RenderOptions o, int threads) {
   setenv("IFSFORGE_ISA", isa, 1);
-  RenderOptions o;
-  o.width = o.height = 160;
-  o.iterations = 1'500'000;
   o.threads = threads;
-  o.seed = 7;
-  if (ifs.spatial_dims() == 3) o.view = View{30, 20};
   Raster r = renderer("chaos").render(ifs, o);
   unsetenv("IFSFORGE_ISA");
   return r;
+}
+
+Raster render_on(const char* isa, const Ifs& ifs, int threads) {
+  RenderOptions o;
+  o.width = o.height = 160;
+  o.iterations = 1'500'000;
+  o.seed = 7;
+  if (ifs.spatial_dims() == 3) o.view = View{30, 20};
+  return render_with(isa, ifs, o, threads);
 }
 
 bool cpu_has_avx2() {
@@ -146,6 +150,55 @@ TEST(ChaosKernels, ChannelSumsWrapIntoTheSameBytes) {
       EXPECT_EQ(images[0].channels.size(), images[0].density.size() * (ifs.dim() - 2)) << name;
       EXPECT_GT(images[0].covered(), std::size_t(size.first * size.second / 8)) << name;
     }
+  }
+}
+
+// The general path's jobs run side by side in the chain lanes, one job per lane: each lane is
+// that job's one-job loop (IFSFORGE_CHAOS_CHAINS=0), operation for operation, on both
+// instruction sets and any thread count, so the image is the same bytes. The systems are the
+// benchmark's (bench_chaos_paths: 2D with channels, more than 8 maps, recurrent in 2D and 3D),
+// a 3D system with a channel (a wide accumulator per worker) and the carpet (xy+rgba, 8 maps:
+// six dimensions, each lane's coefficients loaded and transposed); 9e6
+// points are 3 jobs (on 2 threads a task of 2 and one of 1, which takes the one-job loop),
+// 2.1e7 points 6 (on 1 thread, one register of chains and a part of another).
+TEST(ChaosKernels, ChainLanesGiveTheBytesOfTheOneJobLoop) {
+  const Ifs triangle = sample("sierpinski_triangle");
+  std::vector<AffineMap> maps;
+  for (int copy = 0; copy < 3; ++copy)
+    for (std::size_t i = 0; i < triangle.size(); ++i) maps.push_back(triangle.map(i));
+  const Ifs nine("triangle x3", triangle.layout(), maps, std::vector<double>(maps.size(), 1.0));
+  const std::vector<std::pair<Ifs, std::uint64_t>> systems = {
+      {sample("colour5d_sierpinski_rgb"), 9'000'000}, {nine, 21'000'000},
+      {sample("recurrent_squares"), 9'000'000},       {sample("menger_sponge"), 9'000'000},
+      {sample("recurrent_cubes"), 21'000'000},        {sample("volume_tetrahedron_alpha"), 9'000'000},
+      {sample("rgba_carpet"), 9'000'000}};
+  for (const auto& [ifs, iterations] : systems) {
+    RenderOptions o;
+    o.width = 160;
+    o.height = 120;
+    o.iterations = iterations;
+    o.seed = 5;
+    o.skip = 20;
+    if (ifs.spatial_dims() == 3) o.view = View{30, 20};
+    setenv("IFSFORGE_CHAOS_CHAINS", "0", 1);
+    o.threads = 1;
+    const Raster reference = renderer("chaos").render(ifs, o);
+    unsetenv("IFSFORGE_CHAOS_CHAINS");
+    for (const char* isa : {"baseline", "avx2"}) {
+      if (std::string(isa) == "avx2" && !cpu_has_avx2()) continue;
+      for (int threads : {1, 2}) {
+        const Raster lanes = render_with(isa, ifs, o, threads);
+        EXPECT_EQ(reference.density, lanes.density) << ifs.name() << " " << isa << " " << threads;
+        EXPECT_EQ(reference.depth, lanes.depth) << ifs.name() << " " << isa << " " << threads;
+        EXPECT_EQ(reference.channels, lanes.channels) << ifs.name() << " " << isa << " " << threads;
+        EXPECT_EQ(reference.points, lanes.points) << ifs.name();
+      }
+    }
+    EXPECT_GT(reference.covered(), 1000u) << ifs.name();
+    // The chain lanes read the forced instruction set (as the task of all the jobs starts):
+    // these systems do take them.
+    EXPECT_THROW(render_with("avx512-imaginary", ifs, o, 1), InputError) << ifs.name();
+    unsetenv("IFSFORGE_ISA");
   }
 }
 

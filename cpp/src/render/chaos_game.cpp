@@ -13,6 +13,7 @@
 #include "ifsforge/model/fixed_maps.h"
 #include "ifsforge/model/orbit.h"
 #include "ifsforge/render/accumulator.h"
+#include "chaos_chains_plan.h"
 #include "chaos_lanes.h"
 #include "chaos_tiles.h"
 #include "polar_render.h"
@@ -39,6 +40,8 @@ using lanes::HitDepth;
 struct AccumulatorSink {
   Accumulator& acc;
   void prefetch(std::size_t pixel) const { acc.prefetch(pixel); }
+  const void* counters() const { return acc.hits(); }  // the chain lanes' prefetch (chaos_chains.h)
+  std::size_t counter_bytes() const { return sizeof(std::uint64_t); }
   void add(std::size_t pixel, const double* channels, bool depth, double toward) const {
     acc.add(pixel, channels);
     if (depth) acc.add_depth(pixel, toward);
@@ -53,6 +56,8 @@ struct NarrowSink {
   std::uint64_t* carry;
   HitDepth* cells;
   void prefetch(std::size_t pixel) const { __builtin_prefetch(cells ? (void*)(cells + pixel) : (void*)(low + pixel), 1); }
+  const void* counters() const { return cells ? (const void*)cells : (const void*)low; }
+  std::size_t counter_bytes() const { return cells ? sizeof(HitDepth) : 1; }
   void add(std::size_t pixel, const double*, bool depth, double toward) const {
     if (!cells) {
       if (++low[pixel] == 0) __atomic_fetch_add(carry + pixel, 256, __ATOMIC_RELAXED);
@@ -76,6 +81,8 @@ struct ChannelSink {
     __builtin_prefetch(cells + pixel * (channels + 1), 1);
     __builtin_prefetch(cells + pixel * (channels + 1) + channels, 1);
   }
+  const void* counters() const { return cells; }
+  std::size_t counter_bytes() const { return sizeof(std::uint32_t) * (channels + 1); }
   void add(std::size_t pixel, const double* values, bool, double) const {
     std::uint32_t* cell = cells + pixel * (channels + 1);
     ++cell[0];
@@ -358,13 +365,27 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   const lanes::Maps maps = simd ? pixel_maps(ifs, frame, n) : lanes::Maps{};
   const lanes::Kernel kernel = simd ? lanes::lane_kernel(n) : nullptr;
   const Point start = ifs.start_point();
+  // The general path's affine jobs run side by side in the chain lanes, a task of up to 8 jobs
+  // (each job's chain and points unchanged: the same bytes); else one job per task. A task of
+  // one job takes the one-job loop: lanes that carry a single chain cost more than it.
+  const bool chained = !simd && !ifs.polar() && chains::enabled() && pixels < (std::size_t(1) << 31);
+  const std::unique_ptr<chains::Plan> chain_plan = chained ? std::make_unique<chains::Plan>(ifs, frame, chain) : nullptr;
+  const std::uint64_t per_task = chained ? chains::jobs_per_task(last - first, threads) : 1;
 
   parallel_jobs(
-      last - first, threads,
+      (last - first + per_task - 1) / per_task, threads,
       [&](std::size_t index, int worker) {
-        const std::uint64_t job = first + index;
+        const std::uint64_t job = first + index * per_task;
+        const int count = static_cast<int>(std::min(per_task, last - job));
+        const bool side_by_side = chained && count > 1;
+        auto run_chains = [&](const auto& sink) {
+          chain_plan->run(job, count, plan.points_per_job, options.skip, options.seed, sink);
+        };
         if (!narrow) {
-          scalar_job(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, acc[worker]);
+          if (side_by_side)
+            run_chains(AccumulatorSink{acc[worker]});
+          else
+            scalar_job(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, acc[worker]);
           return;
         }
         if (depth && cells[worker].empty())
@@ -372,15 +393,22 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         if (!depth && !packed && lows[worker].empty()) assign_large(lows[worker], pixels + 1, std::uint8_t(0));
         if (packed && records[worker].empty()) assign_large(records[worker], (pixels + 1) * stride, 0u);
         // A 32-bit counter could overflow if one pixel took every point: flush first.
-        if ((depth || packed) && pending[worker] + plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
-        pending[worker] += plan.points_per_job;
+        if ((depth || packed) && pending[worker] + count * plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
+        pending[worker] += count * plan.points_per_job;
         if (packed) {
           const ChannelSink sink{records[worker].data(), acc[0].sums(), &acc[0], channels};
-          channel_job_for(ifs.dim())(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, sink);
+          if (side_by_side)
+            run_chains(sink);
+          else
+            channel_job_for(ifs.dim())(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, sink);
           return;
         }
         const NarrowSink sink{depth ? nullptr : lows[worker].data(), acc[0].hits(),
                               depth ? cells[worker].data() : nullptr};
+        if (side_by_side) {
+          run_chains(sink);
+          return;
+        }
         if (!simd) {
           const int dim = ifs.dim();
           (dim == 2 ? chaos_job_fixed<2, NarrowSink> : chaos_job_fixed<3, NarrowSink>)(

@@ -33,6 +33,8 @@ class Rng {
   }
   /// Uniform in [0, 1) with 53 bits.
   double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  /// @brief The four state words, for a vector kernel that steps this stream itself.
+  const std::uint64_t* state() const { return s_; }
 
  private:
   std::uint64_t s_[4];

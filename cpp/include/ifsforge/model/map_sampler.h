@@ -17,6 +17,10 @@ class MapSampler {
     return (column & keep) | (alias_[column] & ~keep);
   }
   std::size_t size() const { return size_; }
+  /// @brief Column `column`'s split: the low word below threshold(column) keeps the column,
+  /// else alias(column) (what a vector kernel draws from, the same way).
+  std::uint32_t threshold(std::uint32_t column) const { return threshold_[column]; }
+  std::uint32_t alias(std::uint32_t column) const { return alias_[column]; }
 
  private:
   std::uint64_t size_;

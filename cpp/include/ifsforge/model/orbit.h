@@ -35,8 +35,10 @@ class MapChain {
   std::uint32_t start(Rng& rng) const { return recurrent_ ? first_(rng.next()) : 0; }
   /// @brief The map that follows `previous`, for one 64-bit random word.
   std::uint32_t next(std::uint32_t previous, std::uint64_t random) const {
-    return rows_[recurrent_ ? previous : 0](random);
+    return row(previous)(random);
   }
+  /// @brief The sampler that draws the map after `previous`.
+  const MapSampler& row(std::uint32_t previous) const { return rows_[recurrent_ ? previous : 0]; }
 
  private:
   bool recurrent_ = false;

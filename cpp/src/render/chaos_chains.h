@@ -1,0 +1,99 @@
+#pragma once
+/// @file The chaos game's chain lanes (seed 5.1.1): the general path's double-precision
+/// walk, one job's chain per lane, up to 8 jobs at once. Each lane draws from its job's own
+/// xoshiro256+ stream and MapChain (recurrent rows included, 3.3.1), applies the map with the
+/// general path's operations in its order (no fused multiply-add), and projects the point the
+/// way that path does, so every point, and the image, is that path's bit for bit whatever the
+/// instruction set. One kernel per instruction set, each in its own translation unit
+/// (chaos_chains_avx2.cpp, chaos_chains_baseline.cpp); like chaos_lanes.h this header holds
+/// plain data only, so nothing of ours is compiled for a wider set than the one that runs it.
+#include <cstddef>
+#include <cstdint>
+
+namespace ifsforge::chains {
+
+constexpr int kMaxDim = 8;     ///< the general path's largest dimension
+constexpr int kWidth = 4;      ///< doubles per AVX2 register
+constexpr int kMaxChains = 8;  ///< jobs in flight: two registers, to hide the map's latency
+/// Points per batch; a buffer holds kMaxChains more (a step's stores run past). Two buffers
+/// alternate: a batch goes to the sink once the next one is full, so its counters, asked for
+/// as each point was made, have arrived (a large image's counters miss the caches).
+constexpr std::size_t kBatch = 32;
+constexpr std::size_t kStride = kBatch + kMaxChains;
+
+/// A system's maps and the frame's projection, as the general path (chaos_game.cpp) uses them.
+struct Maps {
+  int dim, spatial, count;
+  bool recurrent;
+  int extras;                    ///< values per point beside its slot: the channels, then the depth in 3D
+  int stride;                    ///< doubles per map in `coefficients`: dim * dim + dim, padded with zeros to a multiple of 4
+  const double* coefficients;    ///< map i at i * stride: a row by row, then b
+  const std::uint64_t* choices;  ///< [row * count + column]: alias << 32 | threshold (MapSampler)
+  /// px = u0 + u . x, py = v0 + v . x over min(dim, 3) terms (zero past the spatial ones), and
+  /// the depth toward . x in 3D.
+  double u[3], v[3], u0, v0, toward[3];
+  double width, height;
+  std::uint32_t columns, trash;  ///< the image's width in pixels; the slot of points off it
+};
+
+/// Up to kMaxChains jobs: each chain's start, stream state and current map; the points per
+/// chain; where the points go.
+struct Job {
+  int chains;
+  double start[kMaxDim];
+  std::uint64_t rng[kMaxChains][4];  ///< xoshiro256+ (core/random.h), after MapChain::start
+  std::uint32_t map[kMaxChains];     ///< MapChain::start's state
+  std::uint64_t points, skip;
+  /// Where a slot's counters are: counters + slot * counter_bytes (prefetched, never written).
+  const char* counters;
+  std::size_t counter_bytes;
+  std::uint32_t* slots;  ///< 2 * kStride slots: buffer b at b * kStride
+  double* extras;        ///< 2 * extras * kStride values: extra e of buffer b's point i at (b * extras + e) * kStride + i
+  /// Receives each batch: the points' slots and extras, chain 0's point first in each step.
+  void (*flush)(void* sink, const std::uint32_t* slots, const double* extras, std::size_t n);
+  void* sink;
+};
+
+namespace {  // internal linkage: each kernel's unit compiles its own copy for its own set
+
+/// The two alternating batch buffers of a job.
+class Batches {
+ public:
+  Batches(const Job& job, int extras) : job_(job), extras_(extras) {}
+  std::uint32_t* slots() const { return job_.slots + buffer_ * kStride; }
+  double* extras() const { return job_.extras + std::size_t(buffer_) * extras_ * kStride; }
+  std::size_t filled() const { return filled_; }
+  /// After a step of `chains` points: the other buffer to the sink once this one is full.
+  void advance(int chains) {
+    if ((filled_ += chains) + kMaxChains <= kBatch) return;
+    send_other();
+    waiting_ = filled_;
+    filled_ = 0;
+    buffer_ ^= 1;
+  }
+  void finish() {
+    send_other();
+    waiting_ = 0;
+    if (filled_) job_.flush(job_.sink, slots(), extras(), filled_);
+  }
+
+ private:
+  void send_other() const {
+    if (!waiting_) return;
+    const int other = buffer_ ^ 1;
+    job_.flush(job_.sink, job_.slots + other * kStride, job_.extras + std::size_t(other) * extras_ * kStride, waiting_);
+  }
+  const Job& job_;
+  int extras_;
+  int buffer_ = 0;
+  std::size_t filled_ = 0, waiting_ = 0;
+};
+
+}  // namespace
+
+using Kernel = void (*)(const Maps&, const Job&);
+
+void run_baseline(const Maps&, const Job&);
+void run_avx2(const Maps&, const Job&);
+
+}  // namespace ifsforge::chains

@@ -1,0 +1,222 @@
+// The chain lanes for AVX2 (compiled with -mavx2 -mfma whatever the library's flags; run only
+// where the CPU has both). Four chains per register of doubles, one or two registers; each lane
+// performs the baseline kernel's operations in its order: separate multiplies and adds
+// (-ffp-contract=off keeps the compiler from fusing them), so the bits are the same. It includes
+// nothing of the library but chaos_chains.h, and its helpers have internal linkage.
+#include "chaos_chains.h"
+
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+
+namespace ifsforge::chains {
+namespace {
+
+/// Each lane's map's coefficients (a row by row, then b), for four lanes at once. A coefficient
+/// that every map shares (the same bits: similitudes of one ratio share their a) is a constant;
+/// the others, with at most four maps, come from registers that hold every map's (a permute
+/// each), else from each lane's row, loaded, the four rows transposed a register at a time
+/// (loads and shuffles cost less than gathers).
+template <int N, bool kFew>
+struct Coefficients {
+  static constexpr int kCount = N * N + N;
+  static constexpr int kPadded = (kCount + 3) / 4 * 4;  // whole registers
+  __m256d shared[kPadded];  // map 0's, broadcast
+  __m256d tables[kFew ? kCount : 1];
+  bool varies[kPadded];  // kFew: per coefficient; else per register of four
+  const double* rows;
+  long long stride;  // kPadded, as Plan lays the rows out
+
+  explicit Coefficients(const Maps& m) : rows(m.coefficients), stride(m.stride) {
+    for (int k = 0; k < kPadded; ++k) {
+      shared[k] = _mm256_set1_pd(rows[k]);
+      varies[k] = false;
+      for (int i = 1; i < m.count; ++i) varies[k] |= __builtin_memcmp(rows + i * stride + k, rows + k, sizeof(double)) != 0;
+    }
+    if constexpr (kFew) {
+      for (int k = 0; k < kCount; ++k) {
+        alignas(32) double across[kWidth] = {};
+        for (int i = 0; i < m.count; ++i) across[i] = rows[i * stride + k];
+        tables[k] = _mm256_load_pd(across);
+      }
+    } else {
+      for (int j = 0; j < kPadded; j += 4) varies[j] = varies[j] || varies[j + 1] || varies[j + 2] || varies[j + 3];
+    }
+  }
+
+  void fetch(__m256i map, __m256d* out) const {
+    if constexpr (kFew) {
+      // Map i's double is floats 2i and 2i + 1 of a table.
+      const __m256i twice = _mm256_slli_epi64(map, 1);
+      const __m256i pair = _mm256_or_si256(twice, _mm256_slli_epi64(_mm256_add_epi64(twice, _mm256_set1_epi64x(1)), 32));
+#pragma GCC unroll 80
+      for (int k = 0; k < kCount; ++k)
+        out[k] = varies[k] ? _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(tables[k]), pair)) : shared[k];
+    } else {
+      alignas(32) std::uint64_t at[kWidth];
+      _mm256_store_si256(reinterpret_cast<__m256i*>(at), _mm256_mul_epu32(map, _mm256_set1_epi64x(stride)));
+#pragma GCC unroll 20
+      for (int j = 0; j < kPadded; j += 4) {
+        if (!varies[j]) {
+          for (int k = j; k < j + 4; ++k) out[k] = shared[k];
+          continue;
+        }
+        const __m256d r0 = _mm256_loadu_pd(rows + at[0] + j), r1 = _mm256_loadu_pd(rows + at[1] + j);
+        const __m256d r2 = _mm256_loadu_pd(rows + at[2] + j), r3 = _mm256_loadu_pd(rows + at[3] + j);
+        const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+        const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+        out[j] = _mm256_permute2f128_pd(t0, t2, 0x20);
+        out[j + 1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+        out[j + 2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+        out[j + 3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+      }
+    }
+  }
+};
+
+/// Four chains: their points, xoshiro256+ states and current maps.
+template <int N>
+struct Quad {
+  __m256d p[N];
+  __m256i s0, s1, s2, s3, map;
+
+  __m256i next() {
+    const __m256i result = _mm256_add_epi64(s0, s3);
+    const __m256i t = _mm256_slli_epi64(s1, 17);
+    s2 = _mm256_xor_si256(s2, s0);
+    s3 = _mm256_xor_si256(s3, s1);
+    s1 = _mm256_xor_si256(s1, s2);
+    s0 = _mm256_xor_si256(s0, s3);
+    s2 = _mm256_xor_si256(s2, t);
+    s3 = _mm256_or_si256(_mm256_slli_epi64(s3, 45), _mm256_srli_epi64(s3, 19));
+    return result;
+  }
+
+  /// MapSampler's draw from the row of the current map (row 0 unless recurrent).
+  void choose(const Maps& m, __m256i count) {
+    const __m256i random = next();
+    const __m256i column = _mm256_srli_epi64(_mm256_mul_epu32(_mm256_srli_epi64(random, 32), count), 32);
+    const __m256i at = m.recurrent ? _mm256_add_epi64(_mm256_mul_epu32(map, count), column) : column;
+    const __m256i choice =
+        _mm256_i64gather_epi64(reinterpret_cast<const long long*>(m.choices), at, 8);
+    const __m256i low32 = _mm256_set1_epi64x(0xFFFFFFFFll);
+    // Both sides below 2^32: the signed 64-bit compare is the unsigned 32-bit one.
+    const __m256i keep = _mm256_cmpgt_epi64(_mm256_and_si256(choice, low32), _mm256_and_si256(random, low32));
+    map = _mm256_blendv_epi8(_mm256_srli_epi64(choice, 32), column, keep);
+  }
+
+  /// x' = ((b + a0 x0) + a1 x1) + ...: the general path's order.
+  template <bool kFew>
+  void apply(const Coefficients<N, kFew>& coefficients) {
+    __m256d k[Coefficients<N, kFew>::kPadded];
+    coefficients.fetch(map, k);
+    __m256d q[N];
+    for (int r = 0; r < N; ++r) {
+      __m256d value = k[N * N + r];
+      for (int c = 0; c < N; ++c) value = _mm256_add_pd(value, _mm256_mul_pd(k[r * N + c], p[c]));
+      q[r] = value;
+    }
+    for (int r = 0; r < N; ++r) p[r] = q[r];
+  }
+};
+
+template <int N, int G, bool kFew>
+void run(const Maps& m, const Job& job) {
+  constexpr int kTerms = N < 3 ? N : 3;
+  const Coefficients<N, kFew> coefficients(m);
+  Quad<N> quads[G];
+  for (int g = 0; g < G; ++g) {
+    alignas(32) std::uint64_t s[4][kWidth], map[kWidth];
+    for (int k = 0; k < kWidth; ++k) {
+      const int chain = g * kWidth + k < job.chains ? g * kWidth + k : 0;  // spare lanes copy chain 0
+      for (int w = 0; w < 4; ++w) s[w][k] = job.rng[chain][w];
+      map[k] = job.map[chain];
+    }
+    Quad<N>& q = quads[g];
+    for (int c = 0; c < N; ++c) q.p[c] = _mm256_set1_pd(job.start[c]);
+    q.s0 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[0]));
+    q.s1 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[1]));
+    q.s2 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[2]));
+    q.s3 = _mm256_load_si256(reinterpret_cast<const __m256i*>(s[3]));
+    q.map = _mm256_load_si256(reinterpret_cast<const __m256i*>(map));
+  }
+  const __m256i count = _mm256_set1_epi64x(m.count);
+  for (std::uint64_t i = 0; i < job.skip; ++i)
+    for (auto& q : quads) {
+      q.choose(m, count);
+      q.apply(coefficients);
+    }
+  const __m256d zero = _mm256_setzero_pd(), width = _mm256_set1_pd(m.width), height = _mm256_set1_pd(m.height);
+  const __m128i columns = _mm_set1_epi32(static_cast<int>(m.columns)), trash = _mm_set1_epi32(static_cast<int>(m.trash));
+  const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
+  const int channels = m.dim - m.spatial;
+  Batches batches(job, m.extras);
+  for (std::uint64_t i = 0; i < job.points; ++i) {
+    std::uint32_t* slots = batches.slots();
+    double* extras = batches.extras();
+    const std::size_t filled = batches.filled();
+    for (int g = 0; g < G; ++g) {
+      Quad<N>& q = quads[g];
+      q.choose(m, count);
+      q.apply(coefficients);
+      __m256d px = _mm256_set1_pd(m.u0), py = _mm256_set1_pd(m.v0);
+      for (int t = 0; t < kTerms; ++t) {
+        px = _mm256_add_pd(px, _mm256_mul_pd(_mm256_set1_pd(m.u[t]), q.p[t]));
+        py = _mm256_add_pd(py, _mm256_mul_pd(_mm256_set1_pd(m.v[t]), q.p[t]));
+      }
+      // Ordered compares: a NaN is outside, as in the general path.
+      const __m256d inside = _mm256_and_pd(
+          _mm256_and_pd(_mm256_cmp_pd(px, zero, _CMP_GE_OQ), _mm256_cmp_pd(px, width, _CMP_LT_OQ)),
+          _mm256_and_pd(_mm256_cmp_pd(py, zero, _CMP_GE_OQ), _mm256_cmp_pd(py, height, _CMP_LT_OQ)));
+      const __m128i in32 =
+          _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(inside), low_halves));
+      // Inside, both are in [0, 2^31): truncation is the general path's size_t conversion.
+      const __m128i slot =
+          _mm_add_epi32(_mm_mullo_epi32(_mm256_cvttpd_epi32(py), columns), _mm256_cvttpd_epi32(px));
+      const std::size_t at = filled + g * kWidth;
+      const __m128i slot4 = _mm_blendv_epi8(trash, slot, in32);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(slots + at), slot4);
+      _mm_prefetch(job.counters + std::uint32_t(_mm_cvtsi128_si32(slot4)) * job.counter_bytes, _MM_HINT_T0);
+      _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 1)) * job.counter_bytes, _MM_HINT_T0);
+      _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 2)) * job.counter_bytes, _MM_HINT_T0);
+      _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 3)) * job.counter_bytes, _MM_HINT_T0);
+      for (int c = 0; c < channels; ++c) _mm256_storeu_pd(extras + c * kStride + at, q.p[m.spatial + c]);
+      if constexpr (N >= 3)
+        if (m.spatial == 3) {
+          const __m256d depth = _mm256_add_pd(
+              _mm256_add_pd(_mm256_mul_pd(_mm256_set1_pd(m.toward[0]), q.p[0]),
+                            _mm256_mul_pd(_mm256_set1_pd(m.toward[1]), q.p[1])),
+              _mm256_mul_pd(_mm256_set1_pd(m.toward[2]), q.p[2]));
+          _mm256_storeu_pd(extras + channels * kStride + at, depth);
+        }
+    }
+    batches.advance(job.chains);
+  }
+  batches.finish();
+}
+
+template <int N>
+void run_dim(const Maps& m, const Job& job) {
+  if (m.count <= kWidth)
+    (job.chains > kWidth ? run<N, 2, true> : run<N, 1, true>)(m, job);
+  else
+    (job.chains > kWidth ? run<N, 2, false> : run<N, 1, false>)(m, job);
+}
+
+}  // namespace
+
+void run_avx2(const Maps& m, const Job& job) {
+  using Run = void (*)(const Maps&, const Job&);
+  static constexpr Run kRuns[] = {run_dim<2>, run_dim<3>, run_dim<4>, run_dim<5>,
+                                  run_dim<6>, run_dim<7>, run_dim<8>};
+  kRuns[m.dim - 2](m, job);
+}
+
+}  // namespace ifsforge::chains
+
+#else  // not x86-64: the host never picks this
+
+namespace ifsforge::chains {
+void run_avx2(const Maps& m, const Job& job) { run_baseline(m, job); }
+}  // namespace ifsforge::chains
+
+#endif

@@ -1,0 +1,84 @@
+// The chain lanes for any x86-64: each chain's step written out as the general path takes it
+// (chaos_game.cpp: MapSampler's draw, b + a x term by term, the projection term by term), the
+// chains side by side in each step so that their latencies overlap. Compiled with
+// -ffp-contract=off like the whole library: the AVX2 kernel's separate multiplies and adds are
+// these. It includes nothing of the library but chaos_chains.h.
+#include "chaos_chains.h"
+
+namespace ifsforge::chains {
+namespace {
+
+template <int N>
+void run(const Maps& m, const Job& job) {
+  constexpr int kTerms = N < 3 ? N : 3;
+  const int chains = job.chains;
+  double p[kMaxChains][N];
+  std::uint64_t s[kMaxChains][4];
+  std::uint32_t map[kMaxChains];
+  for (int k = 0; k < chains; ++k) {
+    for (int c = 0; c < N; ++c) p[k][c] = job.start[c];
+    for (int w = 0; w < 4; ++w) s[k][w] = job.rng[k][w];
+    map[k] = job.map[k];
+  }
+  auto step = [&](int k) {
+    std::uint64_t* st = s[k];  // xoshiro256+ (core/random.h)
+    const std::uint64_t random = st[0] + st[3];
+    const std::uint64_t t = st[1] << 17;
+    st[2] ^= st[0];
+    st[3] ^= st[1];
+    st[1] ^= st[2];
+    st[0] ^= st[3];
+    st[2] ^= t;
+    st[3] = (st[3] << 45) | (st[3] >> 19);
+    const auto column = static_cast<std::uint32_t>(((random >> 32) * std::uint64_t(m.count)) >> 32);
+    const std::uint64_t choice = m.choices[(m.recurrent ? map[k] * std::uint64_t(m.count) : 0) + column];
+    map[k] = static_cast<std::uint32_t>(random) < static_cast<std::uint32_t>(choice) ? column
+                                                                                      : std::uint32_t(choice >> 32);
+    const double* a = m.coefficients + std::size_t(map[k]) * m.stride;
+    double q[N];
+    for (int r = 0; r < N; ++r) {
+      double value = a[N * N + r];
+      for (int c = 0; c < N; ++c) value += a[r * N + c] * p[k][c];
+      q[r] = value;
+    }
+    for (int c = 0; c < N; ++c) p[k][c] = q[c];
+  };
+  for (std::uint64_t i = 0; i < job.skip; ++i)
+    for (int k = 0; k < chains; ++k) step(k);
+  const int channels = m.dim - m.spatial;
+  Batches batches(job, m.extras);
+  for (std::uint64_t i = 0; i < job.points; ++i) {
+    std::uint32_t* slots = batches.slots();
+    double* extras = batches.extras();
+    std::size_t filled = batches.filled();
+    for (int k = 0; k < chains; ++k) {
+      step(k);
+      double px = m.u0, py = m.v0;
+      for (int t = 0; t < kTerms; ++t) {
+        px += m.u[t] * p[k][t];
+        py += m.v[t] * p[k][t];
+      }
+      const bool inside = px >= 0.0 && px < m.width && py >= 0.0 && py < m.height;
+      slots[filled] = inside ? std::uint32_t(py) * m.columns + std::uint32_t(px) : m.trash;
+      __builtin_prefetch(job.counters + slots[filled] * job.counter_bytes);
+      for (int c = 0; c < channels; ++c) extras[c * kStride + filled] = p[k][m.spatial + c];
+      if constexpr (N >= 3)
+        if (m.spatial == 3)
+          extras[channels * kStride + filled] =
+              m.toward[0] * p[k][0] + m.toward[1] * p[k][1] + m.toward[2] * p[k][2];
+      ++filled;
+    }
+    batches.advance(chains);
+  }
+  batches.finish();
+}
+
+}  // namespace
+
+void run_baseline(const Maps& m, const Job& job) {
+  using Run = void (*)(const Maps&, const Job&);
+  static constexpr Run kRuns[] = {run<2>, run<3>, run<4>, run<5>, run<6>, run<7>, run<8>};
+  kRuns[m.dim - 2](m, job);
+}
+
+}  // namespace ifsforge::chains

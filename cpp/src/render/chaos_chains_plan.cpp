@@ -1,0 +1,90 @@
+#include "chaos_chains_plan.h"
+
+#include <cstdlib>
+#include <cstring>
+
+#include "chaos_lanes.h"
+#include "ifsforge/core/random.h"
+
+namespace ifsforge::chains {
+
+bool enabled() {
+  const char* chains = std::getenv("IFSFORGE_CHAOS_CHAINS");
+  return !(chains && std::strcmp(chains, "0") == 0);
+}
+
+Kernel kernel() { return std::strcmp(lanes::lane_isa(), "avx2") == 0 ? run_avx2 : run_baseline; }
+
+std::uint64_t jobs_per_task(std::uint64_t jobs, int threads) {
+  const std::uint64_t share = (jobs + threads - 1) / threads;
+  return std::clamp<std::uint64_t>(share, 1, kMaxChains);
+}
+
+Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain) : ifs_(ifs), chain_(chain) {
+  const int n = ifs.dim(), count = static_cast<int>(ifs.size()), spatial = ifs.spatial_dims();
+  const int stride = (n * n + n + 3) / 4 * 4;  // whole registers of four doubles
+  coefficients_.assign(std::size_t(count) * stride, 0.0);
+  for (int i = 0; i < count; ++i) {
+    double* row = coefficients_.data() + std::size_t(i) * stride;
+    for (int r = 0; r < n; ++r) {
+      for (int c = 0; c < n; ++c) row[r * n + c] = ifs.map(i).a(r, c);
+      row[n * n + r] = ifs.map(i).b(r);
+    }
+  }
+  // The chain's samplers, row by row (one row unless recurrent): the kernels draw as MapSampler.
+  const int rows = chain.follows_transitions() ? count : 1;
+  for (int row = 0; row < rows; ++row)
+    for (int column = 0; column < count; ++column) {
+      const MapSampler& sampler = chain.row(row);
+      choices_.push_back(std::uint64_t(sampler.alias(column)) << 32 | sampler.threshold(column));
+    }
+  Maps& m = maps_;
+  m.dim = n;
+  m.spatial = spatial;
+  m.count = count;
+  m.recurrent = chain.follows_transitions();
+  m.extras = n - spatial + (spatial == 3);
+  m.stride = stride;
+  m.coefficients = coefficients_.data();
+  m.choices = choices_.data();
+  // The general path's projection (chaos_game.cpp): the same doubles, the same zeros.
+  const auto& proj = frame.projection();
+  const double s = 1.0 / frame.pixel_size();
+  for (int k = 0; k < spatial && k < 3; ++k) {
+    m.u[k] = proj[0][k] * s;
+    m.v[k] = -proj[1][k] * s;
+  }
+  m.u0 = -frame.window().xmin * s;
+  m.v0 = frame.window().ymax * s;
+  for (int k = 0; k < 3; ++k) m.toward[k] = frame.toward_viewer()[k];
+  m.width = frame.width();
+  m.height = frame.height();
+  m.columns = static_cast<std::uint32_t>(frame.width());
+  m.trash = static_cast<std::uint32_t>(std::uint64_t(frame.width()) * frame.height());
+}
+
+void Plan::run(std::uint64_t first, int count, std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
+               Flush flush, void* target, const void* counters, std::size_t counter_bytes) const {
+  Job job{};
+  job.chains = count;
+  const Point start = ifs_.start_point();
+  for (int c = 0; c < maps_.dim; ++c) job.start[c] = start[c];
+  for (int k = 0; k < count; ++k) {
+    Rng rng(seed, first + k);  // the job's own stream, as the one-job loop draws it
+    job.map[k] = chain_.start(rng);
+    for (int w = 0; w < 4; ++w) job.rng[k][w] = rng.state()[w];
+  }
+  job.points = points;
+  job.skip = skip;
+  job.counters = static_cast<const char*>(counters);
+  job.counter_bytes = counter_bytes;
+  std::vector<std::uint32_t> slots(2 * kStride);
+  std::vector<double> extras(2 * std::size_t(maps_.extras) * kStride + 1);
+  job.slots = slots.data();
+  job.extras = extras.data();
+  job.flush = flush;
+  job.sink = target;
+  kernel()(maps_, job);
+}
+
+}  // namespace ifsforge::chains
