@@ -8,6 +8,7 @@
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/deblock.h"
 #include "ifsforge/pifs/planes.h"
+#include "ifsforge/pifs/residual.h"
 
 namespace ifsforge {
 namespace {
@@ -153,6 +154,7 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
     const int lm = half ? m + 1 : m;
     PifsRaster p = decode_plane(code, plane, lm, options.decoder, options.iterations, inner);
     if (options.deblock) deblock(code, plane, lm, p, inner);
+    add_residual(plane.residual, plane.width, plane.height, lm, p, inner);  // after deblocking, as encoded
     // Crop away the padding (in place: rows only move toward the front).
     const int cw = std::min(full_w, p.width), ch = std::min(full_h, p.height);
     for (int y = 1; y < ch && cw < p.width; ++y)
