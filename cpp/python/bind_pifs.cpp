@@ -115,7 +115,8 @@ void bind_pifs(py::module_& m) {
 
   options_class<PifsEncodeOptions>(m, "PifsEncodeOptions",
                                     "The settings of pifs_encode() (keywords of the same names).")
-      .def_readwrite("min_block", &PifsEncodeOptions::min_block, "smallest range cell, pixels (power of two, >= 2; 0: 2 at ratios up to 16:1 or quality <= 2, else 4)")
+      .def_readwrite("min_block", &PifsEncodeOptions::min_block, "smallest range cell, pixels (power of two, >= 2; 0: 8 under bytes or ratio with the residual "
+                     "layer, else 2 at ratios up to 16:1 or quality <= 2, else 4)")
       .def_readwrite("max_block", &PifsEncodeOptions::max_block, "largest range cell, pixels (power of two)")
       .def_readwrite("s_bits", &PifsEncodeOptions::s_bits, "contrast bits (Eq. 29's s quantised)")
       .def_readwrite("dc_step", &PifsEncodeOptions::dc_step, "range-mean quantisation, 8-bit levels")

@@ -166,9 +166,9 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
     return code;
   }
   // Rate control: the file size falls as λ rises; search log λ for the largest file ≤ target.
-  // Chroma samples stand for 2×2 pixels, so their errors weigh 4× (and their residual step halves).
-  // The residual layer's step follows λ: a uniform quantiser's distortion falls by about
-  // kResidualLambda·step² per bit, so the two layers trade error for bits at the same price. Each round tries two values of
+  // Chroma samples stand for 2×2 pixels, so their errors weigh 4× (and their residual step
+  // halves). The residual layer's step follows λ (step² = λ / kResidualLambda), so the quadtree
+  // and the residual trade error for bits at the same price. Each round tries two values of
   // λ at once (a trisection; every plane of both is one job, the largest planes first), so the
   // rate control keeps two threads busy; the values tried never depend on the thread count.
   struct Probe {

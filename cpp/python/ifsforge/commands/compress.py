@@ -20,7 +20,8 @@ def register(subparsers):
     rate.add_argument("--quality", type=common.float_option(0, 255),
                       help=f"collage RMS error threshold in 8-bit levels (smaller is better; default {o.quality:g})")
     p.add_argument("--min-block", type=common.int_option(0, 4096), default=o.min_block,
-                   help="smallest range cell, pixels (power of two, at least 2; 0: 2 at ratios up to 16:1, else 4)")
+                   help="smallest range cell, pixels (power of two, at least 2; 0: 8 with the residual layer, "
+                   "else 2 at ratios up to 16:1, else 4)")
     p.add_argument("--max-block", type=common.count_option(4096), default=o.max_block, help="largest range cell, pixels (power of two)")
     p.add_argument("--no-ycbcr", action="store_true", help="code R, G, B as they are (no YCbCr 4:2:0)")
     p.add_argument("--no-residual", action="store_true",
