@@ -80,6 +80,13 @@ def test_version_one_file_still_decodes():
     assert np.array_equal(again.decode(), out)
 
 
+def test_cli_info_gives_a_version_one_files_own_size(cli):
+    path = DATA / "pifs_version1.pifs"
+    info = json.loads(cli("info", path, "--json", check=True).stdout)
+    assert info["bytes"] == path.stat().st_size
+    assert info["cost_bits"]["residual"] == 0
+
+
 def test_cli_no_residual(cli, tmp_path):
     png = tmp_path / "in.png"
     ifsforge.write_png(str(png), photo_like())

@@ -42,9 +42,12 @@ def png_bit_depth(path):
     return head[24]
 
 
-def describe_code(code):
-    """What `info` and `compress` print about a code, as a dict."""
+def describe_code(code, file_bytes=None):
+    """What `info` and `compress` print about a code, as a dict. `file_bytes`: the size of the file
+    it was read from (an older format version's differs from the current one's)."""
     cost = code.cost()
+    if file_bytes is not None:
+        cost["bytes"] = file_bytes
     raw = code.width * code.height * code.channels
     return {
         "format": "pifs", "width": code.width, "height": code.height, "channels": code.channels,
