@@ -57,8 +57,8 @@ def test_colour_residual_bytes_do_not_depend_on_threads():
 
 
 def test_residual_follows_the_zoom():
-    # At 2x the residual's cosines are evaluated at the finer pixel centres: averaged back to
-    # 1x it is nearly the 1x image; at 1/2 it is the 1x residual averaged.
+    # At 2x the native residual is interpolated: averaged back to 1x it is nearly the 1x image;
+    # at 1/2 it is the 1x residual averaged.
     image = photo_like()
     code = ifsforge.pifs_encode(image, ratio=6)
     one = code.decode(deblock=False)

@@ -43,15 +43,16 @@ const Tables& tables() {
   return t;
 }
 
-/// The 8-point DCT-II basis (orthonormal) sampled at `samples` points across the block: the
-/// native pixel centres for samples = 8, the centres of a finer grid for more.
-std::vector<double> basis(int samples) {
-  std::vector<double> b(std::size_t(kN) * samples);
-  const double pi = 3.14159265358979323846;
-  for (int k = 0; k < kN; ++k)
-    for (int j = 0; j < samples; ++j)
-      b[std::size_t(k) * samples + j] =
-          (k == 0 ? std::sqrt(1.0 / kN) : std::sqrt(2.0 / kN)) * std::cos(pi * k * (2 * j + 1) / (2.0 * samples));
+/// The 8-point DCT-II basis (orthonormal): b[k·8 + j] is frequency k at pixel j.
+const std::vector<double>& basis() {
+  static const std::vector<double> b = [] {
+    std::vector<double> v(kCoefficients);
+    const double pi = 3.14159265358979323846;
+    for (int k = 0; k < kN; ++k)
+      for (int j = 0; j < kN; ++j)
+        v[k * kN + j] = (k == 0 ? std::sqrt(1.0 / kN) : std::sqrt(2.0 / kN)) * std::cos(pi * k * (2 * j + 1) / (2.0 * kN));
+    return v;
+  }();
   return b;
 }
 
@@ -96,7 +97,7 @@ PifsResidual residual_quantise(const PifsRaster& target, const PifsRaster& decod
   step = double(q) / kResidualStepScale;
   const int bx = blocks_along(width), by = blocks_along(height);
   const Tables& t = tables();
-  static const std::vector<double> b = basis(kN);
+  const std::vector<double>& b = basis();
   r.coefficients.assign(std::size_t(bx) * by * kCoefficients, 0);
   bool any = false;
   double x[kCoefficients], row[kCoefficients];
@@ -205,27 +206,71 @@ PifsResidual decode_residual(int step, int width, int height, const std::uint8_t
   return r;
 }
 
+namespace {
+
+/// `native` (one value per native pixel) magnified 2^log_scale times by Catmull-Rom interpolation
+/// at the finer pixel centres, added to `raster`: smooth across the 8×8 blocks' edges.
+void add_magnified(const PifsRaster& native, int log_scale, PifsRaster& raster, int threads) {
+  const int f = 1 << log_scale;
+  auto taps = [&](int j, int size, int index[4], double weight[4]) {
+    const double t = (j + 0.5) / f - 0.5;
+    const int i = int(std::floor(t));
+    const double a = t - i;
+    weight[0] = ((-0.5 * a + 1.0) * a - 0.5) * a;
+    weight[1] = (1.5 * a - 2.5) * a * a + 1.0;
+    weight[2] = ((-1.5 * a + 2.0) * a + 0.5) * a;
+    weight[3] = (0.5 * a - 0.5) * a * a;
+    for (int k = 0; k < 4; ++k) index[k] = std::min(std::max(i - 1 + k, 0), size - 1);
+  };
+  // Rows first: each native row magnified along x, then columns per output row.
+  std::vector<double> wide(std::size_t(raster.width) * native.height);
+  for (int y = 0; y < native.height; ++y)
+    for (int x = 0; x < raster.width; ++x) {
+      int idx[4];
+      double wt[4];
+      taps(x, native.width, idx, wt);
+      double s = 0;
+      for (int k = 0; k < 4; ++k) s += wt[k] * native.row(y)[idx[k]];
+      wide[std::size_t(y) * raster.width + x] = s;
+    }
+  threads = pass_threads(threads, double(raster.width) * raster.height);
+  parallel_jobs(std::size_t(raster.height), threads, [&](std::size_t y, int) {
+    int idx[4];
+    double wt[4];
+    taps(int(y), native.height, idx, wt);
+    float* out = raster.row(int(y));
+    for (int x = 0; x < raster.width; ++x) {
+      double s = 0;
+      for (int k = 0; k < 4; ++k) s += wt[k] * wide[std::size_t(idx[k]) * raster.width + x];
+      out[x] += float(s);
+    }
+  });
+}
+
+}  // namespace
+
 void add_residual(const PifsResidual& residual, int width, int height, int log_scale, PifsRaster& raster,
                   int threads) {
   if (residual.step == 0) return;
-  if (log_scale < 0) {
-    // Coarser than native: the native residual averaged down, as the planes are.
+  if (log_scale != 0) {
+    // Defined on the native grid: magnified smoothly, or averaged down as the planes are.
     PifsRaster native;
-    native.width = raster.width << -log_scale;
-    native.height = raster.height << -log_scale;
+    native.width = log_scale > 0 ? raster.width >> log_scale : raster.width << -log_scale;
+    native.height = log_scale > 0 ? raster.height >> log_scale : raster.height << -log_scale;
     native.values.assign(std::size_t(native.width) * native.height, 0.f);
     add_residual(residual, width, height, 0, native, threads);
+    if (log_scale > 0) return add_magnified(native, log_scale, raster, threads);
     const PifsRaster small = resample_area(native, raster.width, raster.height);
     for (std::size_t i = 0; i < raster.values.size(); ++i) raster.values[i] += small.values[i];
     return;
   }
   const Tables& t = tables();
-  const int bx = blocks_along(width), by = blocks_along(height), n = kN << log_scale;
-  const std::vector<double> b = basis(n);
+  const int bx = blocks_along(width), by = blocks_along(height);
+  const std::vector<double>& b = basis();
   const double step = double(residual.step) / kResidualStepScale;
   threads = pass_threads(threads, double(raster.width) * raster.height);
   parallel_jobs(std::size_t(by), threads, [&](std::size_t j, int) {
-    std::vector<double> coef(kCoefficients), row(std::size_t(kN) * n);
+    double coef[kCoefficients], row[kCoefficients];
     for (int i = 0; i < bx; ++i) {
       const std::int16_t* c = residual.coefficients.data() + (std::size_t(j) * bx + i) * kCoefficients;
       bool any = false;
@@ -235,17 +280,17 @@ void add_residual(const PifsResidual& residual, int width, int height, int log_s
       }
       if (!any) continue;
       for (int kv = 0; kv < kN; ++kv)
-        for (int u = 0; u < n; ++u) {
+        for (int u = 0; u < kN; ++u) {
           double s = 0;
-          for (int ku = 0; ku < kN; ++ku) s += coef[kv * kN + ku] * b[std::size_t(ku) * n + u];
-          row[std::size_t(kv) * n + u] = s;
+          for (int ku = 0; ku < kN; ++ku) s += coef[kv * kN + ku] * b[ku * kN + u];
+          row[kv * kN + u] = s;
         }
-      const int x0 = i * n, y0 = int(j) * n;
-      for (int v = 0; v < n && y0 + v < raster.height; ++v) {
+      const int x0 = i * kN, y0 = int(j) * kN;
+      for (int v = 0; v < kN && y0 + v < raster.height; ++v) {
         float* out = raster.row(y0 + v);
-        for (int u = 0; u < n && x0 + u < raster.width; ++u) {
+        for (int u = 0; u < kN && x0 + u < raster.width; ++u) {
           double s = 0;
-          for (int kv = 0; kv < kN; ++kv) s += b[std::size_t(kv) * n + v] * row[std::size_t(kv) * n + u];
+          for (int kv = 0; kv < kN; ++kv) s += b[kv * kN + v] * row[kv * kN + u];
           out[x0 + u] += float(s);
         }
       }

@@ -1,9 +1,9 @@
 #pragma once
 /// @file The residual layer of a PIFS code: what the fractal code's decoded plane still misses,
 /// as an 8×8 DCT per block, uniformly quantised and range coded with context models. It is
-/// defined on the plane's native pixel grid; at other scales each block's cosines are evaluated
-/// at the finer (or averaged to the coarser) pixel centres, so the decoder keeps decoding at any
-/// resolution.
+/// defined on the plane's native pixel grid; at finer scales it is magnified by Catmull-Rom
+/// interpolation (smooth across the blocks' edges), at coarser ones averaged down, so the decoder
+/// keeps decoding at any resolution.
 #include <cstdint>
 #include <string>
 #include <vector>
