@@ -209,39 +209,41 @@ PifsResidual decode_residual(int step, int width, int height, const std::uint8_t
 namespace {
 
 /// `native` (one value per native pixel) magnified 2^log_scale times by Catmull-Rom interpolation
-/// at the finer pixel centres, added to `raster`: smooth across the 8×8 blocks' edges.
+/// at the finer pixel centres, added to `raster`: smooth across the 8×8 blocks' edges. Each output
+/// row interpolates its four native rows along x first, so no magnified copy is held.
 void add_magnified(const PifsRaster& native, int log_scale, PifsRaster& raster, int threads) {
-  const int f = 1 << log_scale;
-  auto taps = [&](int j, int size, int index[4], double weight[4]) {
-    const double t = (j + 0.5) / f - 0.5;
-    const int i = int(std::floor(t));
-    const double a = t - i;
-    weight[0] = ((-0.5 * a + 1.0) * a - 0.5) * a;
-    weight[1] = (1.5 * a - 2.5) * a * a + 1.0;
-    weight[2] = ((-1.5 * a + 2.0) * a + 0.5) * a;
-    weight[3] = (0.5 * a - 0.5) * a * a;
-    for (int k = 0; k < 4; ++k) index[k] = std::min(std::max(i - 1 + k, 0), size - 1);
+  struct Taps {
+    int index[4];
+    double weight[4];
   };
-  // Rows first: each native row magnified along x, then columns per output row.
-  std::vector<double> wide(std::size_t(raster.width) * native.height);
-  for (int y = 0; y < native.height; ++y)
-    for (int x = 0; x < raster.width; ++x) {
-      int idx[4];
-      double wt[4];
-      taps(x, native.width, idx, wt);
-      double s = 0;
-      for (int k = 0; k < 4; ++k) s += wt[k] * native.row(y)[idx[k]];
-      wide[std::size_t(y) * raster.width + x] = s;
-    }
+  const int f = 1 << log_scale;
+  auto taps = [&](int j, int size) {
+    Taps t;
+    const double at = (j + 0.5) / f - 0.5;
+    const int i = int(std::floor(at));
+    const double a = at - i;
+    t.weight[0] = ((-0.5 * a + 1.0) * a - 0.5) * a;
+    t.weight[1] = (1.5 * a - 2.5) * a * a + 1.0;
+    t.weight[2] = ((-1.5 * a + 2.0) * a + 0.5) * a;
+    t.weight[3] = (0.5 * a - 0.5) * a * a;
+    for (int k = 0; k < 4; ++k) t.index[k] = std::min(std::max(i - 1 + k, 0), size - 1);
+    return t;
+  };
+  std::vector<Taps> across(std::size_t(raster.width));
+  for (int x = 0; x < raster.width; ++x) across[std::size_t(x)] = taps(x, native.width);
   threads = pass_threads(threads, double(raster.width) * raster.height);
   parallel_jobs(std::size_t(raster.height), threads, [&](std::size_t y, int) {
-    int idx[4];
-    double wt[4];
-    taps(int(y), native.height, idx, wt);
+    const Taps down = taps(int(y), native.height);
     float* out = raster.row(int(y));
     for (int x = 0; x < raster.width; ++x) {
+      const Taps& h = across[std::size_t(x)];
       double s = 0;
-      for (int k = 0; k < 4; ++k) s += wt[k] * wide[std::size_t(idx[k]) * raster.width + x];
+      for (int k = 0; k < 4; ++k) {
+        const float* row = native.row(down.index[k]);
+        double wide = 0;
+        for (int i = 0; i < 4; ++i) wide += h.weight[i] * row[h.index[i]];
+        s += down.weight[k] * wide;
+      }
       out[x] += float(s);
     }
   });
