@@ -23,7 +23,7 @@ struct PifsLeaf {
 /// @brief The residual layer of a plane (pifs/residual.h): quantised 8×8 DCT coefficients of
 /// what the decoded fractal code misses, 64 per block in zigzag order, blocks in raster order.
 struct PifsResidual {
-  int step = 0;                              ///< quantisation step in 1/16 levels; 0: no residual
+  int step = 0;  ///< quantisation step in 1/kResidualStepScale levels (residual.h); 0: no residual
   std::vector<std::int16_t> coefficients;
 };
 
