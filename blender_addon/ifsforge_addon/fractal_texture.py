@@ -5,7 +5,7 @@ import hashlib
 
 import bpy
 import numpy as np
-from bpy.props import FloatProperty, IntProperty, PointerProperty
+from bpy.props import BoolProperty, FloatProperty, IntProperty, PointerProperty
 from bpy.types import Operator, Panel, PropertyGroup
 
 import ifsforge
@@ -19,6 +19,9 @@ class IFSFORGE_PG_fractal_texture(PropertyGroup):
     source: PointerProperty(type=bpy.types.Image, name="Source", description="The image to compress")
     ratio: FloatProperty(name="Ratio", default=50.0, min=2.0, max=1000.0,
                          description="Compression ratio: the code is at most raw bytes / ratio")
+    residual: BoolProperty(name="Residual", default=True,
+                           description="Also code what the fractal code misses (a DCT residual layer): "
+                           "higher quality for the bytes; off: the fractal code alone")
     width: IntProperty(name="Width", default=0, min=0, max=16384,
                        description="Decoded width in pixels (0: the source's)")
     height: IntProperty(name="Height", default=0, min=0, max=16384,
@@ -86,7 +89,7 @@ class IFSFORGE_OT_fractal_texture(Operator):
             return {'CANCELLED'}
         try:
             pixels = source_pixels(settings.source)
-            code = ifsforge.pifs_encode(pixels, ratio=settings.ratio)
+            code = ifsforge.pifs_encode(pixels, ratio=settings.ratio, residual=settings.residual)
             data = code.to_bytes()
             name = f"{settings.source.name} fractal"
             stem = f"{name}-{hashlib.sha1(data).hexdigest()[:12]}"
@@ -144,6 +147,7 @@ class IFSFORGE_PT_fractal_texture(SidebarPanel, Panel):
         layout.use_property_split = True
         layout.template_ID(settings, "source", open="image.open")
         layout.prop(settings, "ratio")
+        layout.prop(settings, "residual")
         layout.prop(settings, "width")
         layout.prop(settings, "height")
         layout.operator(IFSFORGE_OT_fractal_texture.bl_idname, icon='TEXTURE')

@@ -43,6 +43,7 @@ py::dict cost(const PifsCode& code) {
   d["mean_bits"] = total.mean;
   d["isometry_bits"] = total.isometry;
   d["domain_bits"] = total.domain;
+  d["residual_bits"] = 8.0 * double(pifs_residual_bytes(code));
   d["leaves"] = leaves;
   d["flat_leaves"] = flat;
   return d;
@@ -119,7 +120,8 @@ void bind_pifs(py::module_& m) {
 
   options_class<PifsEncodeOptions>(m, "PifsEncodeOptions",
                                     "The settings of pifs_encode() (keywords of the same names).")
-      .def_readwrite("min_block", &PifsEncodeOptions::min_block, "smallest range cell, pixels (power of two, >= 2; 0: 2 at ratios up to 16:1 or quality <= 2, else 4)")
+      .def_readwrite("min_block", &PifsEncodeOptions::min_block, "smallest range cell, pixels (power of two, >= 2; 0: 8 under bytes or ratio with the residual "
+                     "layer, else 2 at ratios up to 16:1 or quality <= 2, else 4)")
       .def_readwrite("max_block", &PifsEncodeOptions::max_block, "largest range cell, pixels (power of two)")
       .def_readwrite("s_bits", &PifsEncodeOptions::s_bits, "contrast bits (Eq. 29's s quantised)")
       .def_readwrite("dc_step", &PifsEncodeOptions::dc_step, "range-mean quantisation, 8-bit levels")
@@ -135,6 +137,8 @@ void bind_pifs(py::module_& m) {
                     }, "rate: raw bytes / ratio (0: not set; wins over quality)")
       .def_readwrite("quality", &PifsEncodeOptions::quality, "rate: collage RMS threshold, 8-bit levels")
       .def_readwrite("ycbcr", &PifsEncodeOptions::ycbcr, "RGB(A) as YCbCr with half-size chroma")
+      .def_readwrite("residual", &PifsEncodeOptions::residual,
+                     "under bytes or ratio: code what the fractal code misses as a DCT residual layer")
       .def_property("search", [](const PifsEncodeOptions& o) { return std::string(name_of(o.search.mode)); },
                     [](PifsEncodeOptions& o, const std::string& v) { o.search.mode = parse_name<PifsDomainSearch>(v); },
                     "domain search: tree (fast) or exhaustive (every domain and isometry; the reference)")

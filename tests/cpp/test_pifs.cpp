@@ -228,6 +228,8 @@ TEST(Pifs, TwoPixelRangeCellsRoundTripAndAddDetail) {
   o.min_block = 0;  // automatic: a quality this fine buys 2×2 cells, a 50:1 budget does not
   EXPECT_EQ(pifs_encode(im, o).min_log, 1);
   o.ratio = 50;
+  EXPECT_EQ(pifs_encode(im, o).min_log, 3);  // under a size target the residual's 8×8 blocks
+  o.residual = false;
   EXPECT_EQ(pifs_encode(im, o).min_log, 2);
 }
 

@@ -2,6 +2,7 @@
 // refused with a message saying so (the reader is a fuzz target: no input may crash it).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -11,18 +12,21 @@
 #include "ifsforge/pifs/decoder.h"
 #include "ifsforge/pifs/encoder.h"
 #include "ifsforge/pifs/range_coder.h"
+#include "ifsforge/pifs/residual.h"
 
 using namespace ifsforge;
 
 namespace {
 
-PifsCode sample_code() {
+/// A code by quality (the fractal code alone), or by ratio (with the residual layer).
+PifsCode sample_code(bool residual = false) {
   Image im(70, 50, 3);
   for (int y = 0; y < 50; ++y)
     for (int x = 0; x < 70; ++x)
       for (int c = 0; c < 3; ++c) im.at(x, y, c) = float(0.5 + 0.4 * std::sin(x * 0.3 + c) * std::cos(y * 0.2));
   PifsEncodeOptions o;
   o.quality = 3;
+  if (residual) o.ratio = 6;
   return pifs_encode(im, o);
 }
 
@@ -64,7 +68,8 @@ TEST(RangeCoder, RoundTripsRandomSymbols) {
 }
 
 TEST(PifsFile, RoundTripsBytesAndFiles) {
-  const PifsCode code = sample_code();
+  for (bool residual : {false, true}) {
+  const PifsCode code = sample_code(residual);
   const std::vector<std::uint8_t> bytes = pifs_to_bytes(code);
   const PifsCode back = pifs_from_bytes(bytes.data(), bytes.size());
   ASSERT_EQ(back.planes.size(), code.planes.size());
@@ -77,12 +82,16 @@ TEST(PifsFile, RoundTripsBytesAndFiles) {
         EXPECT_TRUE(a.isometry == b.isometry && a.dx == b.dx && a.dy == b.dy);
       }
     }
+    EXPECT_EQ(back.planes[k].residual.step, code.planes[k].residual.step);
+    EXPECT_EQ(back.planes[k].residual.coefficients, code.planes[k].residual.coefficients);
+    EXPECT_EQ(code.planes[k].residual.step != 0, residual) << k;
   }
   EXPECT_EQ(pifs_to_bytes(back), bytes);
   const std::string path = ::testing::TempDir() + "/roundtrip.pifs";
   write_pifs(path, code);
   EXPECT_EQ(pifs_to_bytes(read_pifs(path)), bytes);
   std::remove(path.c_str());
+  }
 }
 
 TEST(PifsFile, RefusesTruncatedAndCorruptFiles) {
@@ -120,7 +129,8 @@ std::uint32_t crc32(const std::uint8_t* data, std::size_t size) {
 TEST(PifsFile, MutatedFilesWithValidChecksumsNeverCrash) {
   // Past the checksum every field is still checked: a mutation either reads as some valid code
   // (which then decodes) or is refused with InputError.
-  const std::vector<std::uint8_t> bytes = pifs_to_bytes(sample_code());
+  for (bool residual : {false, true}) {
+  const std::vector<std::uint8_t> bytes = pifs_to_bytes(sample_code(residual));
   std::mt19937 rng(11);
   int refused = 0;
   for (int trial = 0; trial < 400; ++trial) {
@@ -137,4 +147,31 @@ TEST(PifsFile, MutatedFilesWithValidChecksumsNeverCrash) {
     }
   }
   EXPECT_GT(refused, 100);
+  }
+}
+
+TEST(PifsResidual, CodesAndRestoresWhatTheFractalCodeMisses) {
+  // A 21×13 plane (blocks cut by both edges) against a flat decoded plane: the residual's bytes
+  // round-trip exactly, and adding it back leaves at most the quantiser's error.
+  std::mt19937 rng(5);
+  PifsRaster target, decoded;
+  target.width = decoded.width = 24;
+  target.height = decoded.height = 16;
+  target.values.resize(24 * 16);
+  for (float& v : target.values) v = float(rng() % 256);
+  decoded.values.assign(24 * 16, 128.f);
+  const double step = 2.0;
+  const PifsResidual r = residual_quantise(target, decoded, 21, 13, step);
+  ASSERT_EQ(r.step, int(step * kResidualStepScale));
+  const std::vector<std::uint8_t> bytes = encode_residual(r, 21, 13);
+  const PifsResidual back = decode_residual(r.step, 21, 13, bytes.data(), bytes.size(), "test");
+  EXPECT_EQ(back.coefficients, r.coefficients);
+  PifsRaster restored = decoded;
+  add_residual(back, 21, 13, 0, restored);
+  double squared = 0;
+  for (int y = 0; y < 13; ++y)
+    for (int x = 0; x < 21; ++x) squared += std::pow(restored.row(y)[x] - target.row(y)[x], 2);
+  EXPECT_LT(std::sqrt(squared / (21 * 13)), step * 0.5);  // uniform rounding error: step / sqrt(12) or less
+  EXPECT_THROW(decode_residual(r.step, 21, 13, bytes.data(), bytes.size() - 1, "test"), InputError);
+  EXPECT_TRUE(residual_quantise(target, target, 21, 13, step).coefficients.empty());
 }

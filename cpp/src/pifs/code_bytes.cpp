@@ -5,6 +5,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/pifs/plane_coding.h"
+#include "ifsforge/pifs/residual.h"
 
 namespace ifsforge {
 namespace {
@@ -56,7 +57,7 @@ struct Reader {
 
 int plane_count(int channels, PifsColor) { return channels; }
 
-std::vector<std::uint8_t> header(const PifsCode& code, const std::vector<std::size_t>& stream_sizes) {
+std::vector<std::uint8_t> header(const PifsCode& code, const std::vector<PifsStreamSizes>& sizes) {
   std::vector<std::uint8_t> out(kMagic, kMagic + 4);
   out.push_back(std::uint8_t(kPifsVersion));
   out.push_back(std::uint8_t(code.channels));
@@ -67,37 +68,53 @@ std::vector<std::uint8_t> header(const PifsCode& code, const std::vector<std::si
   out.push_back(std::uint8_t(code.dc_step));
   put_varint(out, std::uint64_t(code.width));
   put_varint(out, std::uint64_t(code.height));
-  for (std::size_t s : stream_sizes) put_varint(out, s);
+  for (const PifsStreamSizes& s : sizes) {
+    put_varint(out, s.transforms);
+    put_varint(out, std::uint64_t(s.residual_step));
+    if (s.residual_step) put_varint(out, s.residual);
+  }
   return out;
 }
 
-std::vector<std::size_t> sizes(const std::vector<std::vector<std::uint8_t>>& streams) {
-  std::vector<std::size_t> out;
-  for (const auto& s : streams) out.push_back(s.size());
-  return out;
+struct Streams {
+  std::vector<std::vector<std::uint8_t>> bytes;  ///< per plane: transforms, then residual
+  std::vector<PifsStreamSizes> sizes;
+};
+
+Streams streams(const PifsCode& code) {
+  Streams s;
+  for (const PifsPlane& p : code.planes) {
+    s.bytes.push_back(encode_plane(code, p));
+    s.bytes.push_back(encode_residual(p.residual, p.width, p.height));
+    s.sizes.push_back({s.bytes[s.bytes.size() - 2].size(), p.residual.step, s.bytes.back().size()});
+  }
+  return s;
 }
 
 }  // namespace
 
 std::vector<std::uint8_t> pifs_to_bytes(const PifsCode& code) {
-  std::vector<std::vector<std::uint8_t>> streams;
-  for (const PifsPlane& p : code.planes) streams.push_back(encode_plane(code, p));
-  std::vector<std::uint8_t> out = header(code, sizes(streams));
-  for (const auto& s : streams) out.insert(out.end(), s.begin(), s.end());
+  const Streams s = streams(code);
+  std::vector<std::uint8_t> out = header(code, s.sizes);
+  for (const auto& b : s.bytes) out.insert(out.end(), b.begin(), b.end());
   const std::uint32_t c = crc32(out.data(), out.size());
   for (int i = 0; i < 4; ++i) out.push_back(std::uint8_t(c >> (8 * i)));
   return out;
 }
 
 std::size_t pifs_header_size(const PifsCode& code) {
-  std::vector<std::vector<std::uint8_t>> streams;
-  for (const PifsPlane& p : code.planes) streams.push_back(encode_plane(code, p));
-  return header(code, sizes(streams)).size();
+  return header(code, streams(code).sizes).size();
 }
 
-std::size_t pifs_file_size(const PifsCode& code, const std::vector<std::size_t>& stream_sizes) {
-  std::size_t total = header(code, stream_sizes).size() + 4;  // the checksum
-  for (std::size_t s : stream_sizes) total += s;
+std::size_t pifs_residual_bytes(const PifsCode& code) {
+  std::size_t total = 0;
+  for (const PifsStreamSizes& s : streams(code).sizes) total += s.residual;
+  return total;
+}
+
+std::size_t pifs_file_size(const PifsCode& code, const std::vector<PifsStreamSizes>& sizes) {
+  std::size_t total = header(code, sizes).size() + 4;  // the checksum
+  for (const PifsStreamSizes& s : sizes) total += s.transforms + s.residual;
   return total;
 }
 
@@ -105,7 +122,7 @@ PifsCode pifs_from_bytes(const std::uint8_t* data, std::size_t size, const std::
   if (size < 4 || std::memcmp(data, kMagic, 4) != 0) throw InputError(where + ": not a PIFS file (no 'PIFS' magic)");
   Reader r{data, size, 4, where};
   const int version = r.byte();
-  if (version != kPifsVersion)
+  if (version < 1 || version > kPifsVersion)
     throw InputError(where + ": PIFS version " + std::to_string(version) + " is not supported (this reads " +
                      std::to_string(kPifsVersion) + ")");
   if (size < 4 + 1 + 4) throw InputError(where + ": truncated");
@@ -130,17 +147,26 @@ PifsCode pifs_from_bytes(const std::uint8_t* data, std::size_t size, const std::
   code.width = int(w);
   code.height = int(h);
   const int planes = plane_count(code.channels, code.color);
-  std::vector<std::uint64_t> lengths(planes);
+  // Version 1 has no residual layer: only each plane's transform bytes.
+  std::vector<std::uint64_t> lengths(planes), steps(planes, 0), residuals(planes, 0);
   std::uint64_t total = 0;
-  for (auto& l : lengths) total += (l = r.varint());
+  for (int k = 0; k < planes; ++k) {
+    total += (lengths[k] = r.varint());
+    if (version < 2) continue;
+    steps[k] = r.varint();
+    if (steps[k] > 65535) throw InputError(where + ": corrupt (residual step out of range)");
+    if (steps[k]) total += (residuals[k] = r.varint());
+  }
   if (total != r.size - r.pos) throw InputError(where + ": corrupt (plane sizes do not match the file)");
   const bool ycc = code.color == PifsColor::YCbCr420 && code.channels >= 3;
   for (int k = 0; k < planes; ++k) {
     const bool half = ycc && (k == 1 || k == 2);
     const int pw = half ? (code.width + 1) / 2 : code.width, ph = half ? (code.height + 1) / 2 : code.height;
-    code.planes.push_back(decode_plane(code, pw, ph, data + r.pos, std::size_t(lengths[k]),
-                                       where + " (plane " + std::to_string(k + 1) + ")"));
+    const std::string plane = where + " (plane " + std::to_string(k + 1) + ")";
+    code.planes.push_back(decode_plane(code, pw, ph, data + r.pos, std::size_t(lengths[k]), plane));
     r.pos += std::size_t(lengths[k]);
+    code.planes.back().residual = decode_residual(int(steps[k]), pw, ph, data + r.pos, std::size_t(residuals[k]), plane);
+    r.pos += std::size_t(residuals[k]);
   }
   return code;
 }

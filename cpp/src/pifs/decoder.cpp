@@ -8,6 +8,7 @@
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/deblock.h"
 #include "ifsforge/pifs/planes.h"
+#include "ifsforge/pifs/residual.h"
 #include "ifsforge/pifs/zoom.h"
 
 namespace ifsforge {
@@ -155,11 +156,13 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
     const int lm = half ? m + 1 : m;
     PifsRaster p = decode_plane(code, plane, lm, options.decoder, options.iterations, inner);
     if (options.deblock) deblock(code, plane, lm, p, inner);
+    add_residual(plane.residual, plane.width, plane.height, lm, p, inner);  // after deblocking, as encoded
     // A magnified output: the plane's own-size decode anchors the zoom filter (native-size
     // output, chroma included, is left as decoded).
     if (options.zoom == PifsZoom::Hybrid && m > 0 && lm > 0) {
       PifsRaster native = decode_plane(code, plane, 0, options.decoder, options.iterations, inner);
       if (options.deblock) deblock(code, plane, 0, native, inner);
+      add_residual(plane.residual, plane.width, plane.height, 0, native, inner);
       p = zoom_filter(p, native, lm, inner);
     }
     // Crop away the padding (in place: rows only move toward the front).

@@ -20,10 +20,18 @@ struct PifsLeaf {
   std::uint16_t dx = 0, dy = 0;   ///< domain cell index on the domain grid (step = range size)
 };
 
+/// @brief The residual layer of a plane (pifs/residual.h): quantised 8×8 DCT coefficients of
+/// what the decoded fractal code misses, 64 per block in zigzag order, blocks in raster order.
+struct PifsResidual {
+  int step = 0;  ///< quantisation step in 1/kResidualStepScale levels (residual.h); 0: no residual
+  std::vector<std::int16_t> coefficients;
+};
+
 /// @brief One independently coded plane (Y, Cb, Cr, alpha or gray).
 struct PifsPlane {
   int width = 0, height = 0;       ///< the plane's own size (chroma: half the image, rounded up)
   std::vector<PifsLeaf> leaves;    ///< in coding order: top blocks in raster order, quadtree depth first
+  PifsResidual residual;
 };
 
 /// @brief Colour handling of a code (the seed's Steps 1-2 for colour textures).

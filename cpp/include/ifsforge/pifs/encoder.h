@@ -10,8 +10,9 @@
 namespace ifsforge {
 
 struct PifsEncodeOptions {
-  /// Range sizes (powers of two): the quadtree depths. min_block 0: 2 when the size target is
-  /// at least 1/kFineRatio of the raw image (or quality ≤ kFineQuality), else 4.
+  /// Range sizes (powers of two): the quadtree depths. min_block 0: with a size target and the
+  /// residual layer, the residual's 8×8 block (at most max_block); else 2 when the size target
+  /// is at least 1/kFineRatio of the raw image (or quality ≤ kFineQuality), else 4.
   int min_block = 0, max_block = 32;
   int s_bits = 5;                     ///< contrast bits (Eq. 29's s quantised, |s| ≤ 15/16)
   int dc_step = 1;                    ///< range-mean quantisation, 8-bit levels
@@ -21,6 +22,8 @@ struct PifsEncodeOptions {
   double ratio = 0;
   double quality = kDefaultQuality;
   bool ycbcr = true;                  ///< RGB(A) as YCbCr with half-size chroma (Steps 1-2)
+  /// Under a size target, code what the fractal code misses as a DCT residual layer (residual.h).
+  bool residual = true;
   PifsSearch search;
   int threads = 0;
 

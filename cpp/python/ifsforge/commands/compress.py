@@ -20,9 +20,12 @@ def register(subparsers):
     rate.add_argument("--quality", type=common.float_option(0, 255),
                       help=f"collage RMS error threshold in 8-bit levels (smaller is better; default {o.quality:g})")
     p.add_argument("--min-block", type=common.int_option(0, 4096), default=o.min_block,
-                   help="smallest range cell, pixels (power of two, at least 2; 0: 2 at ratios up to 16:1, else 4)")
+                   help="smallest range cell, pixels (power of two, at least 2; 0: 8 with the residual layer, "
+                   "else 2 at ratios up to 16:1, else 4)")
     p.add_argument("--max-block", type=common.count_option(4096), default=o.max_block, help="largest range cell, pixels (power of two)")
     p.add_argument("--no-ycbcr", action="store_true", help="code R, G, B as they are (no YCbCr 4:2:0)")
+    p.add_argument("--no-residual", action="store_true",
+                   help="with --ratio or --bytes: the fractal code alone (no DCT residual layer for what it misses)")
     p.add_argument("--search", choices=ifsforge.choices["search"], default=o.search,
                    help="domain search: tree (fast), or exhaustive (every domain and isometry: the slow reference)")
     p.add_argument("--threads", type=common.THREADS, default=o.threads, help="threads (0: all cores); the file is the same")
@@ -39,9 +42,12 @@ def png_bit_depth(path):
     return head[24]
 
 
-def describe_code(code):
-    """What `info` and `compress` print about a code, as a dict."""
+def describe_code(code, file_bytes=None):
+    """What `info` and `compress` print about a code, as a dict. `file_bytes`: the size of the file
+    it was read from (an older format version's differs from the current one's)."""
     cost = code.cost()
+    if file_bytes is not None:
+        cost["bytes"] = file_bytes
     raw = code.width * code.height * code.channels
     return {
         "format": "pifs", "width": code.width, "height": code.height, "channels": code.channels,
@@ -74,7 +80,7 @@ def run(args):
         print(f"ifsforge compress: note: '{args.image}' is 16-bit; reduced to 8 bits per sample", file=sys.stderr)
     code = ifsforge.pifs_encode(image, ratio=args.ratio, bytes=args.bytes, quality=args.quality,
                                 min_block=args.min_block, max_block=args.max_block,
-                                ycbcr=not args.no_ycbcr, search=args.search, threads=args.threads)
+                                ycbcr=not args.no_ycbcr, residual=not args.no_residual, search=args.search, threads=args.threads)
     ifsforge.write_pifs(args.output, code)
     info = describe_code(code)
     if args.json:

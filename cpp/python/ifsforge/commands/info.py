@@ -1,5 +1,7 @@
 """ifsforge info: the maps and what can be derived from them."""
 
+import os
+
 import ifsforge
 from ifsforge import cli_common as common
 
@@ -150,7 +152,7 @@ def run(args):
 
 def pifs_info(args):
     from ifsforge.commands import compress
-    info = compress.describe_code(ifsforge.read_pifs(args.system))
+    info = compress.describe_code(ifsforge.read_pifs(args.system), os.path.getsize(args.system))
     if args.json:
         print(common.to_json(info))
     else:

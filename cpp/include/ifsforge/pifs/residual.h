@@ -1,0 +1,39 @@
+#pragma once
+/// @file The residual layer of a PIFS code: what the fractal code's decoded plane still misses,
+/// as an 8×8 DCT per block, uniformly quantised and range coded with context models. It is
+/// defined on the plane's native pixel grid; at finer scales it is magnified by Catmull-Rom
+/// interpolation (smooth across the blocks' edges), at coarser ones averaged down, so the decoder
+/// keeps decoding at any resolution.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ifsforge/pifs/code.h"
+#include "ifsforge/pifs/domain_search.h"
+
+namespace ifsforge {
+
+constexpr int kResidualBlock = 8;
+/// Step units: the quantisation step is stored in 1/kResidualStepScale of an 8-bit level.
+constexpr int kResidualStepScale = 16;
+
+/// @brief The quantised coefficients of `target − decoded` (both at the plane's native size,
+/// `width`×`height` pixels read from rasters at least that large) for `step` (8-bit levels).
+/// A step too coarse to keep any coefficient (or beyond the largest step) gives an empty residual;
+/// one below the smallest step is raised to it.
+PifsResidual residual_quantise(const PifsRaster& target, const PifsRaster& decoded, int width, int height,
+                               double step);
+
+/// @brief The range-coded bytes of a residual of a `width`×`height` plane (empty for none).
+std::vector<std::uint8_t> encode_residual(const PifsResidual& residual, int width, int height);
+
+/// @brief The residual from its bytes; InputError naming `where` when truncated or corrupt.
+PifsResidual decode_residual(int step, int width, int height, const std::uint8_t* data, std::size_t size,
+                             const std::string& where);
+
+/// @brief Adds the residual of a `width`×`height` plane to `raster`, that plane decoded at scale
+/// 2^log_scale (pixels beyond the raster are dropped).
+void add_residual(const PifsResidual& residual, int width, int height, int log_scale, PifsRaster& raster,
+                  int threads = 1);
+
+}  // namespace ifsforge
