@@ -277,7 +277,9 @@ ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads
   const bool narrow =
       simd || (!ifs.polar() && lanes::narrow_counters() && (spatial == 2 || (spatial == 3 && ifs.dim() == 3)));
   const double cell_bytes = channels ? 4.0 * (channels + 1) : spatial == 3 ? double(sizeof(HitDepth)) : 1.0;
-  const double lane_bytes = narrow ? threads * cell_bytes * pixels : 0.0;
+  const bool binned = simd && spatial == 2 && !channels && pixels >= lanes::kTiledFromPixels;
+  const double lane_bytes =
+      narrow ? threads * (cell_bytes * pixels + (binned ? lanes::TiledCounter::bytes(pixels + 1) : 0.0)) : 0.0;
   check_memory((narrow ? 1 : threads) * Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) + lane_bytes,
                "a " + std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
                    " random-iteration image on " + std::to_string(threads) + " threads");
@@ -351,7 +353,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
     pending[worker] = 0;
   };
   // Large 2D images: each worker bins its slots by tile and counts them tile by tile.
-  const bool tiled = simd && !depth && pixels > lanes::kTiledAbovePixels && lanes::lane_tiles();
+  const bool tiled = simd && !depth && pixels >= lanes::kTiledFromPixels && lanes::lane_tiles();
   std::vector<std::unique_ptr<lanes::TiledCounter>> tiles(tiled ? threads : 0);
   std::vector<std::vector<std::uint32_t>> batches(tiled ? threads : 0);
   const int n = depth ? 3 : 2;
@@ -404,6 +406,11 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         kernel(maps, lane);
       },
       options.progress);
+  // What the bins still hold, each worker's on a core of its own.
+  if (tiled)
+    parallel_jobs(tiles.size(), threads, [&](std::size_t t, int) {
+      if (tiles[t]) tiles[t]->drain();
+    });
 
   // The workers' counters into the totals in pixel bands on every core (sums and maxima: the
   // same bytes for any split).
