@@ -315,7 +315,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   const bool depth = ifs.spatial_dims() == 3;
   const int channels = acc[0].channels(), stride = channels + 1;
   const bool packed = narrow && channels > 0;
-  std::vector<LargeVector<std::uint8_t>> lows(narrow && !depth && !packed ? threads : 0);
+  std::vector<ZeroedVector<std::uint8_t>> lows(narrow && !depth && !packed ? threads : 0);
   std::vector<LargeVector<HitDepth>> cells(narrow && depth ? threads : 0);
   std::vector<LargeVector<std::uint32_t>> records(packed ? threads : 0);
   std::vector<std::uint64_t> pending(threads, 0);
@@ -371,7 +371,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         }
         if (depth && cells[worker].empty())
           assign_large(cells[worker], pixels + 1, HitDepth{0, -std::numeric_limits<float>::infinity()});
-        if (!depth && !packed && lows[worker].empty()) assign_large(lows[worker], pixels + 1, std::uint8_t(0));
+        if (!depth && !packed && lows[worker].empty()) zeroed_large(lows[worker], pixels + 1);
         if (packed && records[worker].empty()) assign_large(records[worker], (pixels + 1) * stride, 0u);
         // A 32-bit counter could overflow if one pixel took every point: flush first.
         if ((depth || packed) && pending[worker] + plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
