@@ -256,6 +256,11 @@ struct ChaosSetup {
   bool narrow = false;  // the jobs count into narrow per-worker counters (every lane job does)
 };
 
+/// Whether a render's 2D lane counts go through tiles (chaos_tiles.h).
+bool tiled_counts(bool simd, bool depth, std::size_t pixels) {
+  return simd && !depth && pixels >= lanes::kTiledFromPixels && lanes::lane_tiles();
+}
+
 ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads) {
   ifs.require_attractor();
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
@@ -277,9 +282,8 @@ ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads
   const bool narrow =
       simd || (!ifs.polar() && lanes::narrow_counters() && (spatial == 2 || (spatial == 3 && ifs.dim() == 3)));
   const double cell_bytes = channels ? 4.0 * (channels + 1) : spatial == 3 ? double(sizeof(HitDepth)) : 1.0;
-  const bool binned = simd && spatial == 2 && !channels && pixels >= lanes::kTiledFromPixels;
-  const double lane_bytes =
-      narrow ? threads * (cell_bytes * pixels + (binned ? lanes::TiledCounter::bytes(pixels + 1) : 0.0)) : 0.0;
+  const double bin_bytes = tiled_counts(simd, spatial == 3, pixels) ? double(lanes::TiledCounter::bytes(pixels + 1)) : 0.0;
+  const double lane_bytes = narrow ? threads * (cell_bytes * pixels + bin_bytes) : 0.0;
   check_memory((narrow ? 1 : threads) * Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) + lane_bytes,
                "a " + std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
                    " random-iteration image on " + std::to_string(threads) + " threads");
@@ -353,7 +357,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
     pending[worker] = 0;
   };
   // Large 2D images: each worker bins its slots by tile and counts them tile by tile.
-  const bool tiled = simd && !depth && pixels >= lanes::kTiledFromPixels && lanes::lane_tiles();
+  const bool tiled = tiled_counts(simd, depth, pixels);
   std::vector<std::unique_ptr<lanes::TiledCounter>> tiles(tiled ? threads : 0);
   std::vector<std::vector<std::uint32_t>> batches(tiled ? threads : 0);
   const int n = depth ? 3 : 2;

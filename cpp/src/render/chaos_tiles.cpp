@@ -7,16 +7,15 @@ std::size_t tiles_of(std::size_t slots) { return (slots + (std::size_t(1) << kTi
 }  // namespace
 
 TiledCounter::TiledCounter(std::size_t slots, std::uint8_t* low, std::uint64_t* carry)
-    : fill_(tiles_of(slots)),
+    : fill_(tiles_of(slots)), bytes_(bytes(slots)),
       // Not zeroed: a bin's pages are first touched by its first point.
-      bins_(static_cast<std::uint16_t*>(allocate_pages(fill_.size() * kBinPoints * sizeof(std::uint16_t)))),
-      low_(low), carry_(carry) {
+      bins_(static_cast<std::uint16_t*>(allocate_pages(bytes_))), low_(low), carry_(carry) {
   for (std::size_t t = 0; t < fill_.size(); ++t) fill_[t] = bins_ + t * kBinPoints;
 }
 
-TiledCounter::~TiledCounter() { release_pages(bins_, fill_.size() * kBinPoints * sizeof(std::uint16_t)); }
+TiledCounter::~TiledCounter() { release_pages(bins_, bytes_); }
 
-double TiledCounter::bytes(std::size_t slots) { return double(tiles_of(slots)) * kBinPoints * sizeof(std::uint16_t); }
+std::size_t TiledCounter::bytes(std::size_t slots) { return tiles_of(slots) * kBinPoints * sizeof(std::uint16_t); }
 
 void TiledCounter::add(const std::uint32_t* slots, std::size_t n) {
   std::uint16_t* const bins = bins_;
@@ -31,13 +30,13 @@ void TiledCounter::add(const std::uint32_t* slots, std::size_t n) {
 }
 
 void TiledCounter::count(std::size_t tile) {
-  const std::uint16_t* const bin = bins_ + tile * kBinPoints;
+  std::uint16_t* const bin = bins_ + tile * kBinPoints;
   const std::size_t n = static_cast<std::size_t>(fill_[tile] - bin);
   std::uint8_t* const low = low_ + (tile << kTileShift);
   std::uint64_t* const carry = carry_ + (tile << kTileShift);
   for (std::size_t i = 0; i < n; ++i)
     if (++low[bin[i]] == 0) __atomic_fetch_add(carry + bin[i], 256, __ATOMIC_RELAXED);
-  fill_[tile] = const_cast<std::uint16_t*>(bin);
+  fill_[tile] = bin;
 }
 
 void TiledCounter::drain() {

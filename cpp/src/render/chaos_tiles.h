@@ -36,12 +36,13 @@ class TiledCounter {
   /// The kernels' callback: `self` is a TiledCounter.
   static void flush(void* self, const std::uint32_t* slots, std::size_t n);
   /// Bytes of bins for an image of `slots` counters.
-  static double bytes(std::size_t slots);
+  static std::size_t bytes(std::size_t slots);
 
  private:
   void count(std::size_t tile);
 
   std::vector<std::uint16_t*> fill_;  ///< the next free place of each tile's bin
+  std::size_t bytes_;
   std::uint16_t* bins_;  ///< kBinPoints offsets per tile (allocate_pages: touched as tiles are hit)
   std::uint8_t* low_;
   std::uint64_t* carry_;
