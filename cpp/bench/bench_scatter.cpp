@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
               "increments of uniformly random counters. Chaos: the fern's render, whole (framing, "
               "buffers and finish included) or marginal (less a 1,024-point render's CPU time: the "
               "cost of the points), its counts made point by point (direct) or through tiles (the "
-              "default above 4096^2 pixels).\n\n",
+              "default from 4096^2 pixels).\n\n",
               double(points), repeat);
   std::printf("| image | scatter 32-bit | scatter 8-bit | chaos fern, whole render | chaos marginal, direct "
               "counts | chaos marginal, default | default / scatter 32-bit |\n| --- | ---: | ---: | ---: | ---: | ---: "

@@ -59,3 +59,17 @@ TEST(Pages, AFreshLargeBufferFaultsInFarFewerThanOnePagePer4Kb) {
   EXPECT_EQ(v.front(), 1);
   EXPECT_EQ(v.back(), 1);
 }
+
+TEST(Pages, ZeroedBuffersAreZeroAtEverySizeAndAfterReuse) {
+  // Large (a fresh mapping, left as the kernel zeroed it) and small (cleared) storage; then the
+  // same vector written over and zeroed again (a fresh buffer, not the old one).
+  for (std::size_t n : {std::size_t(1000), std::size_t(3) << 20}) {
+    ZeroedVector<std::uint64_t> v;
+    zeroed_large(v, n);
+    ASSERT_EQ(v.size(), n);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(v[i], 0u) << n << " " << i;
+    std::iota(v.begin(), v.end(), std::uint64_t(1));
+    zeroed_large(v, n);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(v[i], 0u) << n << " after reuse, " << i;
+  }
+}

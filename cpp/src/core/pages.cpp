@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <new>
 
 #include "ifsforge/core/parallel.h"
@@ -29,6 +30,11 @@ void advise_huge_pages(void* data, std::size_t bytes) {
 namespace {
 constexpr std::size_t kHugePage = std::size_t(2) << 20;
 constexpr std::size_t kPagedFrom = std::size_t(1) << 20;
+#if defined(__linux__)
+constexpr bool kMapped = true;  // allocate_pages maps from kPagedFrom up
+#else
+constexpr bool kMapped = false;
+#endif
 std::size_t mapped_length(std::size_t bytes) { return (bytes + kHugePage - 1) & ~(kHugePage - 1); }
 }  // namespace
 
@@ -53,6 +59,12 @@ void* allocate_pages(std::size_t bytes) {
   }
 #endif
   return ::operator new(bytes);
+}
+
+void* allocate_zeroed_pages(std::size_t bytes) {
+  void* data = allocate_pages(bytes);
+  if (bytes < kPagedFrom || !kMapped) std::memset(data, 0, bytes);  // a fresh mapping is zero already
+  return data;
 }
 
 void release_pages(void* data, std::size_t bytes) noexcept {

@@ -5,6 +5,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/deblock.h"
 #include "ifsforge/pifs/planes.h"
@@ -22,7 +23,7 @@ PifsRaster blank(int w, int h, float value) {
   PifsRaster r;
   r.width = w;
   r.height = h;
-  r.values.assign(std::size_t(w) * h, value);
+  assign_large(r.values, std::size_t(w) * h, value);  // huge pages, faulted in on every core
   return r;
 }
 
@@ -94,7 +95,7 @@ PifsRaster decode_plane(const PifsCode& code, const PifsPlane& plane, int log_sc
   PifsRaster x;
   if (decoder == PifsDecoder::Iterative) {
     x = blank(scaled(pw, top), scaled(ph, top), 128.f);
-    PifsRaster next = x;
+    PifsRaster next = blank(x.width, x.height, 128.f);
     for (int i = 0; i < iterations; ++i) {
       apply(code, plane, top, x, false, next, threads);
       std::swap(x, next);
@@ -103,7 +104,7 @@ PifsRaster decode_plane(const PifsCode& code, const PifsPlane& plane, int log_sc
     // Baharav: the fixed point of the coarsest level, then each doubling is one pass whose
     // domains are the previous level's pixels (φ commutes with the 2×2 mean, so it is exact).
     x = blank(scaled(pw, coarsest), scaled(ph, coarsest), 128.f);
-    PifsRaster next = x;
+    PifsRaster next = blank(x.width, x.height, 128.f);
     for (int i = 0; i < iterations; ++i) {
       apply(code, plane, coarsest, x, false, next, threads);
       std::swap(x, next);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 
 namespace ifsforge {
@@ -13,7 +14,7 @@ PifsRaster make(int w, int h) {
   PifsRaster p;
   p.width = w;
   p.height = h;
-  p.values.assign(std::size_t(w) * h, 0.f);
+  assign_large(p.values, std::size_t(w) * h, 0.f);  // huge pages, faulted in on every core
   return p;
 }
 

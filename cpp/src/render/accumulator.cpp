@@ -16,12 +16,12 @@ Accumulator::Accumulator(int width, int height, bool measure, std::vector<double
     : width_(width), height_(height), channels_(static_cast<int>(lo.size())),
       lo_(std::move(lo)),
       scale_(channels_) {
-  // Huge pages before the first touch: at 1024^2 the 4 KB page faults of a fresh
-  // accumulator cost more than plotting 15 M points.
+  // Huge pages before the first touch (at 1024^2 the 4 KB page faults of a fresh accumulator
+  // cost more than plotting 15 M points), and the kernel's zeros kept: no second pass writes them.
   const std::size_t slots = std::size_t(width) * height + 1;  // +1: a slot that off-image points may hit
-  assign_large(hits_, slots, std::uint64_t(0));
-  assign_large(mass_, measure ? slots : 0, std::uint64_t(0));
-  assign_large(sums_, slots * channels_, std::uint64_t(0));
+  zeroed_large(hits_, slots);
+  zeroed_large(mass_, measure ? slots : 0);
+  zeroed_large(sums_, slots * channels_);
   for (int c = 0; c < channels_; ++c) {
     const double range = hi[c] - lo_[c];
     scale_[c] = range > 0 ? kChannelSteps / range : 0.0;

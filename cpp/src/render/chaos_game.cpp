@@ -263,6 +263,11 @@ struct ChaosSetup {
   bool narrow = false;  // the jobs count into narrow per-worker counters (every lane job does)
 };
 
+/// Whether a render's 2D lane counts go through tiles (chaos_tiles.h).
+bool tiled_counts(bool simd, bool depth, std::size_t pixels) {
+  return simd && !depth && pixels >= lanes::kTiledFromPixels && lanes::lane_tiles();
+}
+
 ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads) {
   ifs.require_attractor();
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
@@ -284,7 +289,8 @@ ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads
   const bool narrow =
       simd || (!ifs.polar() && lanes::narrow_counters() && (spatial == 2 || (spatial == 3 && ifs.dim() == 3)));
   const double cell_bytes = channels ? 4.0 * (channels + 1) : spatial == 3 ? double(sizeof(HitDepth)) : 1.0;
-  const double lane_bytes = narrow ? threads * cell_bytes * pixels : 0.0;
+  const double bin_bytes = tiled_counts(simd, spatial == 3, pixels) ? double(lanes::TiledCounter::bytes(pixels + 1)) : 0.0;
+  const double lane_bytes = narrow ? threads * (cell_bytes * pixels + bin_bytes) : 0.0;
   check_memory((narrow ? 1 : threads) * Accumulator::bytes(frame.width(), frame.height(), false, lo.size()) + lane_bytes,
                "a " + std::to_string(frame.width()) + "x" + std::to_string(frame.height()) +
                    " random-iteration image on " + std::to_string(threads) + " threads");
@@ -320,7 +326,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   const bool depth = ifs.spatial_dims() == 3;
   const int channels = acc[0].channels(), stride = channels + 1;
   const bool packed = narrow && channels > 0;
-  std::vector<LargeVector<std::uint8_t>> lows(narrow && !depth && !packed ? threads : 0);
+  std::vector<ZeroedVector<std::uint8_t>> lows(narrow && !depth && !packed ? threads : 0);
   std::vector<LargeVector<HitDepth>> cells(narrow && depth ? threads : 0);
   std::vector<LargeVector<std::uint32_t>> records(packed ? threads : 0);
   std::vector<std::uint64_t> pending(threads, 0);
@@ -358,7 +364,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
     pending[worker] = 0;
   };
   // Large 2D images: each worker bins its slots by tile and counts them tile by tile.
-  const bool tiled = simd && !depth && pixels > lanes::kTiledAbovePixels && lanes::lane_tiles();
+  const bool tiled = tiled_counts(simd, depth, pixels);
   std::vector<std::unique_ptr<lanes::TiledCounter>> tiles(tiled ? threads : 0);
   std::vector<std::vector<std::uint32_t>> batches(tiled ? threads : 0);
   const int n = depth ? 3 : 2;
@@ -390,7 +396,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         }
         if (depth && cells[worker].empty())
           assign_large(cells[worker], pixels + 1, HitDepth{0, -std::numeric_limits<float>::infinity()});
-        if (!depth && !packed && lows[worker].empty()) assign_large(lows[worker], pixels + 1, std::uint8_t(0));
+        if (!depth && !packed && lows[worker].empty()) zeroed_large(lows[worker], pixels + 1);
         if (packed && records[worker].empty()) assign_large(records[worker], (pixels + 1) * stride, 0u);
         // A 32-bit counter could overflow if one pixel took every point: flush first.
         if ((depth || packed) && pending[worker] + count * plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
@@ -432,6 +438,11 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         kernel(maps, lane);
       },
       options.progress);
+  // What the bins still hold, each worker's on a core of its own.
+  if (tiled)
+    parallel_jobs(tiles.size(), threads, [&](std::size_t t, int) {
+      if (tiles[t]) tiles[t]->drain();
+    });
 
   // The workers' counters into the totals in pixel bands on every core (sums and maxima: the
   // same bytes for any split).

@@ -1,33 +1,49 @@
 #pragma once
-/// @file Tiled accumulation of the chaos game's 2D hits: a batch of pixel slots is binned by
-/// tile (a counting sort on the high bits of the slot) and then counted tile by tile, so each
-/// tile's counters stay in the core's cache whatever the image's size. The counts are integer
-/// sums, so the image is the same bytes as counting the points in the order they came.
+/// @file Tiled accumulation of the chaos game's 2D hits. Each slot goes to its tile's bin (the
+/// high bits of the slot pick the tile, the low 16 bits are kept); a full bin is counted into its
+/// tile at once. A bin holds many more points than its tile has cache lines, so a tile's counters
+/// are fetched once for several points each whatever the image's size, instead of once a point.
+/// The counts are integer sums, so the image is the same bytes as counting the points in the
+/// order they came.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "ifsforge/core/pages.h"
+
 namespace ifsforge::lanes {
 
-/// Images of more pixels than this (4096^2) are counted through tiles; up to it the direct
-/// increments were as fast (a fern's points crowd into part of the image, which stays cached).
-constexpr std::size_t kTiledAbovePixels = std::size_t(1) << 24;
-/// Tiles of 2^18 counters (256 KB of bytes: half of a core's L2 on current x86-64).
-constexpr int kTileShift = 18;
-/// Slots per batch: enough that every tile of an 8192^2 image receives a few hundred points.
-constexpr std::size_t kTileBatch = std::size_t(1) << 20;
+/// Images of at least this many pixels (4096^2) are counted through tiles; below it the direct
+/// increments were as fast (the image's 8-bit counters stay in the shared cache).
+constexpr std::size_t kTiledFromPixels = std::size_t(1) << 24;
+/// Tiles of 2^16 counters: 64 KB of 8-bit counters, an eighth of a core's L2 on current x86-64.
+constexpr int kTileShift = 16;
+/// Points a bin holds before it is counted: 16 per cache line of its tile (32 KB of offsets).
+constexpr std::size_t kBinPoints = std::size_t(1) << 14;
+/// Slots per batch from the kernel: small enough to stay in L1 until binned.
+constexpr std::size_t kTileBatch = std::size_t(1) << 12;
 
-/// One worker's binning scratch; add() counts a batch into 8-bit `low` counters whose wraps add
-/// 256 to `carry` (atomically: workers share it).
+/// One worker's bins; add() bins a batch, drain() counts what the bins still hold. Counting goes
+/// into 8-bit `low` counters whose wraps add 256 to `carry` (atomically: workers share it).
 class TiledCounter {
  public:
   TiledCounter(std::size_t slots, std::uint8_t* low, std::uint64_t* carry);
+  ~TiledCounter();
+  TiledCounter(const TiledCounter&) = delete;
+  TiledCounter& operator=(const TiledCounter&) = delete;
   void add(const std::uint32_t* slots, std::size_t n);
+  void drain();
   /// The kernels' callback: `self` is a TiledCounter.
   static void flush(void* self, const std::uint32_t* slots, std::size_t n);
+  /// Bytes of bins for an image of `slots` counters.
+  static std::size_t bytes(std::size_t slots);
 
  private:
-  std::vector<std::uint32_t> starts_, sorted_;
+  void count(std::size_t tile);
+
+  std::vector<std::uint16_t*> fill_;  ///< the next free place of each tile's bin
+  std::size_t bytes_;
+  std::uint16_t* bins_;  ///< kBinPoints offsets per tile (allocate_pages: touched as tiles are hit)
   std::uint8_t* low_;
   std::uint64_t* carry_;
 };

@@ -5,6 +5,8 @@
 /// advised MADV_HUGEPAGE (the usual "madvise" setting), before their first touch.
 #include <cstddef>
 #include <iterator>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "ifsforge/core/progress.h"
@@ -27,6 +29,9 @@ void populate_pages(void* data, std::size_t bytes, const ProgressCallback& poll 
 void* allocate_pages(std::size_t bytes);
 /// @brief Returns what allocate_pages(bytes) gave.
 void release_pages(void* data, std::size_t bytes) noexcept;
+/// @brief allocate_pages storage whose bytes are all zero: a fresh mapping already is (nothing is
+/// written); smaller storage is cleared. Returned by release_pages.
+void* allocate_zeroed_pages(std::size_t bytes);
 
 /// An allocator of allocate_pages storage, for the large per-pixel and per-voxel buffers.
 template <class T>
@@ -46,6 +51,30 @@ struct PageAllocator {
 /// A vector of large storage: rasters, images and per-pixel counters.
 template <class T>
 using LargeVector = std::vector<T, PageAllocator<T>>;
+
+/// An allocator of allocate_zeroed_pages storage whose elements made without a value are left as
+/// they are: zero bytes in a fresh buffer, so sizing one writes nothing (its pages are touched
+/// once, by their first real value). Growing after shrinking would show the old elements: only
+/// zeroed_large sizes these.
+template <class T>
+struct ZeroPageAllocator : PageAllocator<T> {
+  ZeroPageAllocator() = default;
+  template <class U>
+  ZeroPageAllocator(const ZeroPageAllocator<U>&) noexcept {}
+  T* allocate(std::size_t n) { return static_cast<T*>(allocate_zeroed_pages(n * sizeof(T))); }
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+/// Per-pixel counters that start at zero (trivial types whose zero is all zero bytes).
+template <class T>
+using ZeroedVector = std::vector<T, ZeroPageAllocator<T>>;
 
 /// @brief Makes `v`'s capacity at least `n` elements, keeping its contents; a new buffer is
 /// advised huge pages before anything is written to it.
@@ -68,6 +97,16 @@ void assign_large(std::vector<T, A>& v, std::size_t n, const T& value, const Pro
     reserve_large(v, n, poll);
   }
   v.assign(n, value);
+}
+
+/// @brief `v` becomes `n` zeros in a fresh buffer (huge pages, faulted in on every core); nothing
+/// but the kernel writes them.
+template <class T>
+void zeroed_large(ZeroedVector<T>& v, std::size_t n, const ProgressCallback& poll = {}) {
+  static_assert(std::is_trivial_v<T>, "zeroed_large holds trivial types");
+  ZeroedVector<T>().swap(v);  // release first: the old and new buffers never coexist
+  reserve_large(v, n, poll);
+  v.resize(n);
 }
 
 /// @brief `v.resize(n)` (new elements value-initialised) through reserve_large.

@@ -81,7 +81,7 @@ class Accumulator {
 
  private:
   int width_, height_, channels_;
-  LargeVector<std::uint64_t> hits_, mass_, sums_;
+  ZeroedVector<std::uint64_t> hits_, mass_, sums_;
   LargeVector<float> nearest_;  // max is order-independent: merging stays deterministic
   std::vector<double> lo_, scale_;
 };
