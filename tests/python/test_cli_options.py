@@ -165,7 +165,6 @@ for argv, folder in cases:
 """
 
 
-@pytest.mark.long
 def test_accepted_hostile_values_give_a_result_or_a_clear_refusal(inputs, tmp_path):
     """The values the parser lets through, run by the command's entry point (main), one case after
     another in one child process."""
