@@ -8,6 +8,8 @@ from pathlib import Path
 
 import pytest
 
+pytest_plugins = ["cpu_durations"]  # --cpu-durations=N
+
 ROOT = Path(__file__).resolve().parents[2]
 BUILD_PYTHON = next((Path(p).resolve() for p in os.environ.get("PYTHONPATH", "").split(os.pathsep)
                      if p and (Path(p) / "ifsforge").is_dir()), ROOT / "build" / "python")

@@ -1,17 +1,17 @@
 """Every numeric option of every command, fed hostile values (0, -1, NaN, infinity, 1e308, 2^63,
 a word): each is refused by the parser with exit 2 and the option's name, or accepted inside the
-domain its checked type declares and then run by the installed command to a result or a clear
-refusal: never a traceback, never a signal."""
+domain its checked type declares and then run by the command's entry point to a result or a
+clear refusal: never a traceback, never a signal."""
 import argparse
 import contextlib
 import io
+import json
 import math
 import shutil
-import subprocess
 
 import pytest
 
-from conftest import BUILD_PYTHON, ROOT, SAMPLES, ifsforge_command
+from conftest import BUILD_PYTHON, ROOT, SAMPLES, run_group
 
 import ifsforge
 from ifsforge import cli
@@ -132,24 +132,65 @@ def inputs(tmp_path_factory):
     return folder
 
 
-@pytest.mark.long
+# Runs each case of a JSON list [[argv, folder], ...] through the command's main() in this one
+# process (an interpreter per case would cost more than the cases), and writes one JSON line per
+# case: its exit code and everything it wrote to the stderr file descriptor. A line "started"
+# goes first, so a signal that kills the process names the case it came in.
+CASES_RUNNER = """
+import json, os, sys, tempfile, traceback
+from ifsforge import cli
+cases, out = json.load(open(sys.argv[1])), open(sys.argv[2], "w")
+devnull = os.open(os.devnull, os.O_WRONLY)
+for argv, folder in cases:
+    print(json.dumps({"started": argv}), file=out, flush=True)
+    os.chdir(folder)
+    saved = os.dup(1), os.dup(2)
+    with tempfile.TemporaryFile() as err:
+        os.dup2(devnull, 1)
+        os.dup2(err.fileno(), 2)
+        try:
+            code = cli.main(argv)
+        except SystemExit as stop:
+            code = stop.code
+        except BaseException:
+            traceback.print_exc()
+            code = None
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        err.seek(0)
+        text = err.read().decode(errors="replace")
+    print(json.dumps({"argv": argv, "code": code, "stderr": text}), file=out, flush=True)
+"""
+
+
 def test_accepted_hostile_values_give_a_result_or_a_clear_refusal(inputs, tmp_path):
-    """The values the parser lets through, run by the installed command."""
-    env = {"PYTHONPATH": str(BUILD_PYTHON), "IFSFORGE_MEMORY_BUDGET_MB": "400", "PATH": "/usr/bin:/bin"}
+    """The values the parser lets through, run by the command's entry point (main), one case after
+    another in one child process."""
+    _, commands = command_parsers()
+    cases = []
     for name, option, value in sweep():
-        _, commands = command_parsers()
         action = dict(numeric_actions(commands[name]))[option]
         work = tmp_path / f"{name}{option}{value}".replace("/", "_")
         work.mkdir()
         for f in inputs.iterdir():
             shutil.copy(f, work / f.name)
         argv = [str(a).replace("{tmp}", str(work)) for a in MINIMAL[name]]
-        result = subprocess.run([*ifsforge_command(), *with_value(argv, option, action, value)], capture_output=True,
-                                text=True, env=env, timeout=120)
-        assert result.returncode in (0, 2), (name, option, value, result.returncode, result.stderr[-2000:])
-        assert "Traceback" not in result.stderr, (name, option, value, result.stderr[-2000:])
-        if result.returncode == 2:
-            assert f"ifsforge {name}: error:" in result.stderr, (name, option, value, result.stderr)
+        cases.append((with_value(argv, option, action, value), str(work)))
+    (tmp_path / "cases.json").write_text(json.dumps(cases))
+    env = {"PYTHONPATH": str(BUILD_PYTHON), "IFSFORGE_MEMORY_BUDGET_MB": "400", "PATH": "/usr/bin:/bin"}
+    child = run_group(["/usr/bin/python3", "-c", CASES_RUNNER, tmp_path / "cases.json", tmp_path / "results"],
+                      timeout=600, env=env)
+    lines = [json.loads(line) for line in (tmp_path / "results").read_text().splitlines()]
+    results = [line for line in lines if "argv" in line]
+    assert child.returncode == 0 and len(results) == len(cases), (child.returncode, lines[-1:], child.stderr[-2000:])
+    for result in results:
+        argv, code, err = result["argv"], result["code"], result["stderr"]
+        assert code in (0, 2), (argv, code, err[-2000:])
+        assert "Traceback" not in err, (argv, err[-2000:])
+        if code == 2:
+            assert f"ifsforge {argv[0]}: error:" in err, (argv, err)
 
 
 def test_old_spellings_are_deprecated_aliases_of_the_american_ones():
