@@ -264,6 +264,7 @@ void FeatureTree::nearest(const BlockFeature* queries, int count, float norm, fl
       return bound != o.bound ? bound > o.bound : node != o.node ? node > o.node : view > o.view;
     }
   };
+  // Scratch reused across queries of a thread: a query allocates nothing.
   thread_local std::vector<Entry> queue;
   thread_local std::vector<std::pair<float, std::uint64_t>> best;  // max-heap of the k best
   queue.clear();
@@ -284,6 +285,7 @@ void FeatureTree::nearest(const BlockFeature* queries, int count, float norm, fl
     auto [bound, node, view] = queue.back();
     queue.pop_back();
     if (bound >= reject) break;
+    // Descend to a leaf, queueing the far sides.
     const Point& q = qs[view];
     while (nodes_[node].dim >= 0) {
       const Node& n = nodes_[node];

@@ -138,8 +138,8 @@ void search_tree(RangeFit& fit, const PifsRaster& half, const PifsSearch& search
     undo[v] = inverse_isometry(views[v].isometry);
   }
   const double rms = std::sqrt(fit.energy / (double(n) * n));
-  const int leaves = std::clamp(int(search.max_leaves * rms / search.full_effort_rms), PifsSearch::kMinLeaves,
-                                std::max(PifsSearch::kMinLeaves, search.max_leaves));
+  const double share = rms / search.full_effort_rms;  // ≥ 1 (or +inf): every leaf it may visit
+  const int leaves = std::max(PifsSearch::kMinLeaves, share >= 1 ? search.max_leaves : int(search.max_leaves * share));
   const float s_max = float(fit.code.s_limit() / fit.s_scale);
   domains.tree.nearest(queries, view_count, float(std::sqrt(fit.energy)), s_max, search.neighbours, leaves, found);
   for (std::uint64_t hit : found) {
