@@ -123,7 +123,7 @@ TEST(PifsSearch, TreeWithEveryViewAndEveryLeafFindsTheExhaustiveOptimum) {
     PifsSearch tree, all;
     tree.orientation_margin = 2;
     tree.max_leaves = 1 << 20;
-    tree.neighbours = 16 * int(pool.energy.size());
+    tree.neighbours = tree.pooled_neighbours = 16 * int(pool.energy.size());
     tree.full_effort_rms = 0;
     all.mode = PifsDomainSearch::Exhaustive;
     for (int row = 0; row < blocks; ++row) {

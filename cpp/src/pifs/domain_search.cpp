@@ -141,7 +141,9 @@ void search_tree(RangeFit& fit, const PifsRaster& half, const PifsSearch& search
   const double share = rms / search.full_effort_rms;  // ≥ 1 (or +inf): every leaf it may visit
   const int leaves = std::max(PifsSearch::kMinLeaves, share >= 1 ? search.max_leaves : int(search.max_leaves * share));
   const float s_max = float(fit.code.s_limit() / fit.s_scale);
-  domains.tree.nearest(queries, view_count, float(std::sqrt(fit.energy)), s_max, search.neighbours, leaves, found);
+  // Above 4×4 the feature pools the block, its estimate is looser: more results are fitted.
+  const int k = n > 4 ? search.pooled_neighbours : search.neighbours;
+  domains.tree.nearest(queries, view_count, float(std::sqrt(fit.energy)), s_max, k, leaves, found);
   for (std::uint64_t hit : found) {
     const std::uint32_t tag = std::uint32_t(hit >> 4);
     const std::size_t id = tag >> 4;
