@@ -87,9 +87,10 @@ def decode_ab(out, runs):
         code = ifsforge.pifs_encode(image, ratio=RATIO)
         for scale in (1, 2, 4):
             samples = {1: [], 2: []}
-            # Interleaved, so both see the same load; the largest decodes (8192²) fewer times.
-            for _ in range(max(5, 3 * runs) if image.shape[0] <= 512 else 3):
-                for threads in (1, 2):
+            # Interleaved, each first every other time, so both see the same load and neither
+            # always follows the other; the largest decodes (8192²) fewer times.
+            for i in range(max(6, 3 * runs) if image.shape[0] <= 512 else 4):
+                for threads in ((1, 2) if i % 2 == 0 else (2, 1)):
                     samples[threads].append(timed(lambda: code.decode(scale=scale, threads=threads), 1))
             med = {t: [statistics.median(s[i] for s in samples[t]) for i in (0, 1)] for t in (1, 2)}
             out.print(f"| {label} | {scale} | {1000 * med[1][0]:.1f} | {1000 * med[2][0]:.1f} | "
