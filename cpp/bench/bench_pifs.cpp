@@ -60,6 +60,9 @@ PifsEncodeOptions options(int threads) {
 void Encode(benchmark::State& state) {
   const Image small = test_image(int(state.range(0)));
   const Image im = state.range(1) == 512 ? small : tiled(small, int(state.range(1) / 512));
+  // The same counters as Decode512's: a CSV report needs every counter in every row.
+  const double side = double(state.range(1));
+  const ProcessUsage usage(state, side * side * double(state.range(0)) * 4.0);  // the planes: a float per sample
   for (auto _ : state) benchmark::DoNotOptimize(pifs_encode(im, options(int(state.range(2)))));
 }
 // Arguments: (channels, scale, threads).

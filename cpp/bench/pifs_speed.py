@@ -9,7 +9,8 @@
    serial share: called from Python with its Ctrl-C check, the calling thread only reports
    progress during the parallel steps (the workers do the jobs) and does every serial step
    itself, so its CPU time over the process's is the serial share, whatever the load.
-3. Decoding on 1 and 2 threads at scales 1, 2 and 4, gray and colour, the runs interleaved.
+3. Decoding on 1 and 2 threads at scales 1, 2 and 4 of 256², 512² and 2048² images, the runs
+   interleaved.
 
     PYTHONPATH=build/python cpp/bench/pifs_speed.py [--runs 3] [--results FILE|-]
 
@@ -77,15 +78,19 @@ def encode_sweep(out, runs):
 
 
 def decode_ab(out, runs):
-    out.print("\n| decode 512² (50:1) | scale | 1 thread wall (ms) | 2 threads wall (ms) | 1 thread CPU (ms) | 2 threads CPU (ms) |")
+    out.print("\n| decode (50:1) | scale | 1 thread wall (ms) | 2 threads wall (ms) | 1 thread CPU (ms) | 2 threads CPU (ms) |")
     out.print("|---|---:|---:|---:|---:|---:|")
-    codes = {"gray": ifsforge.pifs_encode(data.camera(), ratio=RATIO),
-             "colour": ifsforge.pifs_encode(data.astronaut(), ratio=RATIO)}
-    for label, code in codes.items():
+    camera, astronaut = data.camera(), data.astronaut()
+    images = {"256² gray": camera[:256, :256], "256² colour": astronaut[:256, :256], "512² gray": camera,
+              "512² colour": astronaut, "2048² colour": np.tile(astronaut, (4, 4, 1))}
+    for label, image in images.items():
+        code = ifsforge.pifs_encode(image, ratio=RATIO)
         for scale in (1, 2, 4):
             samples = {1: [], 2: []}
-            for _ in range(max(5, 3 * runs)):  # interleaved: both see the same load
-                for threads in (1, 2):
+            # Interleaved, each first every other time, so both see the same load and neither
+            # always follows the other; the largest decodes (8192²) fewer times.
+            for i in range(max(6, 3 * runs) if image.shape[0] <= 512 else 4):
+                for threads in ((1, 2) if i % 2 == 0 else (2, 1)):
                     samples[threads].append(timed(lambda: code.decode(scale=scale, threads=threads), 1))
             med = {t: [statistics.median(s[i] for s in samples[t]) for i in (0, 1)] for t in (1, 2)}
             out.print(f"| {label} | {scale} | {1000 * med[1][0]:.1f} | {1000 * med[2][0]:.1f} | "

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #ifdef __SSE2__
@@ -14,7 +15,9 @@
 
 namespace ifsforge {
 namespace {
-constexpr int kLeafSize = 8;
+// Leaves of 16..32 points: scanned four at a time, so fewer, larger leaves cost less than the
+// queue work of finer ones.
+constexpr int kLeafSize = 32;
 }
 
 bool block_feature(const float* block, long stride, int n, BlockFeature& out) {
@@ -149,33 +152,43 @@ FeatureTree::Point quantise(const BlockFeature& f) {
   return p;
 }
 
-/// Squared distance of two quantised features: integers, so SSE2 and the plain loop agree exactly.
-int distance(const FeatureTree::Point& a, const FeatureTree::Point& b) {
+/// Squared distances of `count` quantised features from `q`, into `out`: integers, so SSE2 and
+/// the plain loop agree exactly. SSE2 takes four at a time and sums their lanes together.
+void distances(const FeatureTree::Point* p, int count, const FeatureTree::Point& q, int* out) {
+  int i = 0;
 #ifdef __SSE2__
-  const __m128i va = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a.data()));
-  const __m128i vb = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b.data()));
-  // Sign-extend the bytes to 16 bits (each byte into the high half, then shifted down).
+  // Sign-extend bytes to 16 bits: each byte into the high half, then shifted down.
   const __m128i zero = _mm_setzero_si128();
-  const __m128i d_lo = _mm_sub_epi16(_mm_srai_epi16(_mm_unpacklo_epi8(zero, va), 8), _mm_srai_epi16(_mm_unpacklo_epi8(zero, vb), 8));
-  const __m128i d_hi = _mm_sub_epi16(_mm_srai_epi16(_mm_unpackhi_epi8(zero, va), 8), _mm_srai_epi16(_mm_unpackhi_epi8(zero, vb), 8));
-  __m128i sum = _mm_add_epi32(_mm_madd_epi16(d_lo, d_lo), _mm_madd_epi16(d_hi, d_hi));
-  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(1, 0, 3, 2)));
-  sum = _mm_add_epi32(sum, _mm_shuffle_epi32(sum, _MM_SHUFFLE(2, 3, 0, 1)));
-  return _mm_cvtsi128_si32(sum);
-#else
-  int d = 0;
-  for (int j = 0; j < kFeatureDim; ++j) {
-    const int e = int(a[j]) - int(b[j]);
-    d += e * e;
+  const __m128i vq = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q.data()));
+  const __m128i q_lo = _mm_srai_epi16(_mm_unpacklo_epi8(zero, vq), 8), q_hi = _mm_srai_epi16(_mm_unpackhi_epi8(zero, vq), 8);
+  const auto squares = [&](const FeatureTree::Point& a) {
+    const __m128i va = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a.data()));
+    const __m128i d_lo = _mm_sub_epi16(_mm_srai_epi16(_mm_unpacklo_epi8(zero, va), 8), q_lo);
+    const __m128i d_hi = _mm_sub_epi16(_mm_srai_epi16(_mm_unpackhi_epi8(zero, va), 8), q_hi);
+    return _mm_add_epi32(_mm_madd_epi16(d_lo, d_lo), _mm_madd_epi16(d_hi, d_hi));
+  };
+  for (; i + 4 <= count; i += 4) {
+    const __m128i a = squares(p[i]), b = squares(p[i + 1]), c = squares(p[i + 2]), d = squares(p[i + 3]);
+    const __m128i ab = _mm_add_epi32(_mm_unpacklo_epi32(a, b), _mm_unpackhi_epi32(a, b));  // a01 b01 a23 b23
+    const __m128i cd = _mm_add_epi32(_mm_unpacklo_epi32(c, d), _mm_unpackhi_epi32(c, d));
+    const __m128i sum = _mm_add_epi32(_mm_unpacklo_epi64(ab, cd), _mm_unpackhi_epi64(ab, cd));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), sum);
   }
-  return d;
 #endif
+  for (; i < count; ++i) {
+    int d = 0;
+    for (int j = 0; j < kFeatureDim; ++j) {
+      const int e = int(p[i][j]) - int(q[j]);
+      d += e * e;
+    }
+    out[i] = d;
+  }
 }
 
 }  // namespace
 
-FeatureTree::FeatureTree(const std::vector<BlockFeature>& points, std::vector<std::uint32_t> tags)
-    : tags_(std::move(tags)) {
+FeatureTree::FeatureTree(const std::vector<BlockFeature>& points, std::vector<std::uint32_t> tags, std::vector<float> norms)
+    : tags_(std::move(tags)), norms_(std::move(norms)) {
   points_.reserve(points.size());
   for (const BlockFeature& f : points) points_.push_back(quantise(f));
   if (!points_.empty()) {
@@ -185,12 +198,15 @@ FeatureTree::FeatureTree(const std::vector<BlockFeature>& points, std::vector<st
     build(0, int(points_.size()));
     std::vector<Point> p(points_.size());
     std::vector<std::uint32_t> t(points_.size());
+    std::vector<float> e(points_.size());
     for (std::size_t i = 0; i < p.size(); ++i) {
       p[i] = points_[order_[i]];
       t[i] = tags_[order_[i]];
+      e[i] = norms_[order_[i]];
     }
     points_.swap(p);
     tags_.swap(t);
+    norms_.swap(e);
     order_.clear();
     order_.shrink_to_fit();
   }
@@ -231,47 +247,79 @@ int FeatureTree::build(int begin, int end) {
   return index;
 }
 
-void FeatureTree::nearest(const BlockFeature& query, int k, int max_leaves, std::vector<std::uint32_t>& out) const {
+namespace {
+// Two quantised unit features at squared distance D have cosine c = 1 − D / kUnit2.
+constexpr float kUnit2 = 2.f * 127.f * 127.f;
+}  // namespace
+
+void FeatureTree::nearest(const BlockFeature* queries, int count, float norm, float s_max, int k, int max_leaves,
+                          std::vector<std::uint64_t>& out) const {
   out.clear();
   if (points_.empty()) return;
-  const Point q = quantise(query);
+  Point qs[16];
+  for (int v = 0; v < count; ++v) qs[v] = quantise(queries[v]);
+  struct Entry {
+    int bound, node, view;
+    bool operator>(const Entry& o) const {
+      return bound != o.bound ? bound > o.bound : node != o.node ? node > o.node : view > o.view;
+    }
+  };
   // Scratch reused across queries of a thread: a query allocates nothing.
-  using Entry = std::pair<int, int>;  // (lower bound, node): min-heap by bound
   thread_local std::vector<Entry> queue;
-  thread_local std::vector<std::pair<int, std::uint32_t>> best;  // max-heap of the k nearest
+  thread_local std::vector<std::pair<float, std::uint64_t>> best;  // max-heap of the k best
   queue.clear();
   best.clear();
+  const float inv_norm = 1.f / norm;
   const auto later = [](const Entry& a, const Entry& b) { return a > b; };
-  queue.push_back({0, 0});
+  // Squared distances from `reject` on cannot enter the list: their error with s unbounded,
+  // 1 − c², already reaches the worst kept one (set once the list is full).
+  int reject = std::numeric_limits<int>::max();
+  const auto tighten = [&] {
+    const float worst = best.front().first;
+    reject = worst >= 1.f ? std::numeric_limits<int>::max() : int((1.f - std::sqrt(1.f - worst)) * kUnit2) + 2;
+  };
+  for (int v = 0; v < count; ++v) queue.push_back({0, 0, v});
   int leaves = 0;
   while (!queue.empty() && leaves < max_leaves) {
     std::pop_heap(queue.begin(), queue.end(), later);
-    auto [bound, node] = queue.back();
+    auto [bound, node, view] = queue.back();
     queue.pop_back();
-    if (int(best.size()) == k && bound >= best.front().first) break;
+    if (bound >= reject) break;
     // Descend to a leaf, queueing the far sides.
+    const Point& q = qs[view];
     while (nodes_[node].dim >= 0) {
       const Node& n = nodes_[node];
       const int diff = int(q[n.dim]) - n.split;
       const int near = diff < 0 ? n.left : n.right, far = diff < 0 ? n.right : n.left;
       const int far_bound = bound + diff * diff;
-      if (int(best.size()) < k || far_bound < best.front().first) {
-        queue.push_back({far_bound, far});
+      if (far_bound < reject) {
+        queue.push_back({far_bound, far, view});
         std::push_heap(queue.begin(), queue.end(), later);
       }
       node = near;
     }
     ++leaves;
     const Node& leaf = nodes_[node];
+    int dist_of[kLeafSize];
+    distances(&points_[leaf.left], leaf.right - leaf.left, q, dist_of);
     for (int i = leaf.left; i < leaf.right; ++i) {
-      const std::pair<int, std::uint32_t> entry{distance(q, points_[i]), tags_[i]};
+      const int dist = dist_of[i - leaf.left];
+      if (dist >= reject) continue;
+      const float c = 1.f - float(dist) * (1.f / kUnit2);
+      if (c <= 0) continue;
+      // The error over ‖r‖²: 1 − c² at the best s = c/ρ, else at s = s_max (ρ = ‖d‖ / ‖r‖).
+      const float rho = norms_[i] * inv_norm;
+      const float f = c <= s_max * rho ? 1.f - c * c : 1.f - 2.f * s_max * rho * c + s_max * s_max * rho * rho;
+      const std::pair<float, std::uint64_t> entry{f, std::uint64_t(tags_[i]) << 4 | std::uint64_t(view)};
       if (int(best.size()) < k) {
         best.push_back(entry);
         std::push_heap(best.begin(), best.end());
+        if (int(best.size()) == k) tighten();
       } else if (entry < best.front()) {
         std::pop_heap(best.begin(), best.end());
         best.back() = entry;
         std::push_heap(best.begin(), best.end());
+        tighten();
       }
     }
   }

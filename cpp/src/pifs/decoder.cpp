@@ -146,11 +146,15 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
   // channel of the output.
   check_memory(double(full_w) * full_h * 4.0 * (5 * code.planes.size() + 1) + double(width) * height * code.channels * 8.0,
                "decoding a " + std::to_string(width) + "x" + std::to_string(height) + " image");
-  // Planes decode independently: in parallel, each on its share of the threads.
+  // Planes decode independently: in parallel once their samples pay for a second thread (the
+  // rule of every pass inside), each plane then on its share of the threads; a small image
+  // decodes on one thread whatever is asked, so more threads never make it slower.
   std::vector<PifsRaster> planes(code.planes.size());
   const int threads = resolve_threads(options.threads);
-  const int inner = std::max(1, threads / int(planes.size()));
-  parallel_jobs(planes.size(), threads, [&](std::size_t k, int) {
+  const int plane_threads =
+      std::min(int(planes.size()), pass_threads(threads, double(full_w) * full_h * double(planes.size())));
+  const int inner = std::max(1, threads / plane_threads);
+  parallel_jobs(planes.size(), plane_threads, [&](std::size_t k, int) {
     const PifsPlane& plane = code.planes[k];
     // Chroma stored at half size is decoded one level finer (the seed's Step 6).
     const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);

@@ -41,6 +41,7 @@ PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_hei
   const long stride = half.width;
   std::vector<BlockFeature> points;
   std::vector<std::uint32_t> tags;
+  std::vector<float> norms;
   for (int j = 0; j < pool.ny; ++j) {
     if (stop_requested()) throw Cancelled();
     for (int i = 0; i < pool.nx; ++i) {
@@ -58,10 +59,11 @@ PifsDomains domain_pool(const PifsRaster& half, int padded_width, int padded_hei
       if (!with_tree || !block_feature(d, stride, n, f)) continue;
       const Orientation o = canonical_orientation(f);
       points.push_back(transform_feature(f, o.isometry, o.negate));
+      norms.push_back(float(std::sqrt(std::max(0.0, pool.energy[id]))));
       tags.push_back(std::uint32_t(id) << 4 | std::uint32_t(o.isometry) << 1 | std::uint32_t(o.negate));
     }
   }
-  pool.tree = FeatureTree(points, std::move(tags));
+  pool.tree = FeatureTree(points, std::move(tags), std::move(norms));
   return pool;
 }
 
@@ -116,37 +118,48 @@ void search_all(RangeFit& fit, const PifsRaster& half, const std::vector<float>&
   }
 }
 
-/// The tree search: the range's feature in each near-canonical view asks for its nearest domains,
-/// each fitted exactly.
+/// The tree search: the range's near-canonical views ask the tree together for the domains of
+/// least estimated error, each then fitted exactly. A range whose RMS is below
+/// search.full_effort_rms visits proportionally fewer leaves: its error, and so what a better
+/// domain could save, is that much smaller.
 void search_tree(RangeFit& fit, const PifsRaster& half, const PifsSearch& search, const std::vector<float>& r,
                  double mean, const BlockFeature& f, int n) {
   const PifsDomains& domains = fit.domains;
   const long stride = half.width;
-  thread_local std::vector<std::uint32_t> found;
+  thread_local std::vector<std::uint64_t> found;
   Orientation views[16];
+  BlockFeature queries[16];
+  int undo[16];
   const int view_count = near_canonical_orientations(f, search.orientation_margin, views);
   for (int v = 0; v < view_count; ++v) {
     // The range seen canonically; a domain seen canonically near it matches the range through
     // the domain's orientation followed by the inverse of the range's.
-    const Orientation ro = views[v];
-    domains.tree.nearest(transform_feature(f, ro.isometry, ro.negate), search.neighbours, search.max_leaves, found);
-    const int undo = inverse_isometry(ro.isometry);
-    for (std::uint32_t tag : found) {
-      const std::size_t id = tag >> 4;
-      if (domains.energy[id] <= 0) continue;
-      const int iso = compose_isometry(int(tag >> 1) & 7, undo);
-      const int i = int(id % domains.nx), j = int(id / domains.nx);
-      const float* d = half.row(j * n / 2) + i * n / 2;
-      long origin, du, dv;
-      isometry_walk(iso, n, stride, origin, du, dv);
-      double dot = 0;
-      for (int y = 0; y < n; ++y) {
-        const float* p = d + origin + y * dv;
-        const float* rr = &r[std::size_t(y) * n];
-        for (int x = 0; x < n; ++x) dot += (rr[x] - mean) * p[x * du];
-      }
-      fit.consider(id, iso, dot);
+    queries[v] = transform_feature(f, views[v].isometry, views[v].negate);
+    undo[v] = inverse_isometry(views[v].isometry);
+  }
+  const double rms = std::sqrt(fit.energy / (double(n) * n));
+  const double share = rms / search.full_effort_rms;  // ≥ 1 (or +inf): every leaf it may visit
+  const int leaves = std::max(PifsSearch::kMinLeaves, share >= 1 ? search.max_leaves : int(search.max_leaves * share));
+  const float s_max = float(fit.code.s_limit() / fit.s_scale);
+  // Above 4×4 the feature pools the block, its estimate is looser: more results are fitted.
+  const int k = n > 4 ? search.pooled_neighbours : search.neighbours;
+  domains.tree.nearest(queries, view_count, float(std::sqrt(fit.energy)), s_max, k, leaves, found);
+  for (std::uint64_t hit : found) {
+    const std::uint32_t tag = std::uint32_t(hit >> 4);
+    const std::size_t id = tag >> 4;
+    if (domains.energy[id] <= 0) continue;
+    const int iso = compose_isometry(int(tag >> 1) & 7, undo[hit & 15]);
+    const int i = int(id % domains.nx), j = int(id / domains.nx);
+    const float* d = half.row(j * n / 2) + i * n / 2;
+    long origin, du, dv;
+    isometry_walk(iso, n, stride, origin, du, dv);
+    double dot = 0;
+    for (int y = 0; y < n; ++y) {
+      const float* p = d + origin + y * dv;
+      const float* rr = &r[std::size_t(y) * n];
+      for (int x = 0; x < n; ++x) dot += (rr[x] - mean) * p[x * du];
     }
+    fit.consider(id, iso, dot);
   }
 }
 

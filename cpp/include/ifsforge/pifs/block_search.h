@@ -40,17 +40,23 @@ int compose_isometry(int first, int then);
 /// @brief The isometry that undoes `iso`.
 int inverse_isometry(int iso);
 
-/// @brief A k-d tree of features, each with a 32-bit tag; approximate best-bin-first queries.
+/// @brief A k-d tree of domain features, each with a 32-bit tag and its block's norm
+/// ‖d − mean_d‖; approximate best-bin-first queries ranked by the least-squares error of Eq. 29.
 /// Points are held quantised to 8 bits (a unit feature's components ×127): a quarter of the
 /// memory, and integer distances, exact and the same on every instruction set.
 class FeatureTree {
  public:
   using Point = std::array<std::int8_t, kFeatureDim>;
   FeatureTree() = default;
-  FeatureTree(const std::vector<BlockFeature>& points, std::vector<std::uint32_t> tags);
-  /// @brief Up to `k` tags of the nearest points, nearest first, visiting at most `max_leaves`
-  /// leaves. Deterministic: the same query always gives the same answer.
-  void nearest(const BlockFeature& q, int k, int max_leaves, std::vector<std::uint32_t>& out) const;
+  FeatureTree(const std::vector<BlockFeature>& points, std::vector<std::uint32_t> tags, std::vector<float> norms);
+  /// @brief The `count` (≤ 16) views `queries` of one range of norm `norm` searched together
+  /// (one queue, one list, at most `max_leaves` leaves in all): up to `k` results, least
+  /// estimated error first, each tag << 4 | the index of the view that found it. The estimate
+  /// is the error fraction of Eq. 29 with |s| ≤ s_max from the features' cosine and the norms'
+  /// ratio, so a domain too flat to reach the range ranks low however alike their shapes.
+  /// Deterministic: the same query always gives the same answer.
+  void nearest(const BlockFeature* queries, int count, float norm, float s_max, int k, int max_leaves,
+               std::vector<std::uint64_t>& out) const;
   bool empty() const { return points_.empty(); }
 
  private:
@@ -62,6 +68,7 @@ class FeatureTree {
   int build(int begin, int end);
   std::vector<Point> points_;
   std::vector<std::uint32_t> tags_;
+  std::vector<float> norms_;
   std::vector<Node> nodes_;
   std::vector<int> order_;
 };

@@ -38,13 +38,17 @@ struct EnumNames<PifsDomainSearch> {
       {PifsDomainSearch::Exhaustive, "exhaustive"}};
 };
 
-/// @brief Search effort: neighbours evaluated exactly per query, k-d tree leaves visited per
-/// query, and how near a tie (in quadrant sums of unit features) still asks a second orientation.
+/// @brief Search effort: domains fitted exactly per range (those of least estimated error; more
+/// for ranges above 4×4, whose feature pools the block), k-d tree leaves a range may visit (all of them from an RMS of full_effort_rms 8-bit levels,
+/// proportionally fewer below, at least kMinLeaves), and how near a tie (in quadrant sums of
+/// unit features) still adds another orientation of the range to its query.
 struct PifsSearch {
   PifsDomainSearch mode = PifsDomainSearch::Tree;
-  int neighbours = 16;
-  int max_leaves = 16;
-  float orientation_margin = 0.1f;
+  int neighbours = 4, pooled_neighbours = 8;
+  int max_leaves = 64;
+  double full_effort_rms = 16;
+  float orientation_margin = 0.3f;
+  static constexpr int kMinLeaves = 4;
 };
 
 /// @brief φ of Eq. 29 for every domain at once: the plane averaged 2×2, so the 2r×2r domain at
@@ -52,8 +56,8 @@ struct PifsSearch {
 PifsRaster half_plane(const PifsRaster& padded);
 
 /// @brief The domain pool of one plane for ranges of 2^log_size: each domain's energy
-/// Σ(d − mean_d)² (of its φ) and a tree of its canonical feature, shared read-only by the
-/// threads that search it.
+/// Σ(d − mean_d)² (of its φ) and a tree of its canonical feature (with √energy, so the tree
+/// ranks by Eq. 29's error, |s| < 1 included), shared read-only by the threads that search it.
 struct PifsDomains {
   int log_size = 0;
   int nx = 0, ny = 0;           ///< domains across and down (domain_count)
