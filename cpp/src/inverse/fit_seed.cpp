@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "fit_clusters.h"
@@ -20,6 +21,7 @@ constexpr double kOutsideCost = 2.0;  // a copy cell off the target costs two ne
 constexpr double kOverlapCost = 0.5;  // one on an earlier copy, half of one
 constexpr double kGiveUp = 0.3;       // share of a copy's first cells off the target that ends its count
 constexpr std::size_t kCoverRefined = 8;  // best copies refined by a local climb
+constexpr int kCoverBeamCopies = 32;      // copies the beam's covers may hold together: fewer covers for more maps
 constexpr int kCoverSlack = 2;            // cells the target grows by for the lattice
 constexpr double kCoverTieBreak = 1e-3;   // below one cell: breaks ties only
 constexpr std::size_t kMostParts = 32;    // largest parts of the target whose moments give candidates
@@ -112,26 +114,6 @@ std::vector<std::array<double, 6>> remainder_candidates(const std::vector<std::u
   return out;
 }
 
-/// The copies of a cover (`x0`, similarities) carried by the symmetries the target may have:
-/// reflected in either principal axis of `whole` through its centroid, and turned half a turn
-/// about it. A symmetric target's copies come in such pairs (a leaf's two side branches, a
-/// terdragon's turned ends), which the lattice finds only roughly.
-std::vector<std::array<double, 6>> symmetric_copies(const std::vector<double>& x0, const Moments& whole) {
-  const auto& c = whole.centroid;
-  std::vector<std::array<double, 6>> out;
-  for (std::size_t i = 0; i + 6 <= x0.size(); i += 6) {
-    const double s = x0[i + 1], turn = x0[i + 2], bx = x0[i + 4] - c[0], by = x0[i + 5] - c[1];
-    const bool mirror = x0[i] < 0;
-    // Reflection S in the line at angle a: S R(t) F^m = R(2a - t + pi) F^(1-m) (Eq. 5's A = R F).
-    for (double a : {whole.axis(), whole.axis() + M_PI / 2}) {
-      const double ca = std::cos(2 * a), sa = std::sin(2 * a), t = 2 * a - turn + M_PI;
-      out.push_back({mirror ? s : -s, s, t, t, c[0] + ca * bx + sa * by, c[1] + sa * bx - ca * by});
-    }
-    out.push_back({x0[i], s, turn + M_PI, turn + M_PI, c[0] - bx, c[1] - by});
-  }
-  return out;
-}
-
 /// A copy's worth judged on one grid: target cells it newly covers (not in a cover's `covered`),
 /// less those it puts off the target (or off `on`, a grown target) and on earlier copies.
 class CopyJudge {
@@ -207,7 +189,7 @@ struct Cover {
 
 std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& target, const FitGrid& grid, int maps,
                                        int judge_raster, double max_contraction, int threads, Rng& rng,
-                                       std::uint64_t& evaluations) {
+                                       std::uint64_t& evaluations, const std::function<bool()>& stop) {
   const int w = target.width, h = target.height, workers = resolve_threads(threads);
   // The lattice is judged on the search's grid, in a seeded order of its cells so that a copy's
   // first cells are a fair sample of it. The climb and the choice copy the picture's own pixels:
@@ -353,11 +335,13 @@ std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& tar
     cover.x0.insert(cover.x0.end(), copy.p.begin(), copy.p.end());
     cover.worth += copy.score;
   };
-  // Greedy from each first copy of the beam (one of each scale); the cover worth most wins.
+  // Greedy from each first copy of the beam (one of each scale, the best scales while the covers'
+  // copies stay within kCoverBeamCopies, none after the deadline); the cover worth most wins.
   const Cover empty{{}, coarse.nothing_covered(), fine.nothing_covered(), 0};
   std::vector<Cover> covers;
+  const std::size_t beam = std::size_t(std::max(2, kCoverBeamCopies / maps));
   for (const Candidate& first : next_copies(empty, maps > 1)) {
-    if (!std::isfinite(first.score) && !covers.empty()) break;
+    if (!covers.empty() && (!std::isfinite(first.score) || covers.size() == beam || stop())) break;
     covers.push_back(empty);
     add(covers.back(), first);
     for (int c = 1; c < maps; ++c) add(covers.back(), next_copies(covers.back(), false)[0]);

@@ -2,6 +2,7 @@
 // The structural start of the planar fit: the target covered by copies of itself chosen one at
 // a time over the full circle of turns (each part of the target is a copy of the whole, Eq. 41).
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "fit_raster.h"
@@ -21,9 +22,9 @@ namespace ifsforge {
 /// few of each climb, judged by where the picture `full`'s own pixels land on a grid of
 /// `judge_raster` cells along the long side (the search's: lenient to a thin target's large
 /// copies; the picture's: strict with copies of nearly the whole). The same for any thread count;
-/// candidates tried are added to `evaluations`.
+/// candidates tried are added to `evaluations`; once `stop` turns true no further cover is begun.
 std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& target, const FitGrid& grid, int maps,
                                        int judge_raster, double max_contraction, int threads, Rng& rng,
-                                       std::uint64_t& evaluations);
+                                       std::uint64_t& evaluations, const std::function<bool()>& stop);
 
 }  // namespace ifsforge
