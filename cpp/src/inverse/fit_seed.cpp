@@ -40,6 +40,16 @@ std::array<double, 2> padded_plane(const FitGrid& grid, int W, int pad, std::siz
   return grid.to_plane(int(q % W) - pad + 0.5, int(q / W) - pad + 0.5);
 }
 
+/// The moment maps (fit_moments.h) over the full circle of each piece (plane points) large enough.
+std::vector<std::array<double, 6>> piece_maps(const std::vector<std::vector<std::array<double, 2>>>& pieces,
+                                              const Moments& whole, double max_contraction) {
+  std::vector<std::array<double, 6>> out;
+  for (const auto& piece : pieces)
+    if (piece.size() >= kPartCells)
+      for (const auto& p : moment_maps(whole, moments_of(piece), max_contraction, kCoverTurns)) out.push_back(p);
+  return out;
+}
+
 /// The moment maps (fit_moments.h) of the target's pieces: its parts once grown by 0 to
 /// kCoverSlack cells (`grown`, padded by `pad`; the first is the target), the whole less each of
 /// the largest of them, and its k-means clusters into `maps`.
@@ -84,12 +94,7 @@ std::vector<std::array<double, 6>> moment_candidates(const PixelSet& target, con
     }
     pieces.insert(pieces.end(), parts.begin(), parts.end());
   }
-  const Moments all = moments_of(whole);
-  std::vector<std::array<double, 6>> out;
-  for (const auto& piece : pieces)
-    if (piece.size() >= kPartCells)
-      for (const auto& p : moment_maps(all, moments_of(piece), max_contraction, kCoverTurns)) out.push_back(p);
-  return out;
+  return piece_maps(pieces, moments_of(whole), max_contraction);
 }
 
 /// The moment maps of what a cover leaves of the target `on` (W x H, padded by `pad`) beside
@@ -107,11 +112,7 @@ std::vector<std::array<double, 6>> remainder_candidates(const std::vector<std::u
     pieces.emplace_back();
     for (std::size_t q : part) pieces.back().push_back(padded_plane(grid, W, pad, q));
   }
-  std::vector<std::array<double, 6>> out;
-  for (const auto& piece : pieces)
-    if (piece.size() >= kPartCells)
-      for (const auto& p : moment_maps(whole, moments_of(piece), max_contraction, kCoverTurns)) out.push_back(p);
-  return out;
+  return piece_maps(pieces, whole, max_contraction);
 }
 
 /// A copy's worth judged on one grid: target cells it newly covers (not in a cover's `covered`),
