@@ -2,7 +2,7 @@
 pictures and 3D shapes.
 
 Each 2D target is a 256-pixel picture (the attractors rendered by the chaos game, skimage's horse
-as it is); the fit runs with a 60 s time limit on the given threads. Prints, per target, the
+as it is); the fit runs with a 60 s time limit (times --time-scale) on the given threads. Prints, per target, the
 IoU of the fitted attractor with the target, the Hausdorff distance (Eq. 12, pixels) between
 the fitted attractor drawn at the target's size and the target, the collage distance
 (Eq. 41) and the time. Colour targets (the colour samples drawn as `render` draws them) add the
@@ -14,7 +14,7 @@ snowflake) and drawn silhouettes (a letter, a tree) with default options but the
 time limit), once with the right count and once by `--maps auto`, and writes them as a section of
 their own: IoU, Hausdorff distance, wall and CPU seconds (all threads; the CPU time is the fair
 measure on a shared machine), and auto's count, IoU, times and CPU time over the right count's.
-Run: PYTHONPATH=build/python python3 cpp/bench/fit_targets.py [--threads 2] [--rotated]
+Run: PYTHONPATH=build/python python3 cpp/bench/fit_targets.py [--threads 2] [--time-scale 1] [--rotated]
 """
 import argparse
 import json
@@ -26,6 +26,9 @@ import time
 import numpy as np
 
 import ifsforge
+
+TIME_LIMIT = 60.0        # seconds per 2D fit (classic, colour)
+SHAPE_TIME_LIMIT = 120.0  # seconds per 3D fit
 
 CLASSIC = {
     # name: (maps, JSON maps) -- none of them is a sample system the fit could have seen.
@@ -126,7 +129,7 @@ def drawn(system, shape):
     return np.asarray(raster.mask, bool)
 
 
-def evaluate(name, target, maps, threads=2, seed=0, time_limit=60.0):
+def evaluate(name, target, maps, threads=2, seed=0, time_limit=TIME_LIMIT):
     start, cpu = time.perf_counter(), time.process_time()
     if maps == "auto":
         import ifsforge.commands.fit as fit_command
@@ -161,7 +164,7 @@ def color_targets(size=256):
     return out
 
 
-def evaluate_color(name, picture, maps, threads=2, seed=0, time_limit=60.0):
+def evaluate_color(name, picture, maps, threads=2, seed=0, time_limit=TIME_LIMIT):
     start = time.perf_counter()
     shape = ifsforge.color_foreground(picture)
     result = ifsforge.fit(shape, maps=maps, time_limit=time_limit, seed=seed, threads=threads)
@@ -199,7 +202,7 @@ def occupancy(system, target):
     return volume.to_dense("occupancy")[:nx, :ny, :nz] > 0
 
 
-def evaluate_3d(name, target, maps, threads=2, seed=0, time_limit=120.0):
+def evaluate_3d(name, target, maps, threads=2, seed=0, time_limit=SHAPE_TIME_LIMIT):
     start = time.perf_counter()
     result = ifsforge.fit_3d(**target, maps=maps, time_limit=time_limit, seed=seed, threads=threads)
     seconds = time.perf_counter() - start
@@ -214,6 +217,11 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--time-scale", type=float, default=1.0,
+                        help="multiplies every time limit (a loaded machine gives a fit less CPU per wall second; "
+                        "0: no limit, the CPU time then measures)")
+    parser.add_argument("--only", default=None, metavar="NAME,...",
+                        help="only these targets (names as printed); with --rotated or the planar classic ones")
     parser.add_argument("--rotated", action="store_true",
                         help="only the rotated systems and drawn silhouettes, right count and --maps auto (own section)")
     import results  # beside this script; imported here, as the galleries import this module without it
@@ -231,21 +239,30 @@ def main():
         report(args, out)
 
 
+def chosen(targets, only):
+    """The (name, target, maps) of `targets` named in `only` (comma-separated; None: all)."""
+    return targets if only is None else [t for t in targets if t[0] in only.split(",")]
+
+
 def report(args, out):
-    out.print(f"{'target':18} {'maps':>4} {'IoU':>6} {'Hausdorff px':>12} {'collage px':>10} {'time s':>7}")
-    for name, target, maps in targets():
-        r = evaluate(name, target, maps, args.threads, args.seed)
+    scale = args.time_scale
+    out.print(f"{'target':18} {'maps':>4} {'IoU':>6} {'Hausdorff px':>12} {'collage px':>10} {'time s':>7} {'CPU s':>7}")
+    for name, target, maps in chosen(targets(), args.only):
+        r = evaluate(name, target, maps, args.threads, args.seed, time_limit=TIME_LIMIT * scale)
         out.print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['hausdorff_pixels']:12.2f} {r['collage_pixels']:10.2f} "
-                  f"{r['seconds']:7.1f}" + (" (time limit)" if r["time_limited"] else ""))
+                  f"{r['seconds']:7.1f} {r['cpu']:7.1f}" + (" (time limit)" if r["time_limited"] else ""))
+    if args.only is not None:
+        return
     out.print(f"\n{'colour target':18} {'maps':>4} {'IoU':>6} {'colour error':>12} {'collage RMS r g b':>20} {'time s':>7}")
     for name, picture, maps in color_targets():
-        r = evaluate_color(name, picture, maps, args.threads, args.seed)
+        r = evaluate_color(name, picture, maps, args.threads, args.seed, time_limit=TIME_LIMIT * scale)
         out.print(f"{name:18} {maps:4d} {r['iou']:6.3f} {r['color_error']:12.4f} "
                   f"{' '.join(f'{e:.3f}' for e in r['collage_error']):>20} {r['seconds']:7.1f}")
     out.print(f"\n{'3D target':24} {'maps':>4} {'IoU':>6} {'fit IoU':>7} {'time s':>7}")
     with tempfile.TemporaryDirectory() as folder:
         for name, (file, maps, extension) in SHAPES.items():
-            r = evaluate_3d(name, shape_target(file, extension, folder), maps, args.threads, args.seed)
+            r = evaluate_3d(name, shape_target(file, extension, folder), maps, args.threads, args.seed,
+                            time_limit=SHAPE_TIME_LIMIT * scale)
             out.print(f"{name:24} {maps:4d} {r['iou']:6.3f} {r['fit_iou']:7.3f} {r['seconds']:7.1f}"
                       + (" (time limit)" if r["time_limited"] else ""))
 
@@ -255,7 +272,7 @@ def rotated(args, out):
     default options (no time limit) but the maps."""
     out.print(f"{'rotated target':14} {'maps':>4} {'IoU':>6} {'Hausdorff px':>12} {'time s':>7} {'CPU s':>7}"
               f" {'auto maps':>9} {'auto IoU':>8} {'auto s':>7} {'auto CPU s':>10} {'CPU ratio':>9}")
-    for name, target, maps in rotated_targets() + silhouette_targets():
+    for name, target, maps in chosen(rotated_targets() + silhouette_targets(), args.only):
         r = evaluate(name, target, maps, args.threads, args.seed, time_limit=0)
         a = evaluate(name, target, "auto", args.threads, args.seed, time_limit=0)
         out.print(f"{name:14} {maps:4d} {r['iou']:6.3f} {r['hausdorff_pixels']:12.2f} {r['seconds']:7.1f} "

@@ -66,5 +66,43 @@ TEST(FitMoments, MaskPartsAreTheSeparatedBlocksLargestFirst) {
   EXPECT_TRUE(mask_parts(grown, on, w, h, 8).empty());
 }
 
+TEST(FitMoments, SymmetricCopiesAreTheCopiesReflectedAndTurnedAboutTheCentroid) {
+  // A cloud symmetric in the vertical line and the horizontal one through (0.5, 0.4).
+  std::vector<std::array<double, 2>> whole;
+  for (int i = 0; i < 50; ++i)
+    for (double sx : {-1.0, 1.0})
+      for (double sy : {-1.0, 1.0}) whole.push_back({0.5 + sx * 0.01 * i, 0.4 + sy * 0.003 * i * (i % 7)});
+  const Moments m = moments_of(whole);
+  for (double sign : {1.0, -1.0}) {
+    const std::vector<double> x0 = {sign * 0.4, 0.4, 0.8, 0.8, 0.1, 0.3};
+    AffineMap w;
+    decode_map(x0.data(), 2, 0.9, w);
+    // What each symmetry S makes of the copy: S(w(x)), with S about the centroid.
+    const double mirror_x[2][2] = {{-1, 0}, {0, 1}}, mirror_y[2][2] = {{1, 0}, {0, -1}}, half[2][2] = {{-1, 0}, {0, -1}};
+    for (const auto* S : {mirror_x, mirror_y, half}) {
+      AffineMap want(2);
+      for (int r = 0; r < 2; ++r) {
+        want.b(r) = m.centroid[r];
+        for (int k = 0; k < 2; ++k) {
+          want.a(r, k) = S[r][0] * w.a(0, k) + S[r][1] * w.a(1, k);
+          want.b(r) += S[r][k] * (w.b(k) - m.centroid[k]);
+        }
+      }
+      double nearest = 1e9;
+      for (const auto& p : symmetric_copies(x0, m)) {
+        AffineMap got;
+        decode_map(p.data(), 2, 0.9, got);
+        double d = 0;
+        for (int r = 0; r < 2; ++r) {
+          d += std::abs(got.b(r) - want.b(r));
+          for (int k = 0; k < 2; ++k) d += std::abs(got.a(r, k) - want.a(r, k));
+        }
+        nearest = std::min(nearest, d);
+      }
+      EXPECT_LT(nearest, 1e-9) << "sign " << sign;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ifsforge

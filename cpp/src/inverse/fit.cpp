@@ -123,7 +123,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     std::vector<double> x0;
     if (kind >= 2) {
       x0 = self_similar_cover(full, target, grid, o.maps, kind == 2 ? o.raster : o.refine_raster, o.max_contraction,
-                              threads, rng, result.evaluations);
+                              threads, rng, result.evaluations, stop);
     } else {
       const Boxes boxes = pixel_clusters(target, grid, o.maps, rng);
       x0 = initial_collage(boxes);

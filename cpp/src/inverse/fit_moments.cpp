@@ -47,6 +47,22 @@ std::vector<std::array<double, 6>> moment_maps(const Moments& whole, const Momen
   return out;
 }
 
+std::vector<std::array<double, 6>> symmetric_copies(const std::vector<double>& x0, const Moments& whole) {
+  const auto& c = whole.centroid;
+  std::vector<std::array<double, 6>> out;
+  for (std::size_t i = 0; i + 6 <= x0.size(); i += 6) {
+    const double s = x0[i + 1], turn = x0[i + 2], bx = x0[i + 4] - c[0], by = x0[i + 5] - c[1];
+    const bool mirror = x0[i] < 0;
+    // Reflection S in the line at angle a: S R(t) F^m = R(2a - t + pi) F^(1-m) (Eq. 5's A = R F).
+    for (double a : {whole.axis(), whole.axis() + M_PI / 2}) {
+      const double ca = std::cos(2 * a), sa = std::sin(2 * a), t = 2 * a - turn + M_PI;
+      out.push_back({mirror ? s : -s, s, t, t, c[0] + ca * bx + sa * by, c[1] + sa * bx - ca * by});
+    }
+    out.push_back({x0[i], s, turn + M_PI, turn + M_PI, c[0] - bx, c[1] - by});
+  }
+  return out;
+}
+
 std::vector<std::uint8_t> grow_cells(const std::vector<std::uint8_t>& mask, int w, int h) {
   std::vector<std::uint8_t> out = mask;
   for (int y = 1; y + 1 < h; ++y)

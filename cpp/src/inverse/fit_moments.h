@@ -1,7 +1,8 @@
 #pragma once
 // The structural candidates of the planar cover start: pieces of the target (its parts once small
 // gaps are closed, and its k-means clusters) and, for each, the similarities that carry the whole
-// target's second moments onto the piece's (each piece of an attractor is a copy of the whole, Eq. 41).
+// target's second moments onto the piece's (each piece of an attractor is a copy of the whole, Eq. 41);
+// and the copies a symmetric target's copies imply.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -27,6 +28,12 @@ Moments moments_of(const std::vector<std::array<double, 2>>& points);
 /// whose axis means little): 2 (4 + turns) maps, the scale clamped to [0.05, max_contraction].
 std::vector<std::array<double, 6>> moment_maps(const Moments& whole, const Moments& piece, double max_contraction,
                                                int turns);
+
+/// The copies of a cover (`x0`, similarities) carried by the symmetries the target may have:
+/// reflected in either principal axis of `whole` through its centroid, and turned half a turn
+/// about it. A symmetric target's copies come in such pairs (a leaf's two side branches, a
+/// terdragon's turned ends), which the lattice finds only roughly.
+std::vector<std::array<double, 6>> symmetric_copies(const std::vector<double>& x0, const Moments& whole);
 
 /// `mask` (w x h) grown by one cell each way (Chebyshev), its border row and column left as they are.
 std::vector<std::uint8_t> grow_cells(const std::vector<std::uint8_t>& mask, int w, int h);

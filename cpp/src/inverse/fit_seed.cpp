@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "fit_clusters.h"
@@ -20,10 +21,12 @@ constexpr double kOutsideCost = 2.0;  // a copy cell off the target costs two ne
 constexpr double kOverlapCost = 0.5;  // one on an earlier copy, half of one
 constexpr double kGiveUp = 0.3;       // share of a copy's first cells off the target that ends its count
 constexpr std::size_t kCoverRefined = 8;  // best copies refined by a local climb
+constexpr int kCoverBeamCopies = 32;      // copies the beam's covers may hold together: fewer covers for more maps
 constexpr int kCoverSlack = 2;            // cells the target grows by for the lattice
 constexpr double kCoverTieBreak = 1e-3;   // below one cell: breaks ties only
 constexpr std::size_t kMostParts = 32;    // largest parts of the target whose moments give candidates
 constexpr std::size_t kPartCells = 4;     // fewer cells give no orientation worth trying
+constexpr std::size_t kRemainderParts = 4;  // largest parts of a cover's remainder whose moments give candidates
 constexpr std::size_t kComplements = 4;   // largest parts whose complement is a piece too
 constexpr std::size_t kJudgedPixels = 65536;  // picture pixels at most that the climb copies (evenly spread)
 
@@ -31,6 +34,21 @@ struct Candidate {
   double score = -std::numeric_limits<double>::infinity();
   std::array<double, 6> p{};
 };
+
+/// The plane point at the centre of cell q of a grid of `grid`'s cells, `W` wide, padded by `pad`.
+std::array<double, 2> padded_plane(const FitGrid& grid, int W, int pad, std::size_t q) {
+  return grid.to_plane(int(q % W) - pad + 0.5, int(q / W) - pad + 0.5);
+}
+
+/// The moment maps (fit_moments.h) over the full circle of each piece (plane points) large enough.
+std::vector<std::array<double, 6>> piece_maps(const std::vector<std::vector<std::array<double, 2>>>& pieces,
+                                              const Moments& whole, double max_contraction) {
+  std::vector<std::array<double, 6>> out;
+  for (const auto& piece : pieces)
+    if (piece.size() >= kPartCells)
+      for (const auto& p : moment_maps(whole, moments_of(piece), max_contraction, kCoverTurns)) out.push_back(p);
+  return out;
+}
 
 /// The moment maps (fit_moments.h) of the target's pieces: its parts once grown by 0 to
 /// kCoverSlack cells (`grown`, padded by `pad`; the first is the target), the whole less each of
@@ -40,7 +58,7 @@ std::vector<std::array<double, 6>> moment_candidates(const PixelSet& target, con
                                                      int maps, double max_contraction, Rng& rng) {
   const int W = target.width + 2 * pad, H = target.height + 2 * pad;
   const std::vector<std::uint8_t>& on = grown[0];
-  auto plane = [&](std::size_t q) { return grid.to_plane(int(q % W) - pad + 0.5, int(q / W) - pad + 0.5); };
+  auto plane = [&](std::size_t q) { return padded_plane(grid, W, pad, q); };
   std::vector<std::array<double, 2>> whole;
   for (std::size_t q = 0; q < on.size(); ++q)
     if (on[q]) whole.push_back(plane(q));
@@ -76,23 +94,36 @@ std::vector<std::array<double, 6>> moment_candidates(const PixelSet& target, con
     }
     pieces.insert(pieces.end(), parts.begin(), parts.end());
   }
-  const Moments all = moments_of(whole);
-  std::vector<std::array<double, 6>> out;
-  for (const auto& piece : pieces)
-    if (piece.size() >= kPartCells)
-      for (const auto& p : moment_maps(all, moments_of(piece), max_contraction, kCoverTurns)) out.push_back(p);
-  return out;
+  return piece_maps(pieces, moments_of(whole), max_contraction);
 }
 
-/// A copy's worth judged on one grid: target cells it newly covers, less those it puts off the
-/// target (or off `on`, a grown target) and on earlier copies.
+/// The moment maps of what a cover leaves of the target `on` (W x H, padded by `pad`) beside
+/// `covered`: the whole remainder and its largest parts once grown by a cell, the copies still
+/// missing (a leaf's second side branch once its tip and first branch are covered).
+std::vector<std::array<double, 6>> remainder_candidates(const std::vector<std::uint8_t>& on,
+                                                        const std::vector<std::uint8_t>& covered, int W, int H, int pad,
+                                                        const FitGrid& grid, const Moments& whole,
+                                                        double max_contraction) {
+  std::vector<std::uint8_t> left(on.size());
+  std::vector<std::vector<std::array<double, 2>>> pieces(1);
+  for (std::size_t q = 0; q < on.size(); ++q)
+    if ((left[q] = on[q] && !covered[q])) pieces[0].push_back(padded_plane(grid, W, pad, q));
+  for (const auto& part : mask_parts(grow_cells(left, W, H), left, W, H, kRemainderParts)) {
+    pieces.emplace_back();
+    for (std::size_t q : part) pieces.back().push_back(padded_plane(grid, W, pad, q));
+  }
+  return piece_maps(pieces, whole, max_contraction);
+}
+
+/// A copy's worth judged on one grid: target cells it newly covers (not in a cover's `covered`),
+/// less those it puts off the target (or off `on`, a grown target) and on earlier copies.
 class CopyJudge {
  public:
   /// `target` on `grid`; the copies are of `points` (grid cell units), by default the cells' centres.
   CopyJudge(const FitGrid& grid, const PixelSet& target, int workers, std::vector<std::array<double, 2>> points = {})
       : points(std::move(points)), grid_(grid), pad_(std::max(target.width, target.height) / 2),
         w_(target.width + 2 * pad_), h_(target.height + 2 * pad_), on_(std::size_t(w_) * h_, 0),
-        covered_(on_.size(), 0), stamps_(workers, std::vector<std::uint32_t>(on_.size(), 0)), marks_(workers, 0) {
+        stamps_(workers, std::vector<std::uint32_t>(on_.size(), 0)), marks_(workers, 0) {
     const bool centres = this->points.empty();
     for (int y = 0; y < target.height; ++y)
       for (int x = 0; x < target.width; ++x)
@@ -106,9 +137,12 @@ class CopyJudge {
   int pad() const { return pad_; }
   int width() const { return w_; }
   int height() const { return h_; }
-  /// The worth of w(target) against `on` (on() or a grown copy of it); with `give_up`,
-  /// -infinity once its first cells stray too often.
-  double worth(const AffineMap& w, int worker, const std::vector<std::uint8_t>& on, bool give_up) {
+  /// The cells of a cover of no copies yet.
+  std::vector<std::uint8_t> nothing_covered() const { return std::vector<std::uint8_t>(on_.size(), 0); }
+  /// The worth of w(target) against `on` (on() or a grown copy of it) and the cells `covered`
+  /// already; with `give_up`, -infinity once its first cells stray too often.
+  double worth(const AffineMap& w, int worker, const std::vector<std::uint8_t>& on,
+               const std::vector<std::uint8_t>& covered, bool give_up) {
     const PixelMap pm = grid_.pixel_map(w);
     auto& stamp = stamps_[worker];
     const std::uint32_t mark = ++marks_[worker];
@@ -122,14 +156,14 @@ class CopyJudge {
       if (!on[q]) {
         if (++outside > kGiveUp * double(seen) + 8 && give_up) return -std::numeric_limits<double>::infinity();
       } else {
-        (covered_[q] ? overlap : fresh) += 1;
+        (covered[q] ? overlap : fresh) += 1;
       }
     }
     return fresh - kOutsideCost * outside - kOverlapCost * overlap;
   }
-  void cover(const AffineMap& w) {
+  void cover(const AffineMap& w, std::vector<std::uint8_t>& covered) const {
     const PixelMap pm = grid_.pixel_map(w);
-    for (const auto& point : points) covered_[cell_of(pm, point)] = 1;
+    for (const auto& point : points) covered[cell_of(pm, point)] = 1;
   }
 
  private:
@@ -139,16 +173,24 @@ class CopyJudge {
   }
   FitGrid grid_;
   int pad_, w_, h_;
-  std::vector<std::uint8_t> on_, covered_;
+  std::vector<std::uint8_t> on_;
   std::vector<std::vector<std::uint32_t>> stamps_;
   std::vector<std::uint32_t> marks_;
+};
+
+/// A cover under construction: its copies' parameters, the cells they cover on either grid, and
+/// the summed worth of its copies (each judged against those before it, on the picture's pixels).
+struct Cover {
+  std::vector<double> x0;
+  std::vector<std::uint8_t> coarse, fine;
+  double worth = 0;
 };
 
 }  // namespace
 
 std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& target, const FitGrid& grid, int maps,
                                        int judge_raster, double max_contraction, int threads, Rng& rng,
-                                       std::uint64_t& evaluations) {
+                                       std::uint64_t& evaluations, const std::function<bool()>& stop) {
   const int w = target.width, h = target.height, workers = resolve_threads(threads);
   // The lattice is judged on the search's grid, in a seeded order of its cells so that a copy's
   // first cells are a fair sample of it. The climb and the choice copy the picture's own pixels:
@@ -164,16 +206,19 @@ std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& tar
   for (std::size_t i = 0, seen = 0; i < full.cells.size(); ++i)
     if (full.cells[i] && seen++ % stride == 0) pixels.push_back({(i % full.width + 0.5) * f, (i / full.width + 0.5) * f});
   CopyJudge fine(fine_grid, fine_grid.downsample(full), workers, std::move(pixels));
-  std::array<double, 2> centroid{0, 0};
-  for (const auto& c : cells) {
-    const auto q = grid.to_plane(c[0], c[1]);
-    centroid[0] += q[0] / cells.size(), centroid[1] += q[1] / cells.size();
-  }
+  std::vector<std::array<double, 2>> cell_points;
+  for (const auto& c : cells) cell_points.push_back(grid.to_plane(c[0], c[1]));
+  const Moments whole = moments_of(cell_points);
+  const std::array<double, 2>& centroid = whole.centroid;
   std::vector<std::array<double, 2>> places;  // plane points a copy's centroid is put on
+  std::vector<std::size_t> place_cells;       // their cells on the coarse judge's padded grid
   const int ox = int(rng.uniform() * kCoverStride), oy = int(rng.uniform() * kCoverStride);
   for (int y = oy; y < h; y += kCoverStride)
     for (int x = ox; x < w; x += kCoverStride)
-      if (target.cells[std::size_t(y) * w + x]) places.push_back(grid.to_plane(x + 0.5, y + 0.5));
+      if (target.cells[std::size_t(y) * w + x]) {
+        places.push_back(grid.to_plane(x + 0.5, y + 0.5));
+        place_cells.push_back(std::size_t(y + coarse.pad()) * coarse.width() + x + coarse.pad());
+      }
   const double turn = rng.uniform();
   const int scales = int(std::size(kCoverScales)), jobs = scales * kCoverTurns;
   // The target grown by kCoverSlack cells (Chebyshev): the lattice of turns and places lands
@@ -184,17 +229,26 @@ std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& tar
   const std::vector<std::uint8_t>& near_target = grown.back();
   const std::vector<std::array<double, 6>> shaped =
       moment_candidates(target, grid, grown, coarse.pad(), maps, max_contraction, rng);
-  auto score_of = [&](const double* p, int worker, bool lattice) {
+  auto score_of = [&](const double* p, int worker, const Cover& cover, bool lattice) {
     AffineMap m;
     decode_map(p, 2, max_contraction, m);
-    const double worth = lattice ? coarse.worth(m, worker, near_target, true) : fine.worth(m, worker, fine.on(), false);
+    const double worth = lattice ? coarse.worth(m, worker, near_target, cover.coarse, true)
+                                 : fine.worth(m, worker, fine.on(), cover.fine, false);
     // Among copies that cover alike (a symmetric target's turns and mirrors), the least turned
     // and unmirrored: the maps a person would write, and the ones colour fits expect.
     const double turned = std::abs(std::remainder(p[2], 2 * M_PI)) / M_PI + (p[0] < 0);
     return worth - kCoverTieBreak * turned;
   };
-  std::vector<double> x0;
-  for (int c = 0; c < maps; ++c) {
+  // The copies worth adding to `cover` next, climbed, best first: the best few of the lattice's
+  // and the moment maps' or, `diverse`, the best of each lattice scale (the moment maps by their
+  // nearest), so that a cover may begin with a copy smaller than the one covering most.
+  auto next_copies = [&](const Cover& cover, bool diverse) {
+    // A copy still missing lies mostly where the cover has not been: its centroid is put on the
+    // places left uncovered (all of them when none is).
+    std::vector<std::array<double, 2>> open;
+    for (std::size_t k = 0; k < places.size(); ++k)
+      if (!cover.coarse[place_cells[k]]) open.push_back(places[k]);
+    if (open.empty()) open = places;
     std::vector<Candidate> best(jobs);
     parallel_jobs(std::size_t(jobs), workers, [&](std::size_t job, int worker) {
       const double s = std::min(kCoverScales[job % scales], max_contraction);
@@ -205,26 +259,45 @@ std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& tar
         decode_map(p, 2, max_contraction, m);
         const double cx = m.a(0, 0) * centroid[0] + m.a(0, 1) * centroid[1];
         const double cy = m.a(1, 0) * centroid[0] + m.a(1, 1) * centroid[1];
-        for (const auto& place : places) {
+        for (const auto& place : open) {
           p[4] = place[0] - cx;
           p[5] = place[1] - cy;
-          const double score = score_of(p, worker, true);
+          const double score = score_of(p, worker, cover, true);
           if (score > best[job].score) best[job].score = score, std::copy(p, p + 6, best[job].p.begin());
         }
       }
     });
-    evaluations += std::uint64_t(jobs) * 2 * places.size();
+    evaluations += std::uint64_t(jobs) * 2 * open.size();
     // The lattice of turns and places is coarse for a thin attractor (a spiral's copy 5 degrees
     // off lies mostly off it): the best few climb by halving steps of scale, turn and place.
     // Each lattice job's best copy and every moment map of the pieces (exact turns and scales, off
     // the lattice) are judged again by the picture's pixels, and the best few climb.
     for (const auto& p : shaped) best.push_back({0, p});
+    if (!cover.x0.empty()) {
+      for (const auto& p : remainder_candidates(coarse.on(), cover.coarse, coarse.width(), coarse.height(), coarse.pad(),
+                                                grid, whole, max_contraction))
+        best.push_back({0, p});
+      for (const auto& p : symmetric_copies(cover.x0, whole)) best.push_back({0, p});
+    }
     parallel_jobs(best.size(), workers, [&](std::size_t k, int worker) {
-      if (std::isfinite(best[k].score)) best[k].score = score_of(best[k].p.data(), worker, false);
+      if (std::isfinite(best[k].score)) best[k].score = score_of(best[k].p.data(), worker, cover, false);
     });
     evaluations += best.size();
+    auto bucket = [&](const Candidate& c) {
+      int nearest = 0;
+      for (int k = 1; k < scales; ++k)
+        if (std::abs(kCoverScales[k] - std::abs(c.p[1])) < std::abs(kCoverScales[nearest] - std::abs(c.p[1]))) nearest = k;
+      return nearest;
+    };
     std::stable_sort(best.begin(), best.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-    best.resize(kCoverRefined);
+    if (diverse) {  // the first of each bucket, in the order of their scores
+      std::vector<Candidate> kept;
+      std::vector<bool> taken(scales, false);
+      for (const Candidate& c : best)
+        if (!taken[bucket(c)]) taken[bucket(c)] = true, kept.push_back(c);
+      best = std::move(kept);
+    }
+    if (best.size() > kCoverRefined) best.resize(kCoverRefined);
     parallel_jobs(best.size(), workers, [&](std::size_t k, int worker) {
       Candidate& b = best[k];
       if (!std::isfinite(b.score)) return;
@@ -243,26 +316,41 @@ std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& tar
               } else {
                 p[2 + axis] += sign * step[2];
               }
-              const double score = score_of(p.data(), worker, false);
+              const double score = score_of(p.data(), worker, cover, false);
               if (score > b.score) b.score = score, b.p = p, better = true;
             }
         }
     });
-    const Candidate* chosen = &best[0];
-    for (const Candidate& b : best)
-      if (b.score > chosen->score) chosen = &b;
-    if (!std::isfinite(chosen->score)) {  // every copy strays: the largest turn-free copy on the centroid
+    std::stable_sort(best.begin(), best.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    if (best.empty() || !std::isfinite(best[0].score)) {  // every copy strays: the largest turn-free copy on the centroid
       const double s = std::min(kCoverScales[scales / 2], max_contraction);
-      best[0].p = {s, s, 0, 0, centroid[0] * (1 - s), centroid[1] * (1 - s)};
-      chosen = &best[0];
+      best.assign(1, {0, {s, s, 0, 0, centroid[0] * (1 - s), centroid[1] * (1 - s)}});
     }
+    return best;
+  };
+  auto add = [&](Cover& cover, const Candidate& copy) {
     AffineMap m;
-    decode_map(chosen->p.data(), 2, max_contraction, m);
-    coarse.cover(m);
-    fine.cover(m);
-    x0.insert(x0.end(), chosen->p.begin(), chosen->p.end());
+    decode_map(copy.p.data(), 2, max_contraction, m);
+    coarse.cover(m, cover.coarse);
+    fine.cover(m, cover.fine);
+    cover.x0.insert(cover.x0.end(), copy.p.begin(), copy.p.end());
+    cover.worth += copy.score;
+  };
+  // Greedy from each first copy of the beam (one of each scale, the best scales while the covers'
+  // copies stay within kCoverBeamCopies, none after the deadline); the cover worth most wins.
+  const Cover empty{{}, coarse.nothing_covered(), fine.nothing_covered(), 0};
+  std::vector<Cover> covers;
+  const std::size_t beam = std::size_t(std::max(2, kCoverBeamCopies / maps));
+  for (const Candidate& first : next_copies(empty, maps > 1)) {
+    if (!covers.empty() && (!std::isfinite(first.score) || covers.size() == beam || stop())) break;
+    covers.push_back(empty);
+    add(covers.back(), first);
+    for (int c = 1; c < maps; ++c) add(covers.back(), next_copies(covers.back(), false)[0]);
   }
-  return x0;
+  const Cover* chosen = &covers[0];
+  for (const Cover& c : covers)
+    if (c.worth > chosen->worth) chosen = &c;
+  return chosen->x0;
 }
 
 }  // namespace ifsforge
