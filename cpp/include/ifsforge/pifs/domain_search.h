@@ -39,9 +39,10 @@ struct EnumNames<PifsDomainSearch> {
 };
 
 /// @brief Search effort: domains fitted exactly per range (those of least estimated error; more
-/// for ranges above 4×4, whose feature pools the block), k-d tree leaves a range may visit (all of them from an RMS of full_effort_rms 8-bit levels,
-/// proportionally fewer below, at least kMinLeaves), and how near a tie (in quadrant sums of
-/// unit features) still adds another orientation of the range to its query.
+/// for ranges above 4×4, whose feature pools the block), k-d tree leaves a range may visit (all
+/// of them from an RMS of full_effort_rms 8-bit levels, proportionally fewer below, at least
+/// kMinLeaves), and how near a tie (in quadrant sums of unit features) still adds another
+/// orientation of the range to its query.
 struct PifsSearch {
   PifsDomainSearch mode = PifsDomainSearch::Tree;
   int neighbours = 4, pooled_neighbours = 8;
