@@ -1,11 +1,15 @@
 #pragma once
 // Shared by the PIFS suites: a smooth picture with detail at several scales and a step down the
-// middle, and PSNR on [0, 1] values.
+// middle, PSNR on [0, 1] values, and the check that a decode is the same on any thread count.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include <initializer_list>
+#include <string>
+
 #include "ifsforge/core/image.h"
+#include "ifsforge/pifs/decoder.h"
 
 namespace ifsforge::pifs_test {
 
@@ -25,6 +29,17 @@ inline double psnr(const Image& a, const Image& b) {
   for (std::size_t i = 0; i < a.pixels.size(); ++i) se += std::pow(double(a.pixels[i]) - b.pixels[i], 2);
   const double mse = se / a.pixels.size();
   return mse == 0 ? 1e9 : 10 * std::log10(1.0 / mse);
+}
+
+// Decodes with `d` on one thread, then on each of `counts`, and expects the same pixels.
+inline void expect_same_decode_on(const PifsCode& code, PifsDecodeOptions d, std::initializer_list<int> counts,
+                                  const std::string& what = "") {
+  d.threads = 1;
+  const Image one = pifs_decode(code, d);
+  for (int threads : counts) {
+    d.threads = threads;
+    EXPECT_EQ(one.pixels, pifs_decode(code, d).pixels) << what << threads << " threads";
+  }
 }
 
 }  // namespace ifsforge::pifs_test

@@ -18,6 +18,7 @@
 using namespace ifsforge;
 using pifs_test::psnr;
 using pifs_test::textured;
+using pifs_test::expect_same_decode_on;
 
 namespace {
 
@@ -142,12 +143,7 @@ TEST(Pifs, LargeDecodeIsTheSameForAnyThreadCount) {
     const PifsCode code = pifs_encode(textured(128, 96, channels), PifsEncodeOptions{});
     PifsDecodeOptions d;
     d.scale = 16;
-    d.threads = 1;
-    const Image one = pifs_decode(code, d);
-    for (int threads : {2, 3}) {
-      d.threads = threads;
-      EXPECT_EQ(one.pixels, pifs_decode(code, d).pixels) << channels << " channels, " << threads << " threads";
-    }
+    expect_same_decode_on(code, d, {2, 3}, std::to_string(channels) + " channels, ");
   }
 }
 

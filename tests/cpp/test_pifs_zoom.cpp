@@ -13,6 +13,7 @@
 using namespace ifsforge;
 using pifs_test::psnr;
 using pifs_test::textured;
+using pifs_test::expect_same_decode_on;
 
 namespace {
 
@@ -86,10 +87,5 @@ TEST(PifsZoom, SameOutputForAnyThreadCount) {
   const PifsCode code = pifs_encode(textured(1024, 600, 1), o);
   PifsDecodeOptions d;
   d.scale = 2;
-  d.threads = 1;
-  const Image one = pifs_decode(code, d);
-  for (int threads : {2, 5}) {
-    d.threads = threads;
-    EXPECT_EQ(one.pixels, pifs_decode(code, d).pixels) << threads << " threads";
-  }
+  expect_same_decode_on(code, d, {2, 5});
 }
