@@ -58,6 +58,21 @@ Frame frame_of(const Ifs& ifs, int width, int height, const std::optional<std::v
   return Frame::fit(ifs, width, height, w);
 }
 
+/// The spatial block of every map of `ifs` (extra channels never move the points): a fit's start.
+std::vector<AffineMap> spatial_maps(const Ifs& ifs) {
+  const int dim = ifs.spatial_dims();
+  std::vector<AffineMap> out;
+  for (const AffineMap& m : ifs.maps()) {
+    AffineMap spatial(dim);
+    for (int r = 0; r < dim; ++r) {
+      for (int c = 0; c < dim; ++c) spatial.a(r, c) = m.a(r, c);
+      spatial.b(r) = m.b(r);
+    }
+    out.push_back(spatial);
+  }
+  return out;
+}
+
 py::dict fit_result_dict(const FitResult& r) {
   py::dict d;
   d["system"] = r.system;
@@ -139,7 +154,11 @@ void bind_fit_extensions(py::module_& m) {
       .def_readwrite("threads", &Fit3dOptions::threads, "0: every core; the result never depends on it")
       .def_property("progress", [](const Fit3dOptions&) { return py::none(); },
                     [](Fit3dOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
-                    "progress(fraction) returning False cancels (write-only)");
+                    "progress(fraction) returning False cancels (write-only)")
+      .def_property("start", [](const Fit3dOptions&) { return py::none(); },
+                    [](Fit3dOptions& o, const Ifs& start) { o.start = spatial_maps(start); },
+                    "a system of `maps` maps (an earlier fit's) to start the last search from, skipping the "
+                    "restarts (write-only)");
   m.def("fit_3d", [](const py::array& mask, std::array<double, 3> origin, double voxel_size, const py::kwargs& kwargs) {
     const Fit3dOptions o = options_from<Fit3dOptions>("fit_3d", kwargs);
     const VoxelSet t = voxel_set_from_numpy(mask, origin, voxel_size);
@@ -233,7 +252,11 @@ void bind_inverse(py::module_& m) {
       .def_readwrite("threads", &FitOptions::threads, "0: every core; the result never depends on it")
       .def_property("progress", [](const FitOptions&) { return py::none(); },
                     [](FitOptions& o, const py::object& f) { o.progress = wrap_progress(f); },
-                    "progress(fraction) returning False cancels (write-only)");
+                    "progress(fraction) returning False cancels (write-only)")
+      .def_property("start", [](const FitOptions&) { return py::none(); },
+                    [](FitOptions& o, const Ifs& start) { o.start = spatial_maps(start); },
+                    "a system of `maps` maps (an earlier fit's) to start the last search from, skipping the "
+                    "restarts (write-only)");
   m.def("fit", [](const py::array& target, double threshold, const py::kwargs& kwargs) {
     const FitOptions o = options_from<FitOptions>("fit", kwargs);
     const PixelSet t = pixel_set_from_numpy(target, threshold);

@@ -86,6 +86,21 @@ def test_fit_is_identical_for_any_thread_count():
     assert ifsforge.to_json(other["system"]) != ifsforge.to_json(runs[0]["system"])
 
 
+def test_a_started_fit_keeps_its_start_without_the_last_search():
+    # --maps auto hands its best probe to the final fit: the restarts and the refinement are
+    # skipped, so without the last search the start comes back as it was, scored by its IoU (at
+    # 64 pixels the last search's grid is the picture's).
+    target = sierpinski_target(64)
+    start = ifsforge.parse_json(json.dumps({"format": "ifsforge/1", "name": "start", "layout": "xy", "maps": [
+        {"scale": 0.5, "translation": [0, 0]}, {"scale": 0.5, "translation": [0.5, 0]},
+        {"scale": 0.5, "translation": [0.25, 0.5]}]}))
+    result = ifsforge.fit(target, maps=3, start=start, final_generations=0)
+    assert json.loads(ifsforge.to_json(result["system"]))["maps"] == json.loads(ifsforge.to_json(start))["maps"]
+    assert result["restarts"] == 0 and result["iou"] == pytest.approx(ifsforge.attractor_iou(start, target))
+    with pytest.raises(ifsforge.InputError, match="start"):
+        ifsforge.fit(target, maps=2, start=start)
+
+
 def test_fit_refuses_bad_options(cli, tmp_path):
     ifsforge.write_png(str(tmp_path / "t.png"), sierpinski_target(32).astype(np.float32))
     result = cli("fit", "t.png", "-o", "x.json", "--maps", "many")

@@ -20,6 +20,12 @@ namespace {
 
 constexpr int kParams = 6;   // per map: Mx, My, theta_x, theta_y (radians), tx, ty (Eq. 5, decode_map)
 constexpr int kTurns = 36;  // turns tried per map for the rotated starts
+// The cover's beam (fit_seed.h) costs several greedy covers: the first cover start runs it only
+// when the k-means starts, run first, leave the attractor's IoU on the search's grid below
+// kBeamBelow (the Sierpinski triangle's and the four-corner dust's reach it), the second only
+// when the best start so far is below kBeamAgainBelow (the dragon's first cover reaches it).
+constexpr double kBeamBelow = 0.85;
+constexpr double kBeamAgainBelow = 0.95;
 
 using Boxes = Clusters<2>;
 
@@ -81,6 +87,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   if (!(o.max_contraction > 0 && o.max_contraction < 1))
     throw InputError("the largest contraction must lie in (0, 1), got " + std::to_string(o.max_contraction));
   if (full.count() == 0) throw InputError("the target has no pixels");
+  check_start(o.start, o.maps, 2);
   FitDeadline deadline(o.time_limit);
   const FitGrid grid = FitGrid::for_target(full, o.raster);
   const PixelSet target = grid.downsample(full);
@@ -114,7 +121,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   std::vector<double> best;
   double best_value = std::numeric_limits<double>::infinity();
   const int n = o.maps * kParams;
-  for (int r = 0; r < o.restarts && !stop(); ++r) {
+  for (int r = 0; r < o.restarts && o.start.empty() && !stop(); ++r) {
     Rng rng(o.seed, 1000 + r);
     // Four kinds of start, in turn: the k-means collage as it is, the k-means parts turned one
     // at a time, and the target covered by turned copies of itself (its own structure), judged on
@@ -123,7 +130,8 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     std::vector<double> x0;
     if (kind >= 2) {
       x0 = self_similar_cover(full, target, grid, o.maps, kind == 2 ? o.raster : o.refine_raster, o.max_contraction,
-                              threads, rng, result.evaluations, stop);
+                              best_value > 1 - (kind == 2 ? kBeamBelow : kBeamAgainBelow), threads, rng,
+                              result.evaluations, stop);
     } else {
       const Boxes boxes = pixel_clusters(target, grid, o.maps, rng);
       x0 = initial_collage(boxes);
@@ -142,8 +150,11 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     if (polish.value < best_value) best_value = polish.value, best = polish.best;
     if (o.progress && !o.progress(0.8 * (r + 1) / o.restarts)) throw Cancelled();
   }
+  // The refinement's and the last search's grid: the picture's resolution, capped.
+  const FitGrid fine = FitGrid::for_target(full, std::max(o.raster, std::min(o.refine_raster, int(grid.side))));
+  const PixelSet fine_target = fine.downsample(full);
   // Local refinement on the attractor: small steps about the best collage.
-  if (o.refine_generations > 0 && !stop()) {
+  if (o.refine_generations > 0 && o.start.empty() && !stop()) {
     std::vector<double> sigma(n);
     for (int i = 0; i < n; ++i) {
       const int k = i % kParams;
@@ -152,8 +163,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     const CmaOptions co = fit_cma_options(n, o.refine_generations, o.seed * 7919 + 999, threads);
     // On the collage, at the picture's resolution (capped): a collage exact to a pixel puts the
     // attractor within eps / (1 - s) pixels of the target (Eq. 42), which the coarse grids cannot.
-    const FitGrid fine = FitGrid::for_target(full, std::max(o.raster, std::min(o.refine_raster, int(grid.side))));
-    const CollageProxy fine_proxy(fine.downsample(full), o.overlap_weight);
+    const CollageProxy fine_proxy(fine_target, o.overlap_weight);
     auto fine_value = [&](const std::vector<double>& x, int worker) {
       double excess = 0;
       const auto maps = decode_maps(x, 2, o.max_contraction, &excess);
@@ -164,25 +174,28 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     const CmaResult run = minimize_cma(fine_value, best, sigma, co, stop);
     result.evaluations += run.evaluations;
     // Keep the refinement only if the attractor agrees, judged on the fine grid.
-    const auto judge = attractor_on(fine, fine.downsample(full));
+    const auto judge = attractor_on(fine, fine_target);
     const double before = judge(best, 0), after = judge(run.best, 0);
     if (after <= before) best = run.best;
     best_value = std::min(before, after);
   }
-  std::vector<AffineMap> final_maps = decode_maps(best, 2, o.max_contraction, nullptr);
   // Last, the attractor's IoU itself at the picture's resolution (capped): the classic
   // attractors' thin lines make it peak within a fraction of a pixel of the exact maps, which
   // the collage (Eq. 42 bounds the distance, not the overlap) and the coarse grids cannot see.
+  auto value = [&](const std::vector<double>& y, int worker) {
+    double excess = 0;
+    const auto maps = from_corners(y, 2, o.max_contraction, &excess);
+    std::vector<PixelMap> pm;
+    for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
+    return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), fine_target, o.seed, scratch[worker]) + kExcessPenalty * excess;
+  };
+  std::vector<AffineMap> final_maps = o.start;
+  if (o.start.empty()) {
+    final_maps = decode_maps(best, 2, o.max_contraction, nullptr);
+  } else {
+    best_value = value(to_corners(final_maps, 2), 0);
+  }
   if (o.final_generations > 0 && !stop()) {
-    const FitGrid fine = FitGrid::for_target(full, std::max(o.raster, std::min(o.refine_raster, int(grid.side))));
-    const PixelSet fine_target = fine.downsample(full);
-    auto value = [&](const std::vector<double>& y, int worker) {
-      double excess = 0;
-      const auto maps = from_corners(y, 2, o.max_contraction, &excess);
-      std::vector<PixelMap> pm;
-      for (const AffineMap& m : maps) pm.push_back(fine.pixel_map(m));
-      return 1.0 - chaos_iou(pm, jacobian_probabilities(maps, 2), fine_target, o.seed, scratch[worker]) + kExcessPenalty * excess;
-    };
     CmaOptions co = fit_cma_options(n, o.final_generations, o.seed * 7919 + 1999, threads);
     co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
     // Half a pixel per corner coordinate: the peak is that narrow.

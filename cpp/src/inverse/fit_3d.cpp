@@ -62,6 +62,7 @@ FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
       !(full.grid.voxel_size > 0))
     throw InputError("the 3D target's cells do not match its grid");
   if (full.count() == 0) throw InputError("the 3D target has no voxels");
+  check_start(o.start, o.maps, 3);
   FitDeadline deadline(o.time_limit);
   const int side = std::max({full.grid.dims[0], full.grid.dims[1], full.grid.dims[2]});
   const FitVoxelGrid grid = FitVoxelGrid::for_target(full, std::min(o.raster, side));
@@ -93,7 +94,7 @@ FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
   double best_value = std::numeric_limits<double>::infinity();
   const int n = o.maps * kParams;
   const double extent = grid.grid.voxel_size * std::max({grid.grid.dims[0], grid.grid.dims[1], grid.grid.dims[2]});
-  for (int r = 0; r < o.restarts && !stop(); ++r) {
+  for (int r = 0; r < o.restarts && o.start.empty() && !stop(); ++r) {
     Rng rng(o.seed, 1000 + r);
     const Clusters<3> boxes = voxel_clusters(target, o.maps, rng);
     std::vector<double> x0 = initial_collage(boxes);
@@ -131,7 +132,7 @@ FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
     if (polish.value < best_value) best_value = polish.value, best = polish.best;
     if (o.progress && !o.progress(0.7 * (r + 1) / o.restarts)) throw Cancelled();
   }
-  std::vector<AffineMap> final_maps = decode_maps(best, 3, o.max_contraction, nullptr);
+  std::vector<AffineMap> final_maps = o.start.empty() ? decode_maps(best, 3, o.max_contraction, nullptr) : o.start;
   // Last, the attractor's IoU on the finer grid, by the copies' corners (half a voxel steps).
   auto fine_value = [&](const std::vector<double>& y, int worker) {
     double excess = 0;

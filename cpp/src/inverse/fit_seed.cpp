@@ -189,7 +189,7 @@ struct Cover {
 }  // namespace
 
 std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& target, const FitGrid& grid, int maps,
-                                       int judge_raster, double max_contraction, int threads, Rng& rng,
+                                       int judge_raster, double max_contraction, bool beam, int threads, Rng& rng,
                                        std::uint64_t& evaluations, const std::function<bool()>& stop) {
   const int w = target.width, h = target.height, workers = resolve_threads(threads);
   // The lattice is judged on the search's grid, in a seeded order of its cells so that a copy's
@@ -338,11 +338,12 @@ std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& tar
   };
   // Greedy from each first copy of the beam (one of each scale, the best scales while the covers'
   // copies stay within kCoverBeamCopies, none after the deadline); the cover worth most wins.
+  // Without the beam, the one greedy cover from the copy worth most.
   const Cover empty{{}, coarse.nothing_covered(), fine.nothing_covered(), 0};
   std::vector<Cover> covers;
-  const std::size_t beam = std::size_t(std::max(2, kCoverBeamCopies / maps));
-  for (const Candidate& first : next_copies(empty, maps > 1)) {
-    if (!covers.empty() && (!std::isfinite(first.score) || covers.size() == beam || stop())) break;
+  const std::size_t width = beam ? std::size_t(std::max(2, kCoverBeamCopies / maps)) : 1;
+  for (const Candidate& first : next_copies(empty, beam && maps > 1)) {
+    if (!covers.empty() && (!std::isfinite(first.score) || covers.size() == width || stop())) break;
     covers.push_back(empty);
     add(covers.back(), first);
     for (int c = 1; c < maps; ++c) add(covers.back(), next_copies(covers.back(), false)[0]);

@@ -21,10 +21,11 @@ namespace ifsforge {
 /// (fit_moments.h), and the earlier copies carried by the target's likely symmetries; the best
 /// few of each climb, judged by where the picture `full`'s own pixels land on a grid of
 /// `judge_raster` cells along the long side (the search's: lenient to a thin target's large
-/// copies; the picture's: strict with copies of nearly the whole). The same for any thread count;
+/// copies; the picture's: strict with copies of nearly the whole); without `beam`, only the greedy
+/// cover from the copy worth most (a few of its copies' work). The same for any thread count;
 /// candidates tried are added to `evaluations`; once `stop` turns true no further cover is begun.
 std::vector<double> self_similar_cover(const PixelSet& full, const PixelSet& target, const FitGrid& grid, int maps,
-                                       int judge_raster, double max_contraction, int threads, Rng& rng,
+                                       int judge_raster, double max_contraction, bool beam, int threads, Rng& rng,
                                        std::uint64_t& evaluations, const std::function<bool()>& stop);
 
 }  // namespace ifsforge

@@ -7,8 +7,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
+#include "ifsforge/core/error.h"
 #include "ifsforge/inverse/cma_es.h"
 #include "ifsforge/model/affine_map.h"
 #include "ifsforge/model/map_params.h"
@@ -37,6 +39,15 @@ CmaResult collage_then_attractor(const Collage& collage, const Attractor& attrac
   CmaResult polish = minimize_cma(attractor, run.best, sigma, co, stop);
   polish.evaluations += run.evaluations;
   return polish;
+}
+
+/// A fit's start (FitOptions::start, Fit3dOptions::start): none, or `maps` maps of `dim` dimensions.
+inline void check_start(const std::vector<AffineMap>& start, int maps, int dim) {
+  if (start.empty()) return;
+  if (int(start.size()) != maps)
+    throw InputError("the start has " + std::to_string(start.size()) + " maps, the fit asks " + std::to_string(maps));
+  for (const AffineMap& m : start)
+    if (m.dim() != dim) throw InputError("the start's maps must have " + std::to_string(dim) + " dimensions");
 }
 
 /// The time limit of a fit (0: none): stop() turns true, and stays so, once it has passed.

@@ -4,6 +4,7 @@
 /// of every map under a collage proxy on a small raster, each map kept contractive; the best
 /// restart is then refined on the attractor itself, last on its IoU at the picture's resolution.
 #include <cstdint>
+#include <vector>
 
 #include "ifsforge/core/progress.h"
 #include "ifsforge/inverse/distance_transform.h"
@@ -26,6 +27,9 @@ struct FitOptions {
   std::uint64_t seed = 0;
   int threads = 0;
   ProgressCallback progress;
+  /// `maps` maps in the target's plane (an earlier fit's, such as the best probe of --maps auto):
+  /// when given, the restarts and the refinement are skipped and the last search starts from them.
+  std::vector<AffineMap> start;
 };
 
 struct FitResult {

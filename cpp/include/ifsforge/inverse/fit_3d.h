@@ -5,6 +5,7 @@
 /// 3D collage proxy (Eq. 41) on a coarse grid, polishes each run on the attractor's IoU there,
 /// then climbs the attractor's IoU on the finer grid; every map stays contractive.
 #include <cstdint>
+#include <vector>
 
 #include "ifsforge/core/progress.h"
 #include "ifsforge/inverse/distance_transform.h"
@@ -27,6 +28,9 @@ struct Fit3dOptions {
   std::uint64_t seed = 0;
   int threads = 0;
   ProgressCallback progress;
+  /// `maps` maps in the target's coordinates (an earlier fit's, such as the best probe of --maps
+  /// auto): when given, the restarts are skipped and the last search starts from them.
+  std::vector<AffineMap> start;
 };
 
 /// @brief Fits `options.maps` maps to `target`: a system of layout xyz whose maps act on the

@@ -62,8 +62,9 @@ def fit_best(fit, target, maps, time_limit=None, **options):
     short fits (AUTO_PROBE_RESTARTS restarts, without the last search on the IoU) of the counts of
     AUTO_MAPS in turn until AUTO_PATIENCE counts in a row fail to beat the best by AUTO_MAP_COST
     per extra map (a snowflake's structure shows only once its five copies may be placed), then
-    the full fit of the best count. With a time limit, the probes and the fit share it (a probe
-    may spend AUTO_PROBE_SHARE of what is left). `fit` is ifsforge.fit or ifsforge.fit_3d, `target`
+    the last search on the IoU from the best count's probe (its restarts are not run again). With a
+    time limit, the probes and the last search share it (a probe may spend AUTO_PROBE_SHARE of what
+    is left). `fit` is ifsforge.fit or ifsforge.fit_3d, `target`
     its positional and keyword target arguments, `options` its options' fields. Returns the result
     dict plus 'maps' (and under 'auto', 'probes': each count tried and its probe's IoU)."""
     args, keywords = target
@@ -75,7 +76,7 @@ def fit_best(fit, target, maps, time_limit=None, **options):
     probe_options = dict(options, restarts=min(options.get("restarts", AUTO_PROBE_RESTARTS), AUTO_PROBE_RESTARTS),
                          final_generations=0)
     probe_options.pop("progress", None)
-    probes, chosen, kept, unpaid = [], None, None, 0
+    probes, chosen, kept, unpaid, start = [], None, None, 0, None
     for n in AUTO_MAPS:
         limit = None
         if deadline is not None:
@@ -90,10 +91,11 @@ def fit_best(fit, target, maps, time_limit=None, **options):
             if unpaid == AUTO_PATIENCE:
                 break
             continue
-        chosen, kept, unpaid = n, probe["iou"], 0
+        chosen, kept, unpaid, start = n, probe["iou"], 0, probe
     limit = None if deadline is None else max(deadline - time.monotonic(), 1e-3)
-    result = fit(*args, **keywords, maps=chosen, time_limit=limit, **options)
-    result["maps"], result["probes"] = chosen, probes
+    result = fit(*args, **keywords, maps=chosen, time_limit=limit, start=start["system"], **options)
+    result["maps"], result["probes"], result["restarts"] = chosen, probes, start["restarts"]
+    result["time_limited"] = result["time_limited"] or start["time_limited"]
     return result
 
 
