@@ -20,6 +20,7 @@ import argparse
 import json
 import os
 import pathlib
+import sys
 import tempfile
 import time
 
@@ -275,7 +276,9 @@ def evaluate_untimed(job):
     """evaluate() without a time limit of (name, target, maps, threads, seed), less what does not
     pickle: a job of rotated()'s process pool."""
     r = evaluate(*job[:3], job[3], job[4], time_limit=0)
-    return {k: v for k, v in r.items() if k not in ("system", "fit")}
+    r = {k: v for k, v in r.items() if k not in ("system", "fit")}
+    print(f"fit_targets.py: {r}", file=sys.stderr, flush=True)  # each fit as it ends: a long run's partial results
+    return r
 
 
 def rotated(args, out):
