@@ -274,7 +274,10 @@ def report(args, out):
 
 def evaluate_untimed(job):
     """evaluate() without a time limit of (name, target, maps, threads, seed), less what does not
-    pickle: a job of rotated()'s process pool."""
+    pickle: a job of rotated()'s process pool, in a session of its own: a kernel that shares the
+    CPU between sessions (autogroup) would give all the pool's fits together one session's share."""
+    if os.getsid(0) != os.getpid():
+        os.setsid()
     r = evaluate(*job[:3], job[3], job[4], time_limit=0)
     r = {k: v for k, v in r.items() if k not in ("system", "fit")}
     print(f"fit_targets.py: {r}", file=sys.stderr, flush=True)  # each fit as it ends: a long run's partial results

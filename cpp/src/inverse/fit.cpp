@@ -23,7 +23,7 @@ constexpr int kTurns = 36;  // turns tried per map for the rotated starts
 // The cover's beam (fit_seed.h) costs several greedy covers: the first cover start runs it only
 // when the k-means starts, run first, leave the attractor's IoU on the search's grid below
 // kBeamBelow (the Sierpinski triangle's and the four-corner dust's reach it), the second only
-// when the best start so far is below kBeamAgainBelow (the dragon's first cover reaches it).
+// when the best start so far is below kBeamAgainBelow (a near exact start needs no other).
 constexpr double kBeamBelow = 0.85;
 constexpr double kBeamAgainBelow = 0.95;
 
