@@ -1,6 +1,7 @@
 #include "ifsforge/pifs/encoder.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include "ifsforge/pifs/plane_coding.h"
 #include "ifsforge/pifs/planes.h"
 #include "ifsforge/pifs/residual.h"
+#include "rate_search.h"
 
 namespace ifsforge {
 namespace {
@@ -169,8 +171,8 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   // Chroma samples stand for 2×2 pixels, so their errors weigh 4× (and their residual step
   // halves). The residual layer's step follows λ (step² = λ / kResidualLambda), so the quadtree
   // and the residual trade error for bits at the same price. Each round tries two values of
-  // λ at once (a trisection; every plane of both is one job, the largest planes first), so the
-  // rate control keeps two threads busy; the values tried never depend on the thread count.
+  // λ at once (every plane of both is one job, the largest planes first), so the rate control
+  // keeps two threads busy; the values tried never depend on the thread count.
   struct Probe {
     double log_lambda = 0;
     std::vector<PifsPlane> planes;
@@ -210,37 +212,25 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
       probes[p].size = pifs_file_size(code, stream_sizes);
     }
   };
-  auto keep = [&](Probe& p) {
-    code.planes = std::move(p.planes);
-    return code;
-  };
-  double lo = std::log(1e-3), hi = std::log(1e9);
+  // The search (rate_search.h): a bracket of log λ narrowed by interpolation, two values a
+  // round, starting near the λ the target's bits per sample suggest.
+  LambdaBracket bracket(target, lambda_guess(image, target));
   std::vector<Probe> probes(2);
-  probes[0].log_lambda = hi;
-  probes[1].log_lambda = lo;
-  try_probes(probes);
-  if (probes[0].size > target)
-    throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
-                     std::to_string(probes[0].size) + " bytes; use a larger max_block)");
-  if (probes[1].size <= target) return keep(probes[1]);
-  Probe best = std::move(probes[0]);
-  // λ to within 0.1%: the file size is a step function of λ, flat at that resolution.
-  while (hi - lo > 1e-3) {
-    probes[0].log_lambda = lo + (hi - lo) / 3;
-    probes[1].log_lambda = lo + 2 * (hi - lo) / 3;
+  Probe best;  // done() holds only once a value has fitted
+  while (!bracket.done()) {
+    const std::array<double, 2> next = bracket.next();
+    probes[0].log_lambda = next[0];
+    probes[1].log_lambda = next[1];
     try_probes(probes);
-    if (probes[0].size <= target) {
-      hi = probes[0].log_lambda;
-      best = std::move(probes[0]);
-    } else if (probes[1].size <= target) {
-      lo = probes[0].log_lambda;
-      hi = probes[1].log_lambda;
-      best = std::move(probes[1]);
-    } else {
-      lo = probes[1].log_lambda;
-    }
+    for (const Probe& p : probes)
+      if (p.log_lambda >= LambdaBracket::kHighest && p.size > target)
+        throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
+                         std::to_string(p.size) + " bytes; use a larger max_block)");
+    const int fit = bracket.update({{{probes[0].log_lambda, probes[0].size}, {probes[1].log_lambda, probes[1].size}}});
+    if (fit >= 0) best = std::move(probes[std::size_t(fit)]);
   }
-  return keep(best);
+  code.planes = std::move(best.planes);
+  return code;
 }
 
 }  // namespace ifsforge
