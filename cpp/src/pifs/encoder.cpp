@@ -88,7 +88,10 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   // Steps 1-4: planes, then every quadtree level's candidates. The domain pools of every
   // (plane, level) are built first, then all block rows of all of them are one job list, so every
   // thread is busy from the first range block; each candidate depends on its block alone.
-  const std::vector<PifsRaster> planes = image_planes(image, code.color);
+  // Every step on the workers (with a progress callback the calling thread only reports), so
+  // the serial part of an encode stays small.
+  const ProgressCallback start = progress_range(progress, 0.0, 0.0);
+  const std::vector<PifsRaster> planes = image_planes(image, code.color, o.threads, start);
   const int levels = code.max_log - code.min_log + 1;
   std::vector<PifsRaster> padded(planes.size()), halves(planes.size());
   std::vector<PifsPlaneCandidates> cands(planes.size());
@@ -98,8 +101,8 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
     c.height = planes[k].height;
     c.padded_width = code.padded(c.width);
     c.padded_height = code.padded(c.height);
-    padded[k] = pad_plane(planes[k], c.padded_width, c.padded_height);
-    halves[k] = half_plane(padded[k]);
+    padded[k] = pad_plane(planes[k], c.padded_width, c.padded_height, o.threads, start);
+    halves[k] = half_plane(padded[k], o.threads, start);
     for (int log = code.min_log; log <= code.max_log; ++log)
       c.levels.emplace_back(std::size_t(c.padded_width >> log) * (c.padded_height >> log));
   }

@@ -21,9 +21,10 @@ PifsRaster make(int w, int h) {
 float level(float v) { return std::round(std::clamp(v, 0.f, 1.f) * 255.f); }
 
 /// Chroma averaged over 2×2 (the seed's Step 2); odd edges average what exists.
-PifsRaster halve(const PifsRaster& p) {
+PifsRaster halve(const PifsRaster& p, int threads, const ProgressCallback& progress) {
   PifsRaster h = make((p.width + 1) / 2, (p.height + 1) / 2);
-  for (int y = 0; y < h.height; ++y)
+  parallel_jobs(std::size_t(h.height), threads, [&](std::size_t row, int) {
+    const int y = int(row);
     for (int x = 0; x < h.width; ++x) {
       float sum = 0;
       int count = 0;
@@ -34,17 +35,20 @@ PifsRaster halve(const PifsRaster& p) {
         }
       h.row(y)[x] = sum / count;
     }
+  }, progress);
   return h;
 }
 
 }  // namespace
 
-std::vector<PifsRaster> image_planes(const Image& image, PifsColor color) {
+std::vector<PifsRaster> image_planes(const Image& image, PifsColor color, int threads, const ProgressCallback& progress) {
   const int w = image.width, h = image.height, c = image.channels;
   const bool ycc = color == PifsColor::YCbCr420 && c >= 3;
   std::vector<PifsRaster> planes;
   for (int k = 0; k < c; ++k) planes.push_back(make(w, h));
-  for (int y = 0; y < h; ++y)
+  // Each pixel on its own: rows are jobs, the same planes on any number of threads.
+  parallel_jobs(std::size_t(h), threads, [&](std::size_t row, int) {
+    const int y = int(row);
     for (int x = 0; x < w; ++x) {
       float v[4];
       for (int k = 0; k < c; ++k) v[k] = level(image.at(x, y, k));
@@ -56,20 +60,22 @@ std::vector<PifsRaster> image_planes(const Image& image, PifsColor color) {
       }
       for (int k = 0; k < c; ++k) planes[k].row(y)[x] = v[k];
     }
+  }, progress);
   if (ycc) {
-    planes[1] = halve(planes[1]);
-    planes[2] = halve(planes[2]);
+    planes[1] = halve(planes[1], threads, progress);
+    planes[2] = halve(planes[2], threads, progress);
   }
   return planes;
 }
 
-PifsRaster pad_plane(const PifsRaster& p, int width, int height) {
+PifsRaster pad_plane(const PifsRaster& p, int width, int height, int threads, const ProgressCallback& progress) {
   PifsRaster out = make(width, height);
-  for (int y = 0; y < height; ++y) {
+  parallel_jobs(std::size_t(height), threads, [&](std::size_t row, int) {
+    const int y = int(row);
     const float* src = p.row(std::min(y, p.height - 1));
     float* dst = out.row(y);
     for (int x = 0; x < width; ++x) dst[x] = src[std::min(x, p.width - 1)];
-  }
+  }, progress);
   return out;
 }
 
