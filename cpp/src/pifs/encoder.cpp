@@ -91,7 +91,7 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   // Every step on the workers (with a progress callback the calling thread only reports), so
   // the serial part of an encode stays small.
   const ProgressCallback start = progress_range(progress, 0.0, 0.0);
-  const std::vector<PifsRaster> planes = image_planes(image, code.color, o.threads, start);
+  std::vector<PifsRaster> planes = image_planes(image, code.color, o.threads, start);
   const int levels = code.max_log - code.min_log + 1;
   std::vector<PifsRaster> padded(planes.size()), halves(planes.size());
   std::vector<PifsPlaneCandidates> cands(planes.size());
@@ -101,7 +101,11 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
     c.height = planes[k].height;
     c.padded_width = code.padded(c.width);
     c.padded_height = code.padded(c.height);
-    padded[k] = pad_plane(planes[k], c.padded_width, c.padded_height, o.threads, start);
+    // A plane already of whole top-level blocks is its own padded plane (the residual reads its
+    // unpadded part from the padded one, which is the same there).
+    const bool whole = c.padded_width == c.width && c.padded_height == c.height;
+    padded[k] = whole ? std::move(planes[k]) : pad_plane(planes[k], c.padded_width, c.padded_height, o.threads, start);
+    planes[k] = PifsRaster();
     halves[k] = half_plane(padded[k], o.threads, start);
     for (int log = code.min_log; log <= code.max_log; ++log)
       c.levels.emplace_back(std::size_t(c.padded_width >> log) * (c.padded_height >> log));
@@ -162,8 +166,8 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   pools.clear();
   code.planes.resize(planes.size());
   for (std::size_t k = 0; k < planes.size(); ++k) {
-    code.planes[k].width = planes[k].width;
-    code.planes[k].height = planes[k].height;
+    code.planes[k].width = cands[k].width;
+    code.planes[k].height = cands[k].height;
   }
 
   if (target == 0) {
@@ -193,8 +197,8 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
           const std::size_t k = job / count, p = job % count;
           const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);
           PifsPlane& plane = probes[p].planes[k];
-          plane.width = planes[k].width;
-          plane.height = planes[k].height;
+          plane.width = cands[k].width;
+          plane.height = cands[k].height;
           const double lambda = std::exp(probes[p].log_lambda);
           plane.leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
           PifsStreamSizes& size = sizes[job];
@@ -204,7 +208,7 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
           PifsRaster decoded = decode_plane(code, plane, 0, PifsDecoder::Hierarchical, 0, 1);
           deblock(code, plane, 0, decoded, 1);
           const double step = std::sqrt(lambda / kResidualLambda) * (half ? 0.5 : 1.0);
-          plane.residual = residual_quantise(planes[k], decoded, plane.width, plane.height, step);
+          plane.residual = residual_quantise(padded[k], decoded, plane.width, plane.height, step);
           size.residual_step = plane.residual.step;
           size.residual = encode_residual(plane.residual, plane.width, plane.height).size();
         },
