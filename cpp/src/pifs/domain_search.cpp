@@ -17,17 +17,18 @@ int quantise_mean(const PifsCode& code, double mean) {
 
 }  // namespace
 
-PifsRaster half_plane(const PifsRaster& p) {
+PifsRaster half_plane(const PifsRaster& p, int threads, const ProgressCallback& progress) {
   PifsRaster h;
   h.width = p.width / 2;
   h.height = p.height / 2;
   h.values.resize(std::size_t(h.width) * h.height);
-  for (int y = 0; y < h.height; ++y) {
+  parallel_jobs(std::size_t(h.height), threads, [&](std::size_t row, int) {
+    const int y = int(row);
     const float* a = p.row(2 * y);
     const float* b = p.row(2 * y + 1);
     float* out = h.row(y);
     for (int x = 0; x < h.width; ++x) out[x] = 0.25f * (a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1]);
-  }
+  }, progress);
   return h;
 }
 

@@ -1,6 +1,7 @@
 #include "ifsforge/pifs/encoder.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include "ifsforge/pifs/plane_coding.h"
 #include "ifsforge/pifs/planes.h"
 #include "ifsforge/pifs/residual.h"
+#include "rate_search.h"
 
 namespace ifsforge {
 namespace {
@@ -86,7 +88,10 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   // Steps 1-4: planes, then every quadtree level's candidates. The domain pools of every
   // (plane, level) are built first, then all block rows of all of them are one job list, so every
   // thread is busy from the first range block; each candidate depends on its block alone.
-  const std::vector<PifsRaster> planes = image_planes(image, code.color);
+  // Every step on the workers (with a progress callback the calling thread only reports), so
+  // the serial part of an encode stays small.
+  const ProgressCallback start = progress_range(progress, 0.0, 0.0);
+  std::vector<PifsRaster> planes = image_planes(image, code.color, o.threads, start);
   const int levels = code.max_log - code.min_log + 1;
   std::vector<PifsRaster> padded(planes.size()), halves(planes.size());
   std::vector<PifsPlaneCandidates> cands(planes.size());
@@ -96,8 +101,12 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
     c.height = planes[k].height;
     c.padded_width = code.padded(c.width);
     c.padded_height = code.padded(c.height);
-    padded[k] = pad_plane(planes[k], c.padded_width, c.padded_height);
-    halves[k] = half_plane(padded[k]);
+    // A plane already of whole top-level blocks is its own padded plane (the residual reads its
+    // unpadded part from the padded one, which is the same there).
+    const bool whole = c.padded_width == c.width && c.padded_height == c.height;
+    padded[k] = whole ? std::move(planes[k]) : pad_plane(planes[k], c.padded_width, c.padded_height, o.threads, start);
+    planes[k] = PifsRaster();
+    halves[k] = half_plane(padded[k], o.threads, start);
     for (int log = code.min_log; log <= code.max_log; ++log)
       c.levels.emplace_back(std::size_t(c.padded_width >> log) * (c.padded_height >> log));
   }
@@ -157,8 +166,8 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   pools.clear();
   code.planes.resize(planes.size());
   for (std::size_t k = 0; k < planes.size(); ++k) {
-    code.planes[k].width = planes[k].width;
-    code.planes[k].height = planes[k].height;
+    code.planes[k].width = cands[k].width;
+    code.planes[k].height = cands[k].height;
   }
 
   if (target == 0) {
@@ -169,8 +178,8 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   // Chroma samples stand for 2×2 pixels, so their errors weigh 4× (and their residual step
   // halves). The residual layer's step follows λ (step² = λ / kResidualLambda), so the quadtree
   // and the residual trade error for bits at the same price. Each round tries two values of
-  // λ at once (a trisection; every plane of both is one job, the largest planes first), so the
-  // rate control keeps two threads busy; the values tried never depend on the thread count.
+  // λ at once (every plane of both is one job, the largest planes first), so the rate control
+  // keeps two threads busy; the values tried never depend on the thread count.
   struct Probe {
     double log_lambda = 0;
     std::vector<PifsPlane> planes;
@@ -188,8 +197,8 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
           const std::size_t k = job / count, p = job % count;
           const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);
           PifsPlane& plane = probes[p].planes[k];
-          plane.width = planes[k].width;
-          plane.height = planes[k].height;
+          plane.width = cands[k].width;
+          plane.height = cands[k].height;
           const double lambda = std::exp(probes[p].log_lambda);
           plane.leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
           PifsStreamSizes& size = sizes[job];
@@ -199,7 +208,7 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
           PifsRaster decoded = decode_plane(code, plane, 0, PifsDecoder::Hierarchical, 0, 1);
           deblock(code, plane, 0, decoded, 1);
           const double step = std::sqrt(lambda / kResidualLambda) * (half ? 0.5 : 1.0);
-          plane.residual = residual_quantise(planes[k], decoded, plane.width, plane.height, step);
+          plane.residual = residual_quantise(padded[k], decoded, plane.width, plane.height, step);
           size.residual_step = plane.residual.step;
           size.residual = encode_residual(plane.residual, plane.width, plane.height).size();
         },
@@ -210,37 +219,25 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
       probes[p].size = pifs_file_size(code, stream_sizes);
     }
   };
-  auto keep = [&](Probe& p) {
-    code.planes = std::move(p.planes);
-    return code;
-  };
-  double lo = std::log(1e-3), hi = std::log(1e9);
+  // The search (rate_search.h): a bracket of log λ narrowed by interpolation, two values a
+  // round, starting near the λ the target's bits per sample suggest.
+  LambdaBracket bracket(target, lambda_guess(image, target));
   std::vector<Probe> probes(2);
-  probes[0].log_lambda = hi;
-  probes[1].log_lambda = lo;
-  try_probes(probes);
-  if (probes[0].size > target)
-    throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
-                     std::to_string(probes[0].size) + " bytes; use a larger max_block)");
-  if (probes[1].size <= target) return keep(probes[1]);
-  Probe best = std::move(probes[0]);
-  // λ to within 0.1%: the file size is a step function of λ, flat at that resolution.
-  while (hi - lo > 1e-3) {
-    probes[0].log_lambda = lo + (hi - lo) / 3;
-    probes[1].log_lambda = lo + 2 * (hi - lo) / 3;
+  Probe best;  // done() holds only once a value has fitted
+  while (!bracket.done()) {
+    const std::array<double, 2> next = bracket.next();
+    probes[0].log_lambda = next[0];
+    probes[1].log_lambda = next[1];
     try_probes(probes);
-    if (probes[0].size <= target) {
-      hi = probes[0].log_lambda;
-      best = std::move(probes[0]);
-    } else if (probes[1].size <= target) {
-      lo = probes[0].log_lambda;
-      hi = probes[1].log_lambda;
-      best = std::move(probes[1]);
-    } else {
-      lo = probes[1].log_lambda;
-    }
+    for (const Probe& p : probes)
+      if (p.log_lambda >= LambdaBracket::kHighest && p.size > target)
+        throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
+                         std::to_string(p.size) + " bytes; use a larger max_block)");
+    const int fit = bracket.update({{{probes[0].log_lambda, probes[0].size}, {probes[1].log_lambda, probes[1].size}}});
+    if (fit >= 0) best = std::move(probes[std::size_t(fit)]);
   }
-  return keep(best);
+  code.planes = std::move(best.planes);
+  return code;
 }
 
 }  // namespace ifsforge

@@ -20,56 +20,65 @@ PifsRaster make(int w, int h) {
 
 float level(float v) { return std::round(std::clamp(v, 0.f, 1.f) * 255.f); }
 
-/// Chroma averaged over 2×2 (the seed's Step 2); odd edges average what exists.
-PifsRaster halve(const PifsRaster& p) {
-  PifsRaster h = make((p.width + 1) / 2, (p.height + 1) / 2);
-  for (int y = 0; y < h.height; ++y)
-    for (int x = 0; x < h.width; ++x) {
-      float sum = 0;
-      int count = 0;
-      for (int j = 2 * y; j < std::min(2 * y + 2, p.height); ++j)
-        for (int i = 2 * x; i < std::min(2 * x + 2, p.width); ++i) {
-          sum += p.row(j)[i];
-          ++count;
-        }
-      h.row(y)[x] = sum / count;
-    }
-  return h;
-}
-
 }  // namespace
 
-std::vector<PifsRaster> image_planes(const Image& image, PifsColor color) {
+std::vector<PifsRaster> image_planes(const Image& image, PifsColor color, int threads, const ProgressCallback& progress) {
   const int w = image.width, h = image.height, c = image.channels;
   const bool ycc = color == PifsColor::YCbCr420 && c >= 3;
-  std::vector<PifsRaster> planes;
-  for (int k = 0; k < c; ++k) planes.push_back(make(w, h));
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      float v[4];
-      for (int k = 0; k < c; ++k) v[k] = level(image.at(x, y, k));
-      if (ycc) {  // JPEG's full-range YCbCr (the seed's YUV, Step 1)
-        const float r = v[0], g = v[1], b = v[2];
-        v[0] = 0.299f * r + 0.587f * g + 0.114f * b;
-        v[1] = 128.f - 0.168736f * r - 0.331264f * g + 0.5f * b;
-        v[2] = 128.f + 0.5f * r - 0.418688f * g - 0.081312f * b;
-      }
-      for (int k = 0; k < c; ++k) planes[k].row(y)[x] = v[k];
+  // The levels of pixel (x, y), converted to JPEG's full-range YCbCr (the seed's YUV, Step 1).
+  const auto pixel = [&](int x, int y, float v[4]) {
+    for (int k = 0; k < c; ++k) v[k] = level(image.at(x, y, k));
+    if (ycc) {
+      const float r = v[0], g = v[1], b = v[2];
+      v[0] = 0.299f * r + 0.587f * g + 0.114f * b;
+      v[1] = 128.f - 0.168736f * r - 0.331264f * g + 0.5f * b;
+      v[2] = 128.f + 0.5f * r - 0.418688f * g - 0.081312f * b;
     }
-  if (ycc) {
-    planes[1] = halve(planes[1]);
-    planes[2] = halve(planes[2]);
-  }
+  };
+  std::vector<PifsRaster> planes;
+  for (int k = 0; k < c; ++k) planes.push_back(ycc && (k == 1 || k == 2) ? make((w + 1) / 2, (h + 1) / 2) : make(w, h));
+  // Each pixel on its own: rows are jobs (pairs of rows for YCbCr), the same planes on any
+  // number of threads. The chroma is averaged over 2×2 as it is converted (the seed's Step 2;
+  // odd edges average what exists), never held at full size.
+  const int rows = ycc ? (h + 1) / 2 : h;
+  parallel_jobs(std::size_t(rows), threads, [&](std::size_t row, int) {
+    float v[4];
+    if (!ycc) {
+      const int y = int(row);
+      for (int x = 0; x < w; ++x) {
+        pixel(x, y, v);
+        for (int k = 0; k < c; ++k) planes[k].row(y)[x] = v[k];
+      }
+      return;
+    }
+    const int y = int(row), y1 = std::min(2 * y + 2, h);
+    for (int x = 0; x < planes[1].width; ++x) {
+      const int x1 = std::min(2 * x + 2, w);
+      float cb = 0, cr = 0;
+      for (int j = 2 * y; j < y1; ++j)
+        for (int i = 2 * x; i < x1; ++i) {
+          pixel(i, j, v);
+          cb += v[1];
+          cr += v[2];
+          planes[0].row(j)[i] = v[0];
+          if (c == 4) planes[3].row(j)[i] = v[3];
+        }
+      const float count = float((y1 - 2 * y) * (x1 - 2 * x));
+      planes[1].row(y)[x] = cb / count;
+      planes[2].row(y)[x] = cr / count;
+    }
+  }, progress);
   return planes;
 }
 
-PifsRaster pad_plane(const PifsRaster& p, int width, int height) {
+PifsRaster pad_plane(const PifsRaster& p, int width, int height, int threads, const ProgressCallback& progress) {
   PifsRaster out = make(width, height);
-  for (int y = 0; y < height; ++y) {
+  parallel_jobs(std::size_t(height), threads, [&](std::size_t row, int) {
+    const int y = int(row);
     const float* src = p.row(std::min(y, p.height - 1));
     float* dst = out.row(y);
     for (int x = 0; x < width; ++x) dst[x] = src[std::min(x, p.width - 1)];
-  }
+  }, progress);
   return out;
 }
 

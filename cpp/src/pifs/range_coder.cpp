@@ -4,9 +4,9 @@
 
 namespace ifsforge {
 namespace {
-constexpr int kProbBits = 11;
-constexpr int kAdapt = 4;  // fast adaptation: a plane codes only a few thousand symbols
-constexpr std::uint32_t kTop = 1u << 24;
+using range_coding::kAdapt;
+using range_coding::kProbBits;
+using range_coding::kTop;
 constexpr unsigned kMaxLength = 24;
 
 unsigned bit_length(unsigned v) {
@@ -15,22 +15,6 @@ unsigned bit_length(unsigned v) {
   return n;
 }
 }  // namespace
-
-void RangeEncoder::bit(BitModel& m, int bit) {
-  const std::uint32_t bound = (range_ >> kProbBits) * m.p;
-  if (bit == 0) {
-    range_ = bound;
-    m.p += ((1u << kProbBits) - m.p) >> kAdapt;
-  } else {
-    low_ += bound;
-    range_ -= bound;
-    m.p -= m.p >> kAdapt;
-  }
-  while (range_ < kTop) {
-    range_ <<= 8;
-    shift_low();
-  }
-}
 
 void RangeEncoder::shift_low() {
   if (static_cast<std::uint32_t>(low_) < 0xFF000000u || (low_ >> 32) != 0) {

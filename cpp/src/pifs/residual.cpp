@@ -69,16 +69,22 @@ struct Models {
   BitModel tail[3][25][24];
 };
 
-/// Walks the blocks in raster order with the contexts each one's coding needs.
+/// Walks the blocks in raster order with the contexts each one's coding needs. Whether a block
+/// has a nonzero coefficient is remembered once it is known (all at once when encoding, block
+/// by block when decoding), not scanned again for each neighbour that asks.
 struct BlockWalk {
   int bx, by;
   const std::vector<std::int16_t>& c;
+  std::vector<std::uint8_t> nonzero = std::vector<std::uint8_t>(std::size_t(bx) * by, 0);
   bool any(int b) const {
     for (int z = 0; z < kCoefficients; ++z)
       if (c[std::size_t(b) * kCoefficients + z]) return true;
     return false;
   }
-  int coded_context(int x, int y) const { return (x > 0 && any(y * bx + x - 1)) + (y > 0 && any((y - 1) * bx + x)); }
+  void remember(int b) { nonzero[std::size_t(b)] = any(b); }
+  int coded_context(int x, int y) const {
+    return (x > 0 && nonzero[std::size_t(y) * bx + x - 1]) + (y > 0 && nonzero[std::size_t(y - 1) * bx + x]);
+  }
   int neighbour_context(int x, int y, int z) const {
     return (x > 0 && c[std::size_t(y * bx + x - 1) * kCoefficients + z] != 0) +
            (y > 0 && c[std::size_t((y - 1) * bx + x) * kCoefficients + z] != 0);
@@ -98,34 +104,61 @@ PifsResidual residual_quantise(const PifsRaster& target, const PifsRaster& decod
   const int bx = blocks_along(width), by = blocks_along(height);
   const Tables& t = tables();
   const std::vector<double>& b = basis();
+  // The basis transposed, so both passes run along contiguous rows of 8 outputs (vector lanes);
+  // each output still sums its 8 products in the same order as the plain loop, so the
+  // coefficients are the same to the last bit.
+  double bt[kCoefficients];
+  for (int k = 0; k < kN; ++k)
+    for (int u = 0; u < kN; ++u) bt[u * kN + k] = b[k * kN + u];
   r.coefficients.assign(std::size_t(bx) * by * kCoefficients, 0);
   bool any = false;
-  double x[kCoefficients], row[kCoefficients];
+  double x[kCoefficients], row[kCoefficients], coef[kCoefficients];
+  int magnitude[kCoefficients];
   for (int j = 0; j < by; ++j)
     for (int i = 0; i < bx; ++i) {
       // Pixels past the plane's edge repeat its last row and column: no step for the DCT to code.
+      const bool inside = (i + 1) * kN <= width && (j + 1) * kN <= height;
       for (int v = 0; v < kN; ++v) {
         const int py = std::min(j * kN + v, height - 1);
+        const float* tr = target.row(py);
+        const float* dr = decoded.row(py);
+        if (inside) {
+          for (int u = 0; u < kN; ++u) x[v * kN + u] = double(tr[i * kN + u]) - double(dr[i * kN + u]);
+          continue;
+        }
         for (int u = 0; u < kN; ++u) {
           const int px = std::min(i * kN + u, width - 1);
-          x[v * kN + u] = double(target.row(py)[px]) - double(decoded.row(py)[px]);
+          x[v * kN + u] = double(tr[px]) - double(dr[px]);
         }
       }
-      for (int v = 0; v < kN; ++v)
-        for (int k = 0; k < kN; ++k) {
-          double s = 0;
-          for (int u = 0; u < kN; ++u) s += b[k * kN + u] * x[v * kN + u];
-          row[v * kN + k] = s;
+      // Rows: row[v][k] = Σ_u b[k][u]·x[v][u]; then columns: coef[kv][ku] = Σ_v b[kv][v]·row[v][ku].
+      for (int v = 0; v < kN; ++v) {
+        double* out = row + v * kN;
+        for (int k = 0; k < kN; ++k) out[k] = 0;
+        for (int u = 0; u < kN; ++u) {
+          const double xv = x[v * kN + u];
+          for (int k = 0; k < kN; ++k) out[k] += bt[u * kN + k] * xv;
         }
+      }
+      for (int kv = 0; kv < kN; ++kv) {
+        double* out = coef + kv * kN;
+        for (int k = 0; k < kN; ++k) out[k] = 0;
+        for (int v = 0; v < kN; ++v) {
+          const double w = b[kv * kN + v];
+          for (int k = 0; k < kN; ++k) out[k] += w * row[v * kN + k];
+        }
+      }
+      int nonzero = 0;
+      for (int c = 0; c < kCoefficients; ++c) {
+        const double a = std::fabs(coef[c]) / step + kRounding;
+        const int m = a < kMaxMagnitude ? int(a) : kMaxMagnitude;
+        magnitude[c] = coef[c] < 0 ? -m : m;
+        nonzero |= m;
+      }
       std::int16_t* out = r.coefficients.data() + (std::size_t(j) * bx + i) * kCoefficients;
-      for (int z = 0; z < kCoefficients; ++z) {
-        const int kv = t.zigzag[z] / kN, ku = t.zigzag[z] % kN;
-        double s = 0;
-        for (int v = 0; v < kN; ++v) s += b[kv * kN + v] * row[v * kN + ku];
-        const int m = std::min(kMaxMagnitude, int(std::fabs(s) / step + kRounding));
-        out[z] = std::int16_t(s < 0 ? -m : m);
-        any = any || m != 0;
-      }
+      if (nonzero == 0) continue;
+      any = true;
+      for (int z = 0; z < kCoefficients; ++z) out[z] = std::int16_t(magnitude[t.zigzag[z]]);
     }
   if (!any) r.coefficients.clear();
   else r.step = q;
@@ -140,7 +173,8 @@ std::vector<std::uint8_t> encode_residual(const PifsResidual& residual, int widt
     throw InputError("PIFS residual: coefficient count does not match the plane");
   auto m = std::make_unique<Models>();
   RangeEncoder rc;
-  const BlockWalk walk{bx, by, residual.coefficients};
+  BlockWalk walk{bx, by, residual.coefficients};
+  for (int b = 0; b < bx * by; ++b) walk.remember(b);
   auto level = [&](int band, int v) {
     const int a = std::abs(v);
     rc.bit(m->above_one[band], a > 1);
@@ -150,7 +184,7 @@ std::vector<std::uint8_t> encode_residual(const PifsResidual& residual, int widt
   for (int y = 0; y < by; ++y)
     for (int x = 0; x < bx; ++x) {
       const std::int16_t* c = residual.coefficients.data() + (std::size_t(y) * bx + x) * kCoefficients;
-      const bool coded = walk.any(y * bx + x);
+      const bool coded = walk.nonzero[std::size_t(y) * bx + x] != 0;
       rc.bit(m->coded[walk.coded_context(x, y)], coded);
       if (!coded) continue;
       int last = kCoefficients - 1;
@@ -182,7 +216,7 @@ PifsResidual decode_residual(int step, int width, int height, const std::uint8_t
   r.coefficients.assign(std::size_t(bx) * by * kCoefficients, 0);
   auto m = std::make_unique<Models>();
   RangeDecoder rc(data, size, where);
-  const BlockWalk walk{bx, by, r.coefficients};
+  BlockWalk walk{bx, by, r.coefficients};
   auto level = [&](int band) {
     unsigned a = 1;
     if (rc.bit(m->above_one[band])) a = 2 + rc.integer(m->length[magnitude_group(band)], m->tail[magnitude_group(band)]);
@@ -201,6 +235,7 @@ PifsResidual decode_residual(int step, int width, int height, const std::uint8_t
         if (rc.bit(m->last[band])) break;
       }
       if (z == kCoefficients - 1) c[z] = level(t.band[z]);
+      walk.remember(y * bx + x);
     }
   if (rc.consumed() != size) throw InputError(where + ": corrupt (bytes left after the residual)");
   return r;

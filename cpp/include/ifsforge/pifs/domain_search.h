@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "ifsforge/core/names.h"
+#include "ifsforge/core/progress.h"
 #include "ifsforge/pifs/block_search.h"
 #include "ifsforge/pifs/code.h"
 
@@ -54,7 +55,7 @@ struct PifsSearch {
 
 /// @brief φ of Eq. 29 for every domain at once: the plane averaged 2×2, so the 2r×2r domain at
 /// (x, y) is the r×r block at (x/2, y/2) of this raster.
-PifsRaster half_plane(const PifsRaster& padded);
+PifsRaster half_plane(const PifsRaster& padded, int threads = 1, const ProgressCallback& progress = nullptr);
 
 /// @brief The domain pool of one plane for ranges of 2^log_size: each domain's energy
 /// Σ(d − mean_d)² (of its φ) and a tree of its canonical feature (with √energy, so the tree

@@ -11,10 +11,14 @@ namespace ifsforge {
 
 /// @brief The planes of `image` (values rounded to 8-bit levels), unpadded: gray [+ alpha],
 /// Y Cb Cr (chroma at half size, rounded up) [+ alpha] for YCbCr420, else one plane per channel.
-std::vector<PifsRaster> image_planes(const Image& image, PifsColor color);
+/// Rows are jobs on `threads` threads (parallel_jobs, with `progress`): the encoder's first step
+/// is not left to one thread.
+std::vector<PifsRaster> image_planes(const Image& image, PifsColor color, int threads = 1,
+                                     const ProgressCallback& progress = nullptr);
 
-/// @brief `plane` extended to `width`×`height` by repeating its last column and row.
-PifsRaster pad_plane(const PifsRaster& plane, int width, int height);
+/// @brief `plane` extended to `width`×`height` by repeating its last column and row (rows as jobs).
+PifsRaster pad_plane(const PifsRaster& plane, int width, int height, int threads = 1,
+                     const ProgressCallback& progress = nullptr);
 
 /// @brief Threads for one pass over `pixels` pixels: one more per 2^20, at most `threads` (below
 /// that, waiting for a new thread to be scheduled costs more than the pass it would share).

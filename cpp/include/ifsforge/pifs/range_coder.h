@@ -7,6 +7,12 @@
 
 namespace ifsforge {
 
+namespace range_coding {
+constexpr int kProbBits = 11;
+constexpr int kAdapt = 4;  // fast adaptation: a plane codes only a few thousand symbols
+constexpr std::uint32_t kTop = 1u << 24;
+}  // namespace range_coding
+
 /// @brief Probability of a 0 bit, in 1/2048; adapts after each coded bit.
 struct BitModel {
   std::uint16_t p = 1024;
@@ -14,7 +20,23 @@ struct BitModel {
 
 class RangeEncoder {
  public:
-  void bit(BitModel& m, int bit);
+  /// @brief One bit with model `m` (inline: the rate control codes every plane many times).
+  void bit(BitModel& m, int bit) {
+    using namespace range_coding;
+    const std::uint32_t bound = (range_ >> kProbBits) * m.p;
+    if (bit == 0) {
+      range_ = bound;
+      m.p += ((1u << kProbBits) - m.p) >> kAdapt;
+    } else {
+      low_ += bound;
+      range_ -= bound;
+      m.p -= m.p >> kAdapt;
+    }
+    while (range_ < kTop) {
+      range_ <<= 8;
+      shift_low();
+    }
+  }
   /// @brief `bits` low bits of `value`, most significant first, through a bit tree of
   /// 2^bits models (`tree` must hold that many).
   void tree(BitModel* tree, int bits, unsigned value);
