@@ -58,9 +58,7 @@ def figure(out, label, args, target, runs):
 def in_process(program, filter_):
     """Google Benchmark rows (name, real time, unit, counters) of build/cpp/bench/PROGRAM
     matching FILTER."""
-    path = ROOT / "build" / "cpp" / "bench" / program
-    if not path.exists():
-        return []
+    path = results.program_path(program, ROOT / "build")
     out = subprocess.run([str(path), f"--benchmark_filter={filter_}", "--benchmark_format=csv"],
                          capture_output=True, text=True, cwd=path.parent).stdout
     lines = [line for line in out.splitlines() if line.startswith("name,") or line.startswith('"')]

@@ -13,8 +13,6 @@ import csv
 import io
 import os
 import subprocess
-import sys
-from pathlib import Path
 
 import results
 
@@ -39,9 +37,7 @@ CORE = 0  # one core, so every build's threads share the same single CPU
 
 def run(build, program, pattern, isa=None):
     """{benchmark name: {measure: ms}} from one run of one benchmark program on one core."""
-    path = (Path(build) / "cpp" / "bench" / program).resolve()
-    if not path.exists():
-        sys.exit(f"{path} does not exist: build {program} in {build} first")
+    path = results.program_path(program, build).resolve()
     env = dict(os.environ)
     env.pop("IFSFORGE_ISA", None)
     if isa:

@@ -153,11 +153,20 @@ def record_blender_tables(key, path, title, result):
             section.print(line)
 
 
+def program_path(program, build):
+    """build/cpp/bench/PROGRAM, built (or brought up to date) first: the benchmark programs are
+    not part of the default build (`cmake --build build --target benchmarks` builds them all)."""
+    path = Path(build) / "cpp" / "bench" / program
+    built = subprocess.run(["cmake", "--build", str(build), "--target", program, "-j", str(os.cpu_count() or 1)],
+                           capture_output=True, text=True)
+    if built.returncode != 0 or not path.exists():
+        sys.exit(f"results.py: could not build {program} in {build}:\n{built.stdout[-2000:]}{built.stderr[-2000:]}")
+    return path
+
+
 def google_benchmark_table(program, arguments, build):
     """Runs a Google Benchmark program with `arguments` and returns its rows as Markdown."""
-    path = Path(build) / "cpp" / "bench" / program
-    if not path.exists():
-        sys.exit(f"results.py: {path} does not exist: build the benchmarks first")
+    path = program_path(program, build)
     out = subprocess.run([str(path), *arguments, "--benchmark_format=csv"], capture_output=True, text=True,
                          cwd=path.parent, check=True).stdout
     lines = [line for line in out.splitlines() if line.startswith("name,") or line.startswith('"')]
@@ -181,9 +190,7 @@ def google_benchmark_table(program, arguments, build):
 
 def plain_program_lines(program, arguments, build):
     """Runs a plain benchmark program (one that prints Markdown) and returns its lines."""
-    path = Path(build) / "cpp" / "bench" / program
-    if not path.exists():
-        sys.exit(f"results.py: {path} does not exist: build it first")
+    path = program_path(program, build)
     return subprocess.run([str(path), *arguments], capture_output=True, text=True, check=True).stdout.splitlines()
 
 
