@@ -8,7 +8,8 @@
 //   build/cpp/bench/bench_volume --benchmark_filter=AgainstDisk   # the .vdb writer against write + fsync
 //
 // Counters: voxels (occupied), depth, peak_rss_mb (the process's peak resident memory so far:
-// run a size alone to read its own peak).
+// run a size alone to read its own peak); where a file is written, faults_per_mb (the process's
+// page faults per MB of the file) and cpu_ms (process_usage.h).
 #include <benchmark/benchmark.h>
 #include <fcntl.h>
 #include <sys/resource.h>
@@ -23,6 +24,7 @@
 #include "ifsforge/io/ifs_json.h"
 #include "ifsforge/io/vdb.h"
 #include "ifsforge/volume/volume_renderer.h"
+#include "process_usage.h"
 
 namespace {
 
@@ -45,6 +47,11 @@ double peak_rss_mb() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return usage.ru_maxrss / 1024.0;
+}
+
+double file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  return static_cast<double>(in.tellg());
 }
 
 void report(benchmark::State& state, const Volume& v) {
@@ -88,10 +95,12 @@ void BM_PrrToVdb(benchmark::State& state) {
   VdbWriteOptions w;
   w.system = &pyramid();
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) {
     v = render_volume(pyramid(), "prr", o);
     write_vdb(path, v, w);
   }
+  usage.set_output_bytes(file_bytes(path));
   report(state, v);
   std::remove(path.c_str());
 }
@@ -107,7 +116,9 @@ void BM_WriteVdb(benchmark::State& state) {
   const std::string path = "/tmp/ifsforge_bench_write_" + std::to_string(getpid()) + ".vdb";
   VdbWriteOptions w;
   w.system = &pyramid();
+  ProcessUsage usage(state);
   for (auto _ : state) write_vdb(path, v, w);
+  usage.set_output_bytes(file_bytes(path));
   report(state, v);
   std::remove(path.c_str());
 }
