@@ -1,10 +1,12 @@
 #pragma once
-// The .vdb band writer's file access (src/io only): positioned writes, write-back in pieces that
-// hear Ctrl-C, and the content hash that stands for the file's UUID, taken as the bytes are written.
+// The .vdb band writer's file access (src/io only): positioned writes, write-back and flushes that
+// overlap the writing, waits in pieces that hear Ctrl-C, and the content hash that stands for the
+// file's UUID, taken as the bytes are written.
 #include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -12,6 +14,7 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <thread>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/pages.h"
@@ -58,6 +61,47 @@ class FileAt {
  private:
   int fd_;
   std::string shown_;
+};
+
+/// Flushes what has been written to the disk on a thread of its own (fdatasync), one flush at a
+/// time, while the writer goes on: the disk's cache flush, which dominates a commit's fsync on a
+/// virtual disk, then overlaps the work instead of following it, and the commit finds little left.
+/// A flush's failure is kept and reported by finish() (a failed flush's error is not seen again
+/// by a later fsync of the same file).
+class BackgroundSync {
+ public:
+  explicit BackgroundSync(const FileAt& file) : file_(file) {}
+  ~BackgroundSync() {
+    if (thread_.joinable()) thread_.join();
+  }
+  BackgroundSync(const BackgroundSync&) = delete;
+  BackgroundSync& operator=(const BackgroundSync&) = delete;
+  /// After a piece of the file was written: starts its write-back and, unless one is running, a
+  /// flush of everything written so far. Thread-safe.
+  void written() {
+    file_.start_writeback();
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (running_.load() || error_) return;
+    if (thread_.joinable()) thread_.join();  // done: it cleared running_ as it ended
+    running_ = true;
+    thread_ = std::thread([this] {
+      if (::fdatasync(file_.fd()) != 0) error_ = errno;
+      running_ = false;
+    });
+  }
+  /// Waits for the flush running, if any; FileError if a flush failed.
+  void finish() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (thread_.joinable()) thread_.join();
+    if (error_) throw FileError("cannot write '" + file_.shown() + "': " + std::strerror(error_));
+  }
+
+ private:
+  const FileAt& file_;
+  std::mutex mutex_;
+  std::thread thread_;
+  std::atomic<bool> running_{false};
+  std::atomic<int> error_{0};
 };
 
 /// The content hash that stands for the file's UUID, taken from the bytes as they are written

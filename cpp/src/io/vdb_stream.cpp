@@ -316,6 +316,7 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
   // The UUID is a hash of the bytes after it, taken as they are written.
   ContentHash hash(kUuidOffset + kUuidLength);
   const HashedWriter writer_of_file(file, hash);
+  BackgroundSync flushes(file);
   const int threads = resolve_threads(thread_count);
   BandWriter writer(voxel_grid, bands, load, threads);
   const Layout layout = plan(writer, progress_range(progress, 0.0, 0.2));
@@ -457,7 +458,7 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
       w.bytes = LargeVector<char>();
       w.bytes.reserve(size);
     }
-    if (!blosc) file.start_writeback();
+    if (!blosc) flushes.written();
   }, progress_range(progress, 0.2, blosc ? 0.7 : 0.85));
   if (blosc) {
     // Every leaf's size in file order, then the heads, then the kept bytes where they belong.
@@ -479,9 +480,10 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
         write_runs(layout.band_leaves[b], kept[b][g].bytes, kept[b][g].sizes,
                    [&](std::size_t i) { return buffers[g] + offsets[g][i]; });
       kept[b].clear();
-      file.start_writeback();
+      flushes.written();
     }, progress_range(progress, 0.7, 0.85));
   }
+  flushes.finish();
   const std::string uuid = hash.uuid(end);
   file.write(kUuidOffset, uuid.data(), uuid.size());
   file.sync_pieces(end, progress_range(progress, 0.85, 1.0));
