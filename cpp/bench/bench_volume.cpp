@@ -8,8 +8,9 @@
 //   build/cpp/bench/bench_volume --benchmark_filter=AgainstDisk   # the .vdb writer against write + fsync
 //
 // Counters: voxels (occupied), depth, peak_rss_mb (the process's peak resident memory so far:
-// run a size alone to read its own peak); where a file is written, faults_per_mb (the process's
-// page faults per MB of the file) and cpu_ms (process_usage.h).
+// run a size alone to read its own peak), and from process_usage.h faults, cpu_ms and
+// faults_per_mb: the process's page faults per MB of the output (the file where one is written,
+// else the volume's arrays). cpp/bench/vdb_vs_dd.py measures the writer against dd.
 #include <benchmark/benchmark.h>
 #include <fcntl.h>
 #include <sys/resource.h>
@@ -54,10 +55,19 @@ double file_bytes(const std::string& path) {
   return static_cast<double>(in.tellg());
 }
 
-void report(benchmark::State& state, const Volume& v) {
+/// The volume's arrays in memory: a key, a density and its channel means per voxel.
+double volume_bytes(const Volume& v) {
+  return static_cast<double>(v.size()) * (8.0 + 4.0 + 4.0 * v.channel_count());
+}
+
+/// The counters of every case but VdbWriterAgainstDisk (Google Benchmark's CSV report needs the
+/// same in every row): the volume's, and the process's page faults per MB of `output` (the file
+/// written, else the volume made).
+void report(benchmark::State& state, const Volume& v, ProcessUsage& usage, double output) {
   state.counters["voxels"] = static_cast<double>(v.size());
   state.counters["depth"] = v.depth;
   state.counters["peak_rss_mb"] = peak_rss_mb();
+  usage.set_output_bytes(output);
 }
 
 // Table 2: 100^3, each renderer with its defaults (occupancy-driven stopping rules).
@@ -65,8 +75,9 @@ void BM_TableTwo(benchmark::State& state, const char* algorithm) {
   VolumeOptions o;
   o.resolution = 100;
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) v = render_volume(pyramid(), algorithm, o);
-  report(state, v);
+  report(state, v, usage, volume_bytes(v));
 }
 BENCHMARK_CAPTURE(BM_TableTwo, prr, "prr")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_TableTwo, ria, "ria")->Unit(benchmark::kMillisecond)->Iterations(2);
@@ -80,8 +91,9 @@ void BM_TableTwoSeedSettings(benchmark::State& state, const char* algorithm) {
   o.depth = std::string(algorithm) == "dia" ? 5 : 0;
   o.escape_bound = std::string(algorithm) == "eta" ? 10 : 0;
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) v = render_volume(pyramid(), algorithm, o);
-  report(state, v);
+  report(state, v, usage, volume_bytes(v));
 }
 BENCHMARK_CAPTURE(BM_TableTwoSeedSettings, dia_5_levels, "dia")->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK_CAPTURE(BM_TableTwoSeedSettings, eta_bound_10, "eta")->Unit(benchmark::kMillisecond)->Iterations(2);
@@ -100,8 +112,7 @@ void BM_PrrToVdb(benchmark::State& state) {
     v = render_volume(pyramid(), "prr", o);
     write_vdb(path, v, w);
   }
-  usage.set_output_bytes(file_bytes(path));
-  report(state, v);
+  report(state, v, usage, file_bytes(path));
   std::remove(path.c_str());
 }
 BENCHMARK(BM_PrrToVdb)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond);
@@ -118,8 +129,7 @@ void BM_WriteVdb(benchmark::State& state) {
   w.system = &pyramid();
   ProcessUsage usage(state);
   for (auto _ : state) write_vdb(path, v, w);
-  usage.set_output_bytes(file_bytes(path));
-  report(state, v);
+  report(state, v, usage, file_bytes(path));
   std::remove(path.c_str());
 }
 BENCHMARK(BM_WriteVdb)->Arg(256)->Arg(512)->Unit(benchmark::kMillisecond);
@@ -191,8 +201,9 @@ void BM_PrrSample(benchmark::State& state, const char* name, int resolution) {
   VolumeOptions o;
   o.resolution = resolution;
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) v = render_volume(ifs, "prr", o);
-  report(state, v);
+  report(state, v, usage, volume_bytes(v));
 }
 BENCHMARK_CAPTURE(BM_PrrSample, fern_3d_192, "volume_fern_3d", 192)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_PrrSample, coral_6d_128, "volume_coral_6d", 128)->Unit(benchmark::kMillisecond);
@@ -203,8 +214,9 @@ void BM_PrrThreads(benchmark::State& state) {
   o.resolution = 512;
   o.threads = static_cast<int>(state.range(0));
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) v = render_volume(pyramid(), "prr", o);
-  report(state, v);
+  report(state, v, usage, volume_bytes(v));
 }
 BENCHMARK(BM_PrrThreads)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(3);
 
@@ -213,9 +225,10 @@ void BM_PrrRealTime(benchmark::State& state) {
   VolumeOptions o;
   o.resolution = 128;
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) v = render_volume(pyramid(), "prr", o);
   state.SetItemsProcessed(state.iterations());
-  report(state, v);
+  report(state, v, usage, volume_bytes(v));
 }
 BENCHMARK(BM_PrrRealTime)->Unit(benchmark::kMillisecond);
 
