@@ -79,7 +79,8 @@ std::string ContentHash::uuid(std::uint64_t end) {
   for (std::size_t k = 0; k < blocks; ++k) {
     Block& block = this->block(k);
     const std::uint64_t size = std::min(kBlock, length - k * kBlock);
-    if (block.done != size || !block.early.empty()) throw std::logic_error("write_vdb: a byte of the file was never written");
+    if (block.done != size || !block.early.empty())
+      throw std::logic_error("write_vdb: a byte of the file was never written");
     // A last block that is not whole words ends byte by byte, in the first chain only.
     std::uint64_t ha = block.a;
     for (std::uint64_t i = size & ~std::uint64_t(7); i < size; ++i) ha = (ha ^ block.tail[i & 7]) * kPrime;

@@ -43,7 +43,8 @@ LinearHalves::LinearHalves() {
   for (std::uint32_t h = lowest + 1; h <= highest; ++h) {
     // The inverse of the power law at the midpoint between the halves h - 1 and h, in double,
     // lands within a float or two of the first float whose half is h; powf decides from there.
-    const double middle = 0.5 * (double(half_value(static_cast<std::uint16_t>(h - 1))) + double(half_value(static_cast<std::uint16_t>(h))));
+    const double middle = 0.5 * (double(half_value(static_cast<std::uint16_t>(h - 1))) +
+                                 double(half_value(static_cast<std::uint16_t>(h))));
     std::uint32_t x = bits_of(static_cast<float>(1.055 * std::pow(middle, 1.0 / 2.4) - 0.055));
     x = std::min(std::max(x, threshold.back()), last);
     if (half_at(x) >= h) {
@@ -67,7 +68,8 @@ LinearHalves::LinearHalves() {
     const std::uint32_t step = half - group[i >> kGroupShift], next = threshold[j + 1] - start;  // next > 0
     // Two thresholds in one bucket, or a group spanning 64 halves (never: see kShift), would
     // leave the table unused.
-    if ((j + 2 < threshold.size() - 1 && threshold[j + 2] - start <= kInBucket) || step >= (1u << (16 - kShift))) return;
+    const bool second = j + 2 < threshold.size() - 1 && threshold[j + 2] - start <= kInBucket;
+    if (second || step >= (1u << (16 - kShift))) return;
     bucket[i] = static_cast<std::uint16_t>(step << kShift | (next <= kInBucket ? next - 1 : kInBucket));
   }
   bucket_ = std::move(bucket);

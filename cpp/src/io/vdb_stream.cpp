@@ -271,7 +271,8 @@ const char* leaf_values(const StreamGrid& g, const Encoding& e, const VoxelSpan&
   }
   g.values(span, voxels, count, w.values);
   if (!e.half) return reinterpret_cast<const char*>(w.values);
-  for (std::size_t k = 0; k < std::size_t(count) * e.components; ++k) w.halves[k] = openvdb::math::half(w.values[k]).bits();
+  for (std::size_t k = 0; k < std::size_t(count) * e.components; ++k)
+    w.halves[k] = openvdb::math::half(w.values[k]).bits();
   return reinterpret_cast<const char*>(w.halves);
 }
 
@@ -291,7 +292,8 @@ std::size_t put_leaf(const LeafTopology& leaf, const char* values, const Encodin
 /// metadata's compressed size).
 std::int64_t append_blosc_leaf(const LeafTopology& leaf, const char* values, const Encoding& e, BandScratch& w) {
   LargeVector<char>& out = w.bytes;
-  out.insert(out.end(), reinterpret_cast<const char*>(leaf.mask), reinterpret_cast<const char*>(leaf.mask) + kLeafMaskBytes);
+  const char* mask = reinterpret_cast<const char*>(leaf.mask);
+  out.insert(out.end(), mask, mask + kLeafMaskBytes);
   out.push_back(0);  // io::NO_MASK_OR_INACTIVE_VALS
   const std::size_t before = out.size();
   w.append.out = &out;
@@ -328,13 +330,15 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
   std::vector<std::uint64_t> buffers(grids.size(), 0);
   // Grids of one value everywhere (a binary density) are their topology: each leaf's values are a
   // leaf's worth of it, and when every grid is one, the bands' voxels are not loaded (nor merged).
-  const bool constant = std::all_of(grids.begin(), grids.end(), [](const StreamGrid& g) { return g.constant.has_value(); });
+  const bool constant =
+      std::all_of(grids.begin(), grids.end(), [](const StreamGrid& g) { return g.constant.has_value(); });
   std::vector<std::vector<char>> constants(grids.size());
   for (std::size_t g = 0; g < grids.size(); ++g) {
     if (!grids[g].constant) continue;
     const float value = *grids[g].constant;
     const std::uint16_t bits = openvdb::math::half(value).bits();
-    const char* stored = encodings[g].half ? reinterpret_cast<const char*>(&bits) : reinterpret_cast<const char*>(&value);
+    const char* stored =
+        encodings[g].half ? reinterpret_cast<const char*>(&bits) : reinterpret_cast<const char*>(&value);
     for (std::size_t k = 0; k < std::size_t(Leaf::SIZE) * grids[g].components; ++k)
       constants[g].insert(constants[g].end(), stored, stored + (encodings[g].half ? 2 : 4));
   }
@@ -417,7 +421,8 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
         if (grids[g].constant) return static_cast<const char*>(constants[g].data());
         if (l >= batch_end) {
           batch_first = l;
-          for (batch_end = l + 1; batch_end < leaves.size() && w.start[batch_end + 1] - w.start[l] <= kBatch;) ++batch_end;
+          batch_end = l + 1;
+          while (batch_end < leaves.size() && w.start[batch_end + 1] - w.start[l] <= kBatch) ++batch_end;
           batch = leaf_values(grids[g], e, span, &w.by_leaf[w.start[l]], w.start[batch_end] - w.start[l], w);
         }
         return batch + std::size_t(w.start[l] - w.start[batch_first]) * e.value_bytes();
