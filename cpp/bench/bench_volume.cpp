@@ -8,7 +8,9 @@
 //   build/cpp/bench/bench_volume --benchmark_filter=AgainstDisk   # the .vdb writer against write + fsync
 //
 // Counters: voxels (occupied), depth, peak_rss_mb (the process's peak resident memory so far:
-// run a size alone to read its own peak).
+// run a size alone to read its own peak), and from process_usage.h faults, cpu_ms and
+// faults_per_mb: the process's page faults per MB of the output (the file where one is written,
+// else the volume's arrays). cpp/bench/vdb_vs_dd.py measures the writer against dd.
 #include <benchmark/benchmark.h>
 #include <fcntl.h>
 #include <sys/resource.h>
@@ -23,6 +25,7 @@
 #include "ifsforge/io/ifs_json.h"
 #include "ifsforge/io/vdb.h"
 #include "ifsforge/volume/volume_renderer.h"
+#include "process_usage.h"
 
 namespace {
 
@@ -47,10 +50,24 @@ double peak_rss_mb() {
   return usage.ru_maxrss / 1024.0;
 }
 
-void report(benchmark::State& state, const Volume& v) {
+double file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  return static_cast<double>(in.tellg());
+}
+
+/// The volume's arrays in memory: a key, a density and its channel means per voxel.
+double volume_bytes(const Volume& v) {
+  return static_cast<double>(v.size()) * (8.0 + 4.0 + 4.0 * v.channel_count());
+}
+
+/// The counters of every case but VdbWriterAgainstDisk (Google Benchmark's CSV report needs the
+/// same in every row): the volume's, and the process's page faults per MB of `output` (the file
+/// written, else the volume made).
+void report(benchmark::State& state, const Volume& v, ProcessUsage& usage, double output) {
   state.counters["voxels"] = static_cast<double>(v.size());
   state.counters["depth"] = v.depth;
   state.counters["peak_rss_mb"] = peak_rss_mb();
+  usage.set_output_bytes(output);
 }
 
 // Table 2: 100^3, each renderer with its defaults (occupancy-driven stopping rules).
@@ -58,8 +75,9 @@ void BM_TableTwo(benchmark::State& state, const char* algorithm) {
   VolumeOptions o;
   o.resolution = 100;
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) v = render_volume(pyramid(), algorithm, o);
-  report(state, v);
+  report(state, v, usage, volume_bytes(v));
 }
 BENCHMARK_CAPTURE(BM_TableTwo, prr, "prr")->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_TableTwo, ria, "ria")->Unit(benchmark::kMillisecond)->Iterations(2);
@@ -73,8 +91,9 @@ void BM_TableTwoSeedSettings(benchmark::State& state, const char* algorithm) {
   o.depth = std::string(algorithm) == "dia" ? 5 : 0;
   o.escape_bound = std::string(algorithm) == "eta" ? 10 : 0;
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) v = render_volume(pyramid(), algorithm, o);
-  report(state, v);
+  report(state, v, usage, volume_bytes(v));
 }
 BENCHMARK_CAPTURE(BM_TableTwoSeedSettings, dia_5_levels, "dia")->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK_CAPTURE(BM_TableTwoSeedSettings, eta_bound_10, "eta")->Unit(benchmark::kMillisecond)->Iterations(2);
@@ -88,11 +107,12 @@ void BM_PrrToVdb(benchmark::State& state) {
   VdbWriteOptions w;
   w.system = &pyramid();
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) {
     v = render_volume(pyramid(), "prr", o);
     write_vdb(path, v, w);
   }
-  report(state, v);
+  report(state, v, usage, file_bytes(path));
   std::remove(path.c_str());
 }
 BENCHMARK(BM_PrrToVdb)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond);
@@ -107,8 +127,9 @@ void BM_WriteVdb(benchmark::State& state) {
   const std::string path = "/tmp/ifsforge_bench_write_" + std::to_string(getpid()) + ".vdb";
   VdbWriteOptions w;
   w.system = &pyramid();
+  ProcessUsage usage(state);
   for (auto _ : state) write_vdb(path, v, w);
-  report(state, v);
+  report(state, v, usage, file_bytes(path));
   std::remove(path.c_str());
 }
 BENCHMARK(BM_WriteVdb)->Arg(256)->Arg(512)->Unit(benchmark::kMillisecond);
@@ -180,8 +201,9 @@ void BM_PrrSample(benchmark::State& state, const char* name, int resolution) {
   VolumeOptions o;
   o.resolution = resolution;
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) v = render_volume(ifs, "prr", o);
-  report(state, v);
+  report(state, v, usage, volume_bytes(v));
 }
 BENCHMARK_CAPTURE(BM_PrrSample, fern_3d_192, "volume_fern_3d", 192)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_PrrSample, coral_6d_128, "volume_coral_6d", 128)->Unit(benchmark::kMillisecond);
@@ -192,8 +214,9 @@ void BM_PrrThreads(benchmark::State& state) {
   o.resolution = 512;
   o.threads = static_cast<int>(state.range(0));
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) v = render_volume(pyramid(), "prr", o);
-  report(state, v);
+  report(state, v, usage, volume_bytes(v));
 }
 BENCHMARK(BM_PrrThreads)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(3);
 
@@ -202,9 +225,10 @@ void BM_PrrRealTime(benchmark::State& state) {
   VolumeOptions o;
   o.resolution = 128;
   Volume v;
+  ProcessUsage usage(state);
   for (auto _ : state) v = render_volume(pyramid(), "prr", o);
   state.SetItemsProcessed(state.iterations());
-  report(state, v);
+  report(state, v, usage, volume_bytes(v));
 }
 BENCHMARK(BM_PrrRealTime)->Unit(benchmark::kMillisecond);
 

@@ -12,6 +12,8 @@ class ProcessUsage {
   explicit ProcessUsage(benchmark::State& state, double output_bytes = 0.0) : state_(state), output_bytes_(output_bytes) {
     getrusage(RUSAGE_SELF, &start_);
   }
+  /// The bytes one iteration outputs, when known only once it ran (a file's size).
+  void set_output_bytes(double bytes) { output_bytes_ = bytes; }
   ~ProcessUsage() {
     rusage end{};
     getrusage(RUSAGE_SELF, &end);

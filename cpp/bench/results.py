@@ -23,6 +23,7 @@ programs (bench_scaling, bench_scatter) print Markdown themselves; `--plain` rec
 """
 import argparse
 import datetime
+import json
 import os
 import platform
 import re
@@ -165,25 +166,27 @@ def program_path(program, build):
 
 
 def google_benchmark_table(program, arguments, build):
-    """Runs a Google Benchmark program with `arguments` and returns its rows as Markdown."""
+    """Runs a Google Benchmark program with `arguments` and returns its rows as Markdown: a column
+    per counter that any row has (read from the JSON report, where rows may have different
+    counters: the CSV reporter aborts unless every row has every counter)."""
     path = program_path(program, build)
-    out = subprocess.run([str(path), *arguments, "--benchmark_format=csv"], capture_output=True, text=True,
+    out = subprocess.run([str(path), *arguments, "--benchmark_format=json"], capture_output=True, text=True,
                          cwd=path.parent, check=True).stdout
-    lines = [line for line in out.splitlines() if line.startswith("name,") or line.startswith('"')]
-    if not lines:
+    rows = [r for r in json.loads(out).get("benchmarks", []) if r.get("run_type", "iteration") == "iteration"]
+    if not rows:
         return ["(no benchmark matched)"]
-    header = [h.strip('"') for h in lines[0].split(",")]
-    fixed = {"name", "iterations", "real_time", "cpu_time", "time_unit", "bytes_per_second", "items_per_second",
-             "label", "error_occurred", "error_message"}
-    counters = [h for h in header if h not in fixed]
-    rows = [dict(zip(header, line.split(","))) for line in lines[1:]]
-    counters = [c for c in counters if any(r.get(c) for r in rows)]
+    fixed = {"name", "family_index", "per_family_instance_index", "run_name", "run_type", "repetitions",
+             "repetition_index", "threads", "iterations", "real_time", "cpu_time", "time_unit", "bytes_per_second",
+             "items_per_second", "label", "error_occurred", "error_message", "aggregate_name", "aggregate_unit"}
+    counters = []
+    for r in rows:
+        counters += [k for k, v in r.items() if k not in fixed and isinstance(v, (int, float)) and k not in counters]
     table = ["| benchmark | real time | CPU time | " + " | ".join(counters) + " |",
              "| --- | ---: | ---: | " + " | ".join("---:" for _ in counters) + " |"]
     for r in rows:
         unit = r["time_unit"]
-        cells = [f"{float(r[c]):.4g}" if r.get(c) else "" for c in counters]
-        table.append(f"| {r['name'].strip(chr(34))} | {float(r['real_time']):.4g} {unit} | "
+        cells = [f"{float(r[c]):.4g}" if c in r else "" for c in counters]
+        table.append(f"| {r['name']} | {float(r['real_time']):.4g} {unit} | "
                      f"{float(r['cpu_time']):.4g} {unit} | " + " | ".join(cells) + " |")
     return table
 

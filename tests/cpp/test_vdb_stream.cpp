@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -20,6 +21,8 @@
 #include "ifsforge/core/error.h"
 #include "ifsforge/volume/volume_jobs.h"
 #include "ifsforge/volume/volume_renderer.h"
+#include "../../cpp/src/io/vdb_srgb.h"
+#include "ifsforge/core/color.h"
 #include "test_systems.h"
 
 using namespace ifsforge;
@@ -255,4 +258,32 @@ TEST(VdbStream, TheThreadCountNeverChangesTheFile) {
       EXPECT_EQ(bytes, first) << threads << " threads" << (compress ? ", blosc" : "");
     }
   }
+}
+
+// The colour grid's halves come from thresholds, not powf: for every float of the range where
+// srgb_to_linear calls powf, and past both ends, the very half that powf's value rounds to.
+// This is what makes the table exact: it holds where c -> half(srgb_to_linear(c)) never
+// decreases, which is checked here for every float rather than assumed (about 40 M values).
+TEST(VdbStream, TheColourGridsHalvesAreThoseOfPowfForEveryFloat) {
+  const detail::LinearHalves& linear = detail::LinearHalves::get();
+  ASSERT_TRUE(linear.in_use());
+  auto bits = [](float f) {
+    std::uint32_t x;
+    std::memcpy(&x, &f, sizeof x);
+    return x;
+  };
+  auto check = [&](float c) {
+    const std::uint16_t expected = openvdb::math::half(srgb_to_linear(c)).bits();
+    return linear(c) == expected && detail::LinearHalves::exact(c) == expected;
+  };
+  std::uint64_t wrong = 0;
+  std::uint32_t first_wrong = 0;
+  for (std::uint32_t x = bits(0.04f); x <= bits(1.0f) + 65536; ++x) {
+    float c;
+    std::memcpy(&c, &x, sizeof c);
+    if (!check(c) && wrong++ == 0) first_wrong = x;
+  }
+  EXPECT_EQ(wrong, 0u) << "first at float bits " << std::hex << first_wrong;
+  for (float c : {0.0f, -0.0f, 1e-30f, 0.04045f, -0.5f, 2.0f, INFINITY, -INFINITY}) EXPECT_TRUE(check(c)) << c;
+  EXPECT_EQ(linear(NAN), openvdb::math::half(srgb_to_linear(NAN)).bits());
 }

@@ -12,6 +12,7 @@
 
 #include "ifsforge/core/color.h"
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/io/atomic_file.h"
 #include "ifsforge/io/text_file.h"
@@ -88,7 +89,7 @@ int add_accessor(tinygltf::Model& model, const std::vector<T>& data, int compone
 const std::vector<std::array<float, 3>>& oriented_all(const std::vector<std::array<float, 3>>& in, Up up,
                                                       std::vector<std::array<float, 3>>& storage) {
   if (up == Up::z) return in;
-  storage.resize(in.size());
+  resize_large(storage, in.size());
   for (std::size_t i = 0; i < in.size(); ++i) storage[i] = oriented(in[i], up);
   return storage;
 }
@@ -138,6 +139,10 @@ void write_glb(const std::string& path, const TriangleMesh& mesh, const MeshWrit
   tinygltf::Primitive primitive;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
   std::vector<std::array<float, 3>> storage;
+  // The binary buffer at its final size at once (views of floats and indices need no padding;
+  // a texture's PNG grows it): huge pages, faulted in on every core, and never copied to grow.
+  reserve_large(model.buffers[0].data, (mesh.positions.size() + mesh.normals.size()) * 12 + mesh.colors.size() * 16 +
+                                           mesh.uvs.size() * 8 + mesh.triangles.size() * 12);
   check(0.0);
   primitive.attributes["POSITION"] = add_accessor(model, oriented_all(mesh.positions, up, storage),
                                                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3,
@@ -150,7 +155,8 @@ void write_glb(const std::string& path, const TriangleMesh& mesh, const MeshWrit
   check(0.2);
   if (!mesh.colors.empty()) {
     // glTF's COLOR_0 is linear; alpha is not encoded.
-    std::vector<std::array<float, 4>> linear(mesh.colors.size());
+    std::vector<std::array<float, 4>> linear;
+    resize_large(linear, mesh.colors.size());
     for (std::size_t i = 0; i < linear.size(); ++i) {
       const auto& c = mesh.colors[i];
       linear[i] = {srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2]), std::clamp(c[3], 0.0f, 1.0f)};

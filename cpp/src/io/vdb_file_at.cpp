@@ -1,50 +1,91 @@
 #include "vdb_file_at.h"
 
-#include <array>
 #include <cstdio>
-#include <memory>
-#include <vector>
-
-#include "ifsforge/core/parallel.h"
+#include <iterator>
+#include <stdexcept>
 
 namespace ifsforge::detail {
+namespace {
+constexpr std::uint64_t kPrime = 0x100000001b3ull;
+}  // namespace
 
-// Blocks hashed in parallel eight bytes at a time, then the blocks' hashes in order.
-std::string content_uuid(const std::string& written, const FileAt& file, std::uint64_t begin, std::uint64_t end,
-                         int threads, const ProgressCallback& progress) {
-  struct Reader {
-    int fd;
-    ~Reader() { if (fd >= 0) ::close(fd); }
-  } reader{::open(written.c_str(), O_RDONLY)};
-  if (reader.fd < 0) throw FileError("cannot write '" + file.shown() + "': cannot read it back: " + std::strerror(errno));
-  constexpr std::uint64_t kBlock = 4u << 20, kPrime = 0x100000001b3ull;
-  const std::size_t blocks = static_cast<std::size_t>((end - begin + kBlock - 1) / kBlock);
-  std::vector<std::array<std::uint64_t, 2>> hashes(blocks);
-  // Left unset: each block is read over before it is hashed.
-  std::vector<std::unique_ptr<char[]>> buffers(threads);
-  for (auto& buffer : buffers) buffer.reset(new char[kBlock]);
-  parallel_jobs(blocks, static_cast<int>(buffers.size()), [&](std::size_t k, int worker) {
-    char* data = buffers[worker].get();
-    const std::uint64_t at = begin + k * kBlock, size = std::min(kBlock, end - at);
-    for (std::uint64_t done = 0; done < size;) {
-      const ssize_t n = ::pread(reader.fd, data + done, size - done, static_cast<off_t>(at + done));
-      if (n <= 0 && !(n < 0 && errno == EINTR)) throw FileError("cannot write '" + file.shown() + "': cannot read it back");
-      if (n > 0) done += static_cast<std::uint64_t>(n);
+/// The words of `data`, which follow the `done` bytes already hashed: a word begun by the last
+/// piece is completed first, a word this piece leaves incomplete waits in `tail`.
+void ContentHash::Block::hash(const char* data, std::size_t size) {
+  auto word = [&](std::uint64_t w) {
+    a = (a ^ w) * kPrime;
+    b = (b ^ (w >> 29 | w << 35)) * kPrime;
+  };
+  std::size_t i = 0;
+  for (std::size_t held = done & 7; held && i < size; held = (done + i) & 7) {
+    tail[held] = static_cast<unsigned char>(data[i++]);
+    if (((done + i) & 7) == 0) {
+      std::uint64_t w;
+      std::memcpy(&w, tail, 8);
+      word(w);
     }
-    std::uint64_t a = 0xcbf29ce484222325ull, b = 0x84222325cbf29ce4ull, word = 0;
-    std::size_t i = 0;
-    for (; i + 8 <= size; i += 8) {
-      std::memcpy(&word, data + i, 8);
-      a = (a ^ word) * kPrime;
-      b = (b ^ (word >> 29 | word << 35)) * kPrime;
+  }
+  for (; i + 8 <= size; i += 8) {
+    std::uint64_t w;
+    std::memcpy(&w, data + i, 8);
+    word(w);
+  }
+  for (; i < size; ++i) tail[(done + i) & 7] = static_cast<unsigned char>(data[i]);
+  done += size;
+}
+
+ContentHash::Block& ContentHash::block(std::size_t k) {
+  std::lock_guard<std::mutex> lock(blocks_mutex_);
+  while (blocks_.size() <= k) blocks_.emplace_back();
+  return blocks_[k];
+}
+
+void ContentHash::add(std::uint64_t offset, const char* data, std::size_t size) {
+  if (offset < begin_) {
+    const std::uint64_t skip = std::min<std::uint64_t>(size, begin_ - offset);
+    data += skip;
+    size -= static_cast<std::size_t>(skip);
+    offset += skip;
+  }
+  while (size > 0) {
+    const std::uint64_t at = offset - begin_, in_block = at % kBlock;
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(size, kBlock - in_block));
+    Block& b = block(static_cast<std::size_t>(at / kBlock));
+    std::lock_guard<std::mutex> lock(b.mutex);
+    if (in_block != b.done) {
+      const auto after = b.early.lower_bound(in_block);
+      if (in_block < b.done || (after != b.early.end() && after->first < in_block + n) ||
+          (after != b.early.begin() && std::prev(after)->second > in_block))
+        throw std::logic_error("write_vdb: a byte of the file was written twice");
+      if (b.held.empty()) zeroed_large(b.held, kBlock);
+      std::memcpy(b.held.data() + in_block, data, n);
+      b.early.emplace_hint(after, in_block, in_block + n);
+    } else {
+      b.hash(data, n);
+      for (auto next = b.early.begin(); next != b.early.end() && next->first == b.done; next = b.early.erase(next))
+        b.hash(b.held.data() + next->first, static_cast<std::size_t>(next->second - next->first));
+      if (b.early.empty() && !b.held.empty()) ZeroedVector<char>().swap(b.held);
     }
-    for (; i < size; ++i) a = (a ^ static_cast<unsigned char>(data[i])) * kPrime;
-    hashes[k] = {a, b ^ size};
-  }, progress);
+    data += n;
+    size -= n;
+    offset += n;
+  }
+}
+
+std::string ContentHash::uuid(std::uint64_t end) {
+  const std::uint64_t length = end > begin_ ? end - begin_ : 0;
+  const std::size_t blocks = static_cast<std::size_t>((length + kBlock - 1) / kBlock);
   std::uint64_t a = 0xcbf29ce484222325ull, b = 0x9e3779b97f4a7c15ull;
-  for (const auto& h : hashes) {
-    a = (a ^ h[0]) * kPrime;
-    b = (b ^ h[1]) * kPrime;
+  for (std::size_t k = 0; k < blocks; ++k) {
+    Block& block = this->block(k);
+    const std::uint64_t size = std::min(kBlock, length - k * kBlock);
+    if (block.done != size || !block.early.empty())
+      throw std::logic_error("write_vdb: a byte of the file was never written");
+    // A last block that is not whole words ends byte by byte, in the first chain only.
+    std::uint64_t ha = block.a;
+    for (std::uint64_t i = size & ~std::uint64_t(7); i < size; ++i) ha = (ha ^ block.tail[i & 7]) * kPrime;
+    a = (a ^ ha) * kPrime;
+    b = (b ^ (block.b ^ size)) * kPrime;
   }
   char text[37];
   std::snprintf(text, sizeof text, "%08x-%04x-%04x-%04x-%012llx", unsigned(a >> 32), unsigned((a >> 16) & 0xFFFF),

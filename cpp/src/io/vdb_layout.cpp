@@ -4,6 +4,7 @@
 #include <openvdb/io/DelayedLoadMetadata.h>
 #include <openvdb/io/GridDescriptor.h>
 
+#include <cstring>
 #include <sstream>
 #include <type_traits>
 
@@ -38,10 +39,7 @@ std::int64_t memory_of(const Layout& layout) {
 
 }  // namespace
 
-/// Tree::writeTopology of the planned leaves: the buffer count, the root (background, no
-/// tiles, its children), then depth first every internal node (child mask, an empty value mask,
-/// its tile values mask-compressed to nothing) and every leaf's value mask.
-std::string topology(const Layout& layout, const Encoding& e) {
+std::string topology_head(const Layout& layout, const Encoding& e) {
   std::string out;
   put(out, std::int32_t(1));
   out.append(std::size_t(e.components) * 4, '\0');  // background 0, written as a full value even when half
@@ -50,6 +48,13 @@ std::string topology(const Layout& layout, const Encoding& e) {
     uppers += i == 0 || upper_of(layout.orders[i]) != upper_of(layout.orders[i - 1]);
   put(out, std::uint32_t(0));
   put(out, uppers);
+  return out;
+}
+
+/// Depth first, every internal node (its origin if an upper one, child mask, an empty value
+/// mask, its tile values mask-compressed to nothing) and every leaf's value mask, into a buffer
+/// of zeros (only the set bytes are written).
+ZeroedVector<char> topology_nodes(const Layout& layout, const Encoding& e) {
   // The tile values of an internal node: none active, all background.
   std::string no_tiles(1, '\0');
   if (e.blosc && !e.half) {
@@ -58,33 +63,39 @@ std::string topology(const Layout& layout, const Encoding& e) {
     openvdb::io::bloscToStream(empty, reinterpret_cast<const char*>(&nothing), std::size_t(e.components) * 4, 0);
     no_tiles += empty.str();
   }
+  std::size_t uppers = 0, lowers = 0;
+  for (std::size_t i = 0; i < layout.leaves.size(); ++i) {
+    uppers += i == 0 || upper_of(layout.orders[i]) != upper_of(layout.orders[i - 1]);
+    lowers += i == 0 || lower_of(layout.orders[i]) != lower_of(layout.orders[i - 1]);
+  }
+  ZeroedVector<char> out;
+  zeroed_large(out, uppers * (3 * sizeof(std::int32_t) + 2 * kUpperMaskBytes + no_tiles.size()) +
+                        lowers * (2 * kLowerMaskBytes + no_tiles.size()) + layout.leaves.size() * kLeafMaskBytes);
+  char* at = out.data();
   for (std::size_t i = 0; i < layout.leaves.size();) {
     const std::uint64_t upper = upper_of(layout.orders[i]);
     const openvdb::Coord origin = leaf_origin(layout.orders[i]) & ~4095;
-    put(out, origin.x());
-    put(out, origin.y());
-    put(out, origin.z());
+    const std::int32_t xyz[3] = {origin.x(), origin.y(), origin.z()};
+    at = std::copy_n(reinterpret_cast<const char*>(xyz), sizeof xyz, at);
+    char* children = at;
+    at += 2 * kUpperMaskBytes;  // the child mask, then the value mask (empty)
     std::size_t end = i;
-    std::string children(kUpperMaskBytes, '\0');
     for (; end < layout.leaves.size() && upper_of(layout.orders[end]) == upper; ++end) {
       const unsigned n = layout.orders[end] >> 12 & 32767;
       children[n >> 3] = static_cast<char>(children[n >> 3] | 1 << (n & 7));
     }
-    out += children;
-    out.append(kUpperMaskBytes, '\0');
-    out += no_tiles;
+    at = std::copy(no_tiles.begin(), no_tiles.end(), at);
     for (std::size_t j = i; j < end;) {
       const std::uint64_t lower = lower_of(layout.orders[j]);
+      char* leaves = at;
+      at += 2 * kLowerMaskBytes;
       std::size_t stop = j;
-      std::string leaves(kLowerMaskBytes, '\0');
       for (; stop < end && lower_of(layout.orders[stop]) == lower; ++stop) {
         const unsigned n = layout.orders[stop] & 4095;
         leaves[n >> 3] = static_cast<char>(leaves[n >> 3] | 1 << (n & 7));
       }
-      out += leaves;
-      out.append(kLowerMaskBytes, '\0');
-      out += no_tiles;
-      for (std::size_t k = j; k < stop; ++k) out.append(reinterpret_cast<const char*>(layout.leaves[k].mask), kLeafMaskBytes);
+      at = std::copy(no_tiles.begin(), no_tiles.end(), at);
+      for (std::size_t k = j; k < stop; ++k, at += kLeafMaskBytes) std::memcpy(at, layout.leaves[k].mask, kLeafMaskBytes);
       j = stop;
     }
     i = end;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "ifsforge/core/pages.h"
 #include "vdb_stream.h"
 
 namespace ifsforge::detail {
@@ -48,9 +49,9 @@ struct LeafTopology {
 
 /// The file as planned: every grid's place, the leaves in file order.
 struct Layout {
-  std::vector<LeafTopology> leaves;
-  std::vector<std::uint64_t> orders;       ///< leaves[i].order (binary search)
-  std::vector<std::uint64_t> first_value;  ///< active voxels before leaf i
+  LargeVector<LeafTopology> leaves;
+  LargeVector<std::uint64_t> orders;       ///< leaves[i].order (binary search)
+  LargeVector<std::uint64_t> first_value;  ///< active voxels before leaf i
   std::vector<std::vector<std::size_t>> band_leaves;  ///< band b's leaves, in file order
   openvdb::CoordBBox bbox;
   std::uint64_t voxels = 0;
@@ -63,8 +64,12 @@ struct Encoding {
   std::size_t value_bytes() const { return std::size_t(components) * (half ? 2 : 4); }
 };
 
-/// @brief Tree::writeTopology of the planned leaves, as a grid of encoding `e` writes it.
-std::string topology(const Layout& layout, const Encoding& e);
+/// @brief Tree::writeTopology of the planned leaves, as a grid of encoding `e` writes it:
+/// topology_head (the buffer count, the root's background and its tile and child counts), then
+/// topology_nodes (the internal nodes and the leaves' masks), which is the same for every grid
+/// of the same e.blosc && !e.half.
+std::string topology_head(const Layout& layout, const Encoding& e);
+ZeroedVector<char> topology_nodes(const Layout& layout, const Encoding& e);
 
 /// A grid's head: its descriptor, three stream offsets, compression, metadata and transform.
 struct GridHead {

@@ -16,6 +16,7 @@
 #include <streambuf>
 
 #include "ifsforge/core/error.h"
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/io/atomic_file.h"
 #include "vdb_archive.h"
@@ -25,10 +26,10 @@
 namespace ifsforge::detail {
 namespace {
 
-/// An output stream appending to a string: Blosc's blocks go straight into a band's bytes.
+/// An output stream appending to a buffer: Blosc's blocks go straight into a band's bytes.
 class AppendBuffer : public std::streambuf {
  public:
-  std::string* out = nullptr;
+  LargeVector<char>* out = nullptr;
 
  protected:
   int_type overflow(int_type c) override {
@@ -36,23 +37,31 @@ class AppendBuffer : public std::streambuf {
     return c;
   }
   std::streamsize xsputn(const char* data, std::streamsize n) override {
-    out->append(data, static_cast<std::size_t>(n));
+    out->insert(out->end(), data, data + n);
     return n;
   }
 };
+
+/// Voxels whose values are made at once: the next leaves' voxels, up to this many (or one leaf),
+/// so that the values' fetches run ahead across leaves.
+constexpr std::uint32_t kBatch = 1024;
+static_assert(kBatch >= Leaf::SIZE, "a batch holds a leaf");
 
 /// What one thread keeps between bands.
 struct BandScratch {
   Volume volume;                          ///< the loader's storage
   std::vector<std::uint32_t> slot;        ///< leaf + 1 of each (y, z) block of the current 8 rows
   std::vector<std::size_t> touched;       ///< the slots to clear at the next 8 rows
-  std::vector<LeafTopology> leaves;       ///< pass 1: the band's leaves
+  LargeVector<LeafTopology> leaves;       ///< pass 1: the band's leaves
   std::vector<std::uint32_t> start;       ///< pass 2: each leaf's first voxel in by_leaf
   std::vector<std::uint32_t> end;         ///< pass 2: where each leaf's voxels end in by_leaf
-  std::vector<std::uint32_t> by_leaf;     ///< pass 2: the voxels grouped by leaf, each group ascending
-  float values[Leaf::SIZE * 3];                 ///< one leaf's values, gathered for Blosc
-  openvdb::math::half halves[Leaf::SIZE * 3];  ///< one leaf's values as halves
-  std::string bytes;
+  /// Pass 2: the voxels grouped by leaf, each group ascending; sized for the largest band once, and
+  /// never cleared (every element is written before it is read).
+  ZeroedVector<std::uint32_t> by_leaf;
+  float values[kBatch * 3];               ///< a batch of leaves' values
+  std::uint16_t halves[kBatch * 3];       ///< the same as halves (openvdb::math::half's bits)
+  std::vector<char> chunk;                ///< leaves next to each other in the file, written together
+  LargeVector<char> bytes;                ///< Blosc: a band's bytes of one grid
   AppendBuffer append;
   std::ostream blosc{&append};
 };
@@ -212,14 +221,20 @@ class BandWriter {
 
 /// Pass 1: every band's leaves from its keys, in file order, and which are whose.
 Layout plan(BandWriter& bands, const ProgressCallback& progress) {
-  std::vector<std::vector<LeafTopology>> per_band(bands.bands());
+  std::vector<LargeVector<LeafTopology>> per_band(bands.bands());
   std::vector<openvdb::CoordBBox> boxes(bands.bands());
   parallel_jobs(bands.bands(), static_cast<int>(bands.scratch().size()), [&](std::size_t b, int worker) {
     BandScratch& w = bands.scratch()[worker];
     bands.topology(b, w, boxes[b]);
-    per_band[b] = w.leaves;
+    per_band[b] = std::move(w.leaves);
+    w.leaves = {};
+    w.leaves.reserve(per_band[b].size());  // the next band's, about as many
   }, progress);
   Layout layout;
+  std::size_t total = 0;
+  for (const auto& leaves : per_band) total += leaves.size();
+  layout.leaves.reserve(total);
+  layout.orders.reserve(total);
   for (std::size_t b = 0; b < per_band.size(); ++b) {
     layout.leaves.insert(layout.leaves.end(), per_band[b].begin(), per_band[b].end());
     if (!boxes[b].empty()) layout.bbox.expand(boxes[b]);
@@ -237,54 +252,58 @@ Layout plan(BandWriter& bands, const ProgressCallback& progress) {
   // Band b's leaves: the next ones in file order, or found by search after the sort.
   layout.band_leaves.resize(per_band.size());
   for (std::size_t b = 0, next = 0; b < per_band.size(); ++b) {
+    layout.band_leaves[b].reserve(per_band[b].size());
     for (const LeafTopology& leaf : per_band[b])
       layout.band_leaves[b].push_back(in_bands ? next++ : static_cast<std::size_t>(
           std::lower_bound(layout.orders.begin(), layout.orders.end(), leaf.order) - layout.orders.begin()));
-    std::vector<LeafTopology>().swap(per_band[b]);
+    LargeVector<LeafTopology>().swap(per_band[b]);
   }
   return layout;
 }
 
-/// Appends one leaf's buffer, as LeafNode::writeBuffers does with active-mask compression
-/// (inactive values are all background): the mask, the mask-compression byte (0), the active
-/// values (halves when saved as half; Blosc-compressed with their size first when asked for).
-/// Returns the size of the Blosc block (the delayed-load metadata's compressed size).
-std::int64_t append_leaf(const LeafTopology& leaf, const std::uint32_t* voxels, const float* values,
-                         const Encoding& e, BandScratch& w) {
-  std::string& out = w.bytes;
-  out.append(reinterpret_cast<const char*>(leaf.mask), kLeafMaskBytes);
+/// One grid's values of `count` voxels of the band (`voxels`: a few leaves' voxels, each leaf's in
+/// its order), as they are stored: floats or halves, in w.values or w.halves.
+const char* leaf_values(const StreamGrid& g, const Encoding& e, const VoxelSpan& span, const std::uint32_t* voxels,
+                        std::uint32_t count, BandScratch& w) {
+  if (e.half && g.halves) {
+    g.halves(span, voxels, count, w.halves);
+    return reinterpret_cast<const char*>(w.halves);
+  }
+  g.values(span, voxels, count, w.values);
+  if (!e.half) return reinterpret_cast<const char*>(w.values);
+  for (std::size_t k = 0; k < std::size_t(count) * e.components; ++k)
+    w.halves[k] = openvdb::math::half(w.values[k]).bits();
+  return reinterpret_cast<const char*>(w.halves);
+}
+
+/// Writes one leaf's buffer at `out`, as LeafNode::writeBuffers does with active-mask compression
+/// (inactive values are all background) and without Blosc: the mask, the mask-compression byte
+/// (0), the active values (halves when saved as half). Returns its size.
+std::size_t put_leaf(const LeafTopology& leaf, const char* values, const Encoding& e, char* out) {
+  std::memcpy(out, leaf.mask, kLeafMaskBytes);
+  out[kLeafMaskBytes] = 0;  // io::NO_MASK_OR_INACTIVE_VALS
+  const std::size_t n = leaf.count * e.value_bytes();
+  std::memcpy(out + kLeafMaskBytes + 1, values, n);
+  return kLeafMaskBytes + 1 + n;
+}
+
+/// Appends one leaf's buffer with Blosc: the mask, the mask-compression byte, the values'
+/// Blosc block with its size first. Returns the size of the Blosc block (the delayed-load
+/// metadata's compressed size).
+std::int64_t append_blosc_leaf(const LeafTopology& leaf, const char* values, const Encoding& e, BandScratch& w) {
+  LargeVector<char>& out = w.bytes;
+  const char* mask = reinterpret_cast<const char*>(leaf.mask);
+  out.insert(out.end(), mask, mask + kLeafMaskBytes);
   out.push_back(0);  // io::NO_MASK_OR_INACTIVE_VALS
-  const std::size_t n = std::size_t(leaf.count) * e.components;
-  const char* data = nullptr;
-  if (e.half) {
-    for (std::size_t i = 0, k = 0; i < leaf.count; ++i)
-      for (int c = 0; c < e.components; ++c) w.halves[k++] = openvdb::math::half(values[std::size_t(voxels[i]) * e.components + c]);
-    data = reinterpret_cast<const char*>(w.halves);
-  } else {
-    const std::size_t at = out.size();
-    if (!e.blosc) {
-      out.resize(at + n * 4);
-      for (std::size_t i = 0; i < leaf.count; ++i)
-        std::memcpy(&out[at + i * e.components * 4], &values[std::size_t(voxels[i]) * e.components], e.components * 4);
-      return 0;
-    }
-    for (std::size_t i = 0; i < leaf.count; ++i)
-      std::memcpy(&w.values[i * e.components], &values[std::size_t(voxels[i]) * e.components], e.components * 4);
-    data = reinterpret_cast<const char*>(w.values);
-  }
-  if (!e.blosc) {
-    out.append(data, n * 2);
-    return 0;
-  }
   const std::size_t before = out.size();
   w.append.out = &out;
-  openvdb::io::bloscToStream(w.blosc, data, e.value_bytes(), leaf.count);
+  openvdb::io::bloscToStream(w.blosc, values, e.value_bytes(), leaf.count);
   return static_cast<std::int64_t>(out.size() - before);
 }
 
 /// A band's bytes of one grid, kept until the Blosc sizes of every band are known.
 struct KeptBytes {
-  std::string bytes;
+  LargeVector<char> bytes;
   std::vector<std::uint32_t> sizes;
   std::vector<std::int64_t> blosc;
 };
@@ -296,6 +315,10 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
                      std::uint32_t compression, int thread_count, const ProgressCallback& progress) {
   AtomicFile out(path);
   const FileAt file(fileno(out.file()), path);
+  // The UUID is a hash of the bytes after it, taken as they are written.
+  ContentHash hash(kUuidOffset + kUuidLength);
+  const HashedWriter writer_of_file(file, hash);
+  BackgroundSync flushes(file);
   const int threads = resolve_threads(thread_count);
   BandWriter writer(voxel_grid, bands, load, threads);
   const Layout layout = plan(writer, progress_range(progress, 0.0, 0.2));
@@ -305,40 +328,55 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
   for (const StreamGrid& g : grids) encodings.push_back({g.components, g.grid->saveFloatAsHalf(), blosc});
   std::vector<std::vector<KeptBytes>> kept(blosc ? bands : 0, std::vector<KeptBytes>(grids.size()));
   std::vector<std::uint64_t> buffers(grids.size(), 0);
+  // Grids of one value everywhere (a binary density) are their topology: each leaf's values are a
+  // leaf's worth of it, and when every grid is one, the bands' voxels are not loaded (nor merged).
+  const bool constant =
+      std::all_of(grids.begin(), grids.end(), [](const StreamGrid& g) { return g.constant.has_value(); });
+  std::vector<std::vector<char>> constants(grids.size());
+  for (std::size_t g = 0; g < grids.size(); ++g) {
+    if (!grids[g].constant) continue;
+    const float value = *grids[g].constant;
+    const std::uint16_t bits = openvdb::math::half(value).bits();
+    const char* stored =
+        encodings[g].half ? reinterpret_cast<const char*>(&bits) : reinterpret_cast<const char*>(&value);
+    for (std::size_t k = 0; k < std::size_t(Leaf::SIZE) * grids[g].components; ++k)
+      constants[g].insert(constants[g].end(), stored, stored + (encodings[g].half ? 2 : 4));
+  }
 
   // The heads and topologies, once every leaf's size is known; returns where the file ends.
   auto write_heads = [&](const std::vector<std::vector<std::int64_t>>& blosc_sizes,
                          const std::vector<std::uint64_t>& buffer_bytes) {
     const std::string head = file_head(meta, static_cast<std::int32_t>(grids.size()));
-    file.write(0, head.data(), head.size());
+    writer_of_file.write(0, head.data(), head.size());
     std::uint64_t at = head.size();
-    // Grids of the same value size and tile encoding share their topology's bytes.
-    std::map<std::pair<int, bool>, std::string> topologies;
+    // Grids of the same tile encoding share their topology's nodes and leaf masks.
+    std::map<bool, ZeroedVector<char>> nodes;
     for (std::size_t g = 0; g < grids.size(); ++g) {
       GridHead grid = grid_head(grids[g], layout, compression, blosc_sizes[g]);
       std::string& bytes = grid.bytes;
       const Encoding& e = encodings[g];
-      std::string& tree = topologies[{e.components, e.blosc && !e.half}];
-      if (tree.empty()) tree = topology(layout, e);
-      bytes += tree;
-      buffers[g] = at + bytes.size();
+      auto tree = nodes.find(e.blosc && !e.half);
+      if (tree == nodes.end()) tree = nodes.emplace(e.blosc && !e.half, topology_nodes(layout, e)).first;
+      bytes += topology_head(layout, e);
+      buffers[g] = at + bytes.size() + tree->second.size();
       // The grid starts after its offsets (at its compression), its leaves after the topology.
       const std::int64_t offsets[3] = {static_cast<std::int64_t>(at + grid.offsets_at + 3 * sizeof(std::int64_t)),
                                        static_cast<std::int64_t>(buffers[g]),
                                        static_cast<std::int64_t>(buffers[g] + buffer_bytes[g])};
       std::memcpy(&bytes[grid.offsets_at], offsets, sizeof offsets);
-      file.write(at, bytes.data(), bytes.size());
+      writer_of_file.write(at, bytes.data(), bytes.size());
+      writer_of_file.write(at + bytes.size(), tree->second.data(), tree->second.size());
       at = buffers[g] + buffer_bytes[g];
     }
     return at;
   };
   // Writes runs of a band's leaves that sit next to each other in the file.
-  auto write_runs = [&](const std::vector<std::size_t>& global, const std::string& bytes,
+  auto write_runs = [&](const std::vector<std::size_t>& global, const LargeVector<char>& bytes,
                         const std::vector<std::uint32_t>& sizes, auto&& offset_of) {
     for (std::size_t l = 0, from = 0; l < global.size();) {
       std::size_t end = l + 1, size = sizes[l];
       while (end < global.size() && global[end] == global[end - 1] + 1) size += sizes[end++];
-      file.write(offset_of(global[l]), bytes.data() + from, size);
+      writer_of_file.write(offset_of(global[l]), bytes.data() + from, size);
       from += size;
       l = end;
     }
@@ -351,59 +389,82 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
       buffer_bytes.push_back((kLeafMaskBytes + 1) * std::uint64_t(leaves) + layout.voxels * e.value_bytes());
     end = write_heads(std::vector<std::vector<std::int64_t>>(grids.size()), buffer_bytes);
   }
-  // Pass 2: every band's values, leaf by leaf, written in place (or kept until Blosc's sizes are known).
-  std::vector<std::vector<float>> band_values(threads);
-  const bool constant = std::all_of(grids.begin(), grids.end(), [](const StreamGrid& g) { return g.constant.has_value(); });
-  std::vector<std::uint32_t> every_voxel(Leaf::SIZE);
-  std::iota(every_voxel.begin(), every_voxel.end(), 0u);
+  // Pass 2: every band's values, leaf by leaf, made where they are written: in pieces of
+  // kChunk bytes (held in the cache until the write copies them), or kept until Blosc's sizes
+  // are known.
+  constexpr std::size_t kChunk = std::size_t(256) << 10;
+  std::size_t largest_band = 0;
+  for (const std::vector<std::size_t>& band : layout.band_leaves) {
+    std::size_t voxels = 0;
+    for (std::size_t i : band) voxels += layout.leaves[i].count;
+    largest_band = std::max(largest_band, voxels);
+  }
+  const std::size_t largest_leaf = kLeafMaskBytes + 1 + std::size_t(Leaf::SIZE) * 3 * 4;
   parallel_jobs(bands, threads, [&](std::size_t b, int worker) {
     BandScratch& w = writer.scratch()[worker];
     const std::vector<std::size_t>& global = layout.band_leaves[b];
     std::vector<const LeafTopology*> leaves;
     for (std::size_t i : global) leaves.push_back(&layout.leaves[i]);
-    // Grids of one value everywhere (a binary density) are their topology: the band's voxels are
-    // not loaded (nor merged) for them.
+    if (!constant && w.by_leaf.capacity() < largest_band) reserve_large(w.by_leaf, largest_band);
     const VoxelSpan span = constant ? VoxelSpan{} : writer.voxels(b, leaves, w);
-    std::vector<std::uint32_t> sizes(leaves.size());
+    std::vector<std::uint32_t> sizes(blosc ? leaves.size() : 0);
     std::vector<std::int64_t> blosc_sizes(blosc ? leaves.size() : 0);
+    if (!blosc && w.chunk.size() < kChunk + largest_leaf) w.chunk.resize(kChunk + largest_leaf);
     for (std::size_t g = 0; g < grids.size(); ++g) {
       if (stop_requested()) throw Cancelled();  // a band takes up to a second at 2048^3
-      std::vector<float>& values = band_values[worker];
-      if (constant) {
-        values.assign(std::size_t(Leaf::SIZE) * grids[g].components, *grids[g].constant);
-      } else {
-        values.resize(span.size * grids[g].components);
-        grids[g].values(span, values.data());
+      const Encoding& e = encodings[g];
+      // Leaf l's values: those of the batch of leaves [batch_first, batch_end) that holds it (their
+      // voxels follow one another in by_leaf), made when its first leaf is reached.
+      std::size_t batch_first = 0, batch_end = 0;
+      const char* batch = nullptr;
+      auto values_of = [&](std::size_t l) {
+        if (grids[g].constant) return static_cast<const char*>(constants[g].data());
+        if (l >= batch_end) {
+          batch_first = l;
+          batch_end = l + 1;
+          while (batch_end < leaves.size() && w.start[batch_end + 1] - w.start[l] <= kBatch) ++batch_end;
+          batch = leaf_values(grids[g], e, span, &w.by_leaf[w.start[l]], w.start[batch_end] - w.start[l], w);
+        }
+        return batch + std::size_t(w.start[l] - w.start[batch_first]) * e.value_bytes();
+      };
+      if (!blosc) {
+        const std::uint64_t value_bytes = e.value_bytes();
+        auto offset_of = [&](std::size_t i) {
+          return buffers[g] + (kLeafMaskBytes + 1) * std::uint64_t(i) + layout.first_value[i] * value_bytes;
+        };
+        std::size_t held = 0, first = 0;  // bytes in the chunk, from leaf `first` on
+        for (std::size_t l = 0; l < leaves.size(); ++l) {
+          if ((l & 1023) == 1023 && stop_requested()) throw Cancelled();
+          if (held && (held >= kChunk || global[l] != global[l - 1] + 1)) {
+            writer_of_file.write(offset_of(global[first]), w.chunk.data(), held);
+            held = 0;
+          }
+          if (!held) first = l;
+          held += put_leaf(*leaves[l], values_of(l), e, w.chunk.data() + held);
+        }
+        if (held) writer_of_file.write(offset_of(global[first]), w.chunk.data(), held);
+        continue;
       }
       // The band's bytes before Blosc, reserved at once (growing by doubling would copy them),
       // with room for a larger band, so that the thread's next bands reuse the buffer.
       std::size_t need = 0;
-      for (const LeafTopology* leaf : leaves) need += kLeafMaskBytes + 1 + leaf->count * encodings[g].value_bytes();
+      for (const LeafTopology* leaf : leaves) need += kLeafMaskBytes + 1 + leaf->count * e.value_bytes();
       w.bytes.clear();
       if (w.bytes.capacity() < need) w.bytes.reserve(need + need / 2);
       for (std::size_t l = 0; l < leaves.size(); ++l) {
         if ((l & 1023) == 1023 && stop_requested()) throw Cancelled();  // Blosc takes a while per leaf
         const std::size_t before = w.bytes.size();
-        const std::uint32_t* voxels = constant ? every_voxel.data() : &w.by_leaf[w.start[l]];
-        const std::int64_t block = append_leaf(*leaves[l], voxels, values.data(), encodings[g], w);
+        blosc_sizes[l] = append_blosc_leaf(*leaves[l], values_of(l), e, w);
         sizes[l] = static_cast<std::uint32_t>(w.bytes.size() - before);
-        if (blosc) blosc_sizes[l] = block;
       }
-      if (blosc) {
-        // Kept as they are; the next band's bytes start in a buffer of this one's size.
-        const std::size_t size = w.bytes.size();
-        kept[b][g] = {std::move(w.bytes), sizes, blosc_sizes};
-        w.bytes = std::string();
-        w.bytes.reserve(size);
-        continue;
-      }
-      const std::uint64_t value_bytes = encodings[g].value_bytes();
-      write_runs(global, w.bytes, sizes, [&](std::size_t i) {
-        return buffers[g] + (kLeafMaskBytes + 1) * std::uint64_t(i) + layout.first_value[i] * value_bytes;
-      });
+      // Kept as they are; the next band's bytes start in a buffer of this one's size.
+      const std::size_t size = w.bytes.size();
+      kept[b][g] = {std::move(w.bytes), sizes, blosc_sizes};
+      w.bytes = LargeVector<char>();
+      w.bytes.reserve(size);
     }
-    if (!blosc) file.start_writeback();
-  }, progress_range(progress, 0.2, blosc ? 0.65 : 0.75));
+    if (!blosc) flushes.written();
+  }, progress_range(progress, 0.2, blosc ? 0.7 : 0.85));
   if (blosc) {
     // Every leaf's size in file order, then the heads, then the kept bytes where they belong.
     std::vector<std::vector<std::int64_t>> blosc_sizes(grids.size(), std::vector<std::int64_t>(leaves));
@@ -424,11 +485,11 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
         write_runs(layout.band_leaves[b], kept[b][g].bytes, kept[b][g].sizes,
                    [&](std::size_t i) { return buffers[g] + offsets[g][i]; });
       kept[b].clear();
-      file.start_writeback();
-    }, progress_range(progress, 0.65, 0.75));
+      flushes.written();
+    }, progress_range(progress, 0.7, 0.85));
   }
-  const std::string uuid = content_uuid(out.temporary_path(), file, kUuidOffset + kUuidLength, end, threads,
-                                       progress_range(progress, 0.75, 0.85));
+  flushes.finish();
+  const std::string uuid = hash.uuid(end);
   file.write(kUuidOffset, uuid.data(), uuid.size());
   file.sync_pieces(end, progress_range(progress, 0.85, 1.0));
   out.commit();

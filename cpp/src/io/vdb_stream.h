@@ -5,6 +5,7 @@
 // leaf at its place in the file, so a volume never has to be held whole, in any form.
 #include <openvdb/openvdb.h>
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -15,13 +16,18 @@
 namespace ifsforge::detail {
 
 /// One grid of the file: an empty OpenVDB grid carrying its name, class, transform, vector type
-/// and half flag, and how a band's values are made (`components` floats per voxel, 1 or 3).
+/// and half flag, and how its values are made (`components` floats per voxel, 1 or 3).
 struct StreamGrid {
   openvdb::GridBase::Ptr grid;
   int components = 1;
-  std::function<void(const VoxelSpan& band, float* values)> values;
-  /// Set: every voxel's value (a binary density). When every grid has one, the bands' voxels are
-  /// never loaded, only their keys.
+  /// The values of `count` voxels of `band` (indices into it, in that order): count * components
+  /// floats. Called per leaf, so that they are made where they are written.
+  std::function<void(const VoxelSpan& band, const std::uint32_t* voxels, std::size_t count, float* values)> values;
+  /// Optional, for a grid saved as halves: the bits of openvdb::math::half of each of `values`,
+  /// made without them (the colour grid's linear halves, see LinearHalves).
+  std::function<void(const VoxelSpan& band, const std::uint32_t* voxels, std::size_t count, std::uint16_t* halves)> halves;
+  /// Set: every voxel's value (a binary density: 1 in every voxel by definition, not read from the
+  /// volume). When every grid has one, the bands' voxels are never loaded, only their keys.
   std::optional<float> constant;
 };
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/planes.h"
 
@@ -43,8 +44,9 @@ std::vector<Phase> phases(int factor) {
 PifsRaster upscale_bicubic(const PifsRaster& r, int log_factor, int threads) {
   const int f = 1 << log_factor;
   const std::vector<Phase> ph = phases(f);
-  PifsRaster mid{r.width * f, r.height, std::vector<float>(std::size_t(r.width) * f * r.height)};
-  PifsRaster out{r.width * f, r.height * f, std::vector<float>(std::size_t(r.width) * f * r.height * f)};
+  PifsRaster mid{r.width * f, r.height, {}}, out{r.width * f, r.height * f, {}};
+  resize_large(mid.values, std::size_t(mid.width) * mid.height);  // huge pages, faulted in on every core
+  resize_large(out.values, std::size_t(out.width) * out.height);
   auto clamp = [](int i, int n) { return std::clamp(i, 0, n - 1); };
   threads = pass_threads(threads, double(out.width) * out.height);
   // Rows across, then columns down; every output pixel is the same sum whichever job computes it.

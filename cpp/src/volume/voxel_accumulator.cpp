@@ -22,8 +22,9 @@ void VoxelAccumulator::begin(const double* lo, const double* hi) {
     size_[0] = size_[1] = size_[2] = 0;
     cells = 0;
   }
-  if (cells_.size() < cells * stride_) cells_.resize(cells * stride_, 0);
-  if (occupied_.size() < cells) occupied_.resize(cells, 0);
+  // Larger storage replaces the old without copying it: both are all zeros here.
+  if (cells_.size() < cells * stride_) ZeroedVector<std::uint64_t>(cells * stride_).swap(cells_);
+  if (occupied_.size() < cells) ZeroedVector<std::uint8_t>(cells).swap(occupied_);
 }
 
 VoxelList VoxelAccumulator::finish() {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "ifsforge/core/pages.h"
 #include "ifsforge/volume/voxel_grid.h"
 #include "ifsforge/volume/voxel_list.h"
 
@@ -136,9 +137,12 @@ class VoxelAccumulator {
   int channels_, stride_;
   std::int64_t lo_[3] = {0, 0, 0};
   std::uint64_t size_[3] = {0, 0, 0};
-  std::vector<std::uint64_t> cells_, values_;
+  /// The box's cells, zero between jobs (finish() clears what it read): grown as fresh zero pages
+  /// (huge pages from 1 MB), so that a cell's page is first touched by its first point.
+  ZeroedVector<std::uint64_t> cells_;
+  std::vector<std::uint64_t> values_;
   /// 1 where the cell holds a hit: the occupancy tests read these bytes, which stay in cache.
-  std::vector<std::uint8_t> occupied_;
+  ZeroedVector<std::uint8_t> occupied_;
   VoxelList overflow_;
 };
 
