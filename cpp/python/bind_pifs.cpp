@@ -56,6 +56,7 @@ void bind_pifs(py::module_& m) {
   add_choices<PifsZoom>(m, "zoom");
   add_choices<PifsDomainSearch>(m, "search");
   add_choices<PifsColor>(m, "color");
+  add_choices<PifsChroma>(m, "chroma");
   options_class<PifsDecodeOptions>(m, "PifsDecodeOptions",
                                     "The settings of PifsCode.decode() (keywords of the same names).")
       .def_readwrite("scale", &PifsDecodeOptions::scale, "output size = the image's size × scale")
@@ -136,7 +137,11 @@ void bind_pifs(py::module_& m) {
                       o.ratio = v;
                     }, "rate: raw bytes / ratio (0: not set; wins over quality)")
       .def_readwrite("quality", &PifsEncodeOptions::quality, "rate: collage RMS threshold, 8-bit levels")
-      .def_readwrite("ycbcr", &PifsEncodeOptions::ycbcr, "RGB(A) as YCbCr with half-size chroma")
+      .def_readwrite("ycbcr", &PifsEncodeOptions::ycbcr, "RGB(A) as YCbCr, else R, G, B as they are")
+      .def_property("chroma", [](const PifsEncodeOptions& o) { return std::string(name_of(o.chroma)); },
+                    [](PifsEncodeOptions& o, const std::string& v) { o.chroma = parse_name<PifsChroma>(v); },
+                    "YCbCr chroma: half (4:2:0), full (4:4:4) or auto (full where half-size chroma would cap "
+                    "a size target's quality)")
       .def_readwrite("residual", &PifsEncodeOptions::residual,
                      "under bytes or ratio: code what the fractal code misses as a DCT residual layer")
       .def_property("search", [](const PifsEncodeOptions& o) { return std::string(name_of(o.search.mode)); },

@@ -13,6 +13,7 @@
 #include "ifsforge/pifs/decoder.h"
 #include "ifsforge/pifs/encoder.h"
 #include "ifsforge/pifs/plane_coding.h"
+#include "ifsforge/pifs/planes.h"
 #include "pifs_test.h"
 
 using namespace ifsforge;
@@ -239,4 +240,27 @@ TEST(Pifs, RefusesBadOptions) {
   PifsDecodeOptions d;
   d.scale = -1;
   EXPECT_THROW(pifs_decode(random_code(1), d), InputError);
+}
+
+TEST(PifsChroma, HalvingErrorIsWhatAveragingTheChromaLoses) {
+  // Gray has no chroma to lose.
+  Image gray(8, 6, 3);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int c = 0; c < 3; ++c) gray.at(x, y, c) = float(x * 30 + y) / 255.f;
+  EXPECT_LT(chroma_halving_error(gray), 1e-6);
+  // Rows of pure red over rows of pure blue: each pixel's chroma is off by half the pair's
+  // difference, which the inverse matrix turns into an RGB error of the same size on every pixel.
+  Image rows(8, 6, 3);
+  for (int y = 0; y < 6; ++y)
+    for (int x = 0; x < 8; ++x) {
+      rows.at(x, y, 0) = y % 2 ? 0.f : 1.f;
+      rows.at(x, y, 1) = 0.f;
+      rows.at(x, y, 2) = y % 2 ? 1.f : 0.f;
+    }
+  const double dcb = ((128 + 0.5 * 255) - (128 - 0.168736 * 255)) / 2;
+  const double dcr = ((128 - 0.081312 * 255) - (128 + 0.5 * 255)) / 2;
+  const double r = 1.402 * dcr, g = -0.344136 * dcb - 0.714136 * dcr, b = 1.772 * dcb;
+  EXPECT_NEAR(chroma_halving_error(rows, 2), (r * r + g * g + b * b) / 3, 1e-2);
+  EXPECT_EQ(chroma_halving_error(rows, 1), chroma_halving_error(rows, 2));
 }

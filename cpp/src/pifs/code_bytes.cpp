@@ -139,7 +139,7 @@ PifsCode pifs_from_bytes(const std::uint8_t* data, std::size_t size, const std::
   code.s_bits = r.byte();
   code.dc_step = r.byte();
   const std::uint64_t w = r.varint(), h = r.varint();
-  if (code.channels < 1 || code.channels > 4 || color > 1 || code.min_log < 1 || code.max_log > 8 ||
+  if (code.channels < 1 || code.channels > 4 || color > 2 || code.min_log < 1 || code.max_log > 8 ||
       code.min_log > code.max_log || code.s_bits < 2 || code.s_bits > 8 || code.dc_step < 1 || code.dc_step > 64 ||
       w < 1 || h < 1 || w > 32768 || h > 32768)
     throw InputError(where + ": corrupt (header field out of range)");
@@ -158,9 +158,8 @@ PifsCode pifs_from_bytes(const std::uint8_t* data, std::size_t size, const std::
     if (steps[k]) total += (residuals[k] = r.varint());
   }
   if (total != r.size - r.pos) throw InputError(where + ": corrupt (plane sizes do not match the file)");
-  const bool ycc = code.color == PifsColor::YCbCr420 && code.channels >= 3;
   for (int k = 0; k < planes; ++k) {
-    const bool half = ycc && (k == 1 || k == 2);
+    const bool half = code.halved(std::size_t(k));
     const int pw = half ? (code.width + 1) / 2 : code.width, ph = half ? (code.height + 1) / 2 : code.height;
     const std::string plane = where + " (plane " + std::to_string(k + 1) + ")";
     code.planes.push_back(decode_plane(code, pw, ph, data + r.pos, std::size_t(lengths[k]), plane));

@@ -157,7 +157,7 @@ Image pifs_decode(const PifsCode& code, const PifsDecodeOptions& options) {
   parallel_jobs(planes.size(), plane_threads, [&](std::size_t k, int) {
     const PifsPlane& plane = code.planes[k];
     // Chroma stored at half size is decoded one level finer (the seed's Step 6).
-    const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);
+    const bool half = code.halved(k);
     const int lm = half ? m + 1 : m;
     PifsRaster p = decode_plane(code, plane, lm, options.decoder, options.iterations, inner);
     if (options.deblock) deblock(code, plane, lm, p, inner);

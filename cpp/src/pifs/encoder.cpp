@@ -70,16 +70,14 @@ int automatic_min_block(const Image& image, std::size_t target, double quality, 
   return rich ? 2 : 4;
 }
 
-}  // namespace
-
-PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const ProgressCallback& progress) {
-  check(image, o);
+/// The code of `image` with its colour coded as `color`, under `target` bytes (0: o.quality).
+PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor color, std::size_t target,
+                   const ProgressCallback& progress) {
   PifsCode code;
   code.width = image.width;
   code.height = image.height;
   code.channels = image.channels;
-  code.color = o.ycbcr && image.channels >= 3 ? PifsColor::YCbCr420 : PifsColor::Direct;
-  const std::size_t target = size_target(image, o);
+  code.color = color;
   code.min_log = log2_exact(o.min_block > 0 ? o.min_block : automatic_min_block(image, target, o.quality, o.residual, o.max_block), "min_block");
   code.max_log = log2_exact(o.max_block, "max_block");
   code.s_bits = o.s_bits;
@@ -195,7 +193,7 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
         sizes.size(), o.threads,
         [&](std::size_t job, int) {
           const std::size_t k = job / count, p = job % count;
-          const bool half = code.color == PifsColor::YCbCr420 && (k == 1 || k == 2);
+          const bool half = code.halved(k);
           PifsPlane& plane = probes[p].planes[k];
           plane.width = cands[k].width;
           plane.height = cands[k].height;
@@ -238,6 +236,31 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   }
   code.planes = std::move(best.planes);
   return code;
+}
+
+}  // namespace
+
+PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const ProgressCallback& progress) {
+  check(image, o);
+  const std::size_t target = size_target(image, o);
+  if (!o.ycbcr || image.channels < 3) return encode_as(image, o, PifsColor::Direct, target, progress);
+  if (o.chroma != PifsChroma::Auto || target == 0)
+    return encode_as(image, o, o.chroma == PifsChroma::Full ? PifsColor::YCbCr444 : PifsColor::YCbCr420, target,
+                     progress);
+  // Automatic chroma: half-size chroma (Step 2) wins wherever the budget is tight, but caps the
+  // quality of a rich one at what averaging the chroma 2×2 loses. So where that loss is a
+  // large share of the 4:2:0 code's own error, full-size chroma is coded too and the code
+  // whose decode is nearer the image (RGB squared error) is kept.
+  const double halving = chroma_halving_error(image, o.threads);
+  const bool may_try = halving > PifsEncodeOptions::kChromaErrorFloor;
+  PifsCode half = encode_as(image, o, PifsColor::YCbCr420, target, progress_range(progress, 0.0, may_try ? 0.5 : 1.0));
+  if (!may_try) return half;
+  PifsDecodeOptions decode;
+  decode.threads = o.threads;
+  const double half_error = squared_error(image, pifs_decode(half, decode), o.threads);
+  if (halving < PifsEncodeOptions::kFullChromaShare * half_error) return half;
+  PifsCode full = encode_as(image, o, PifsColor::YCbCr444, target, progress_range(progress, 0.5, 1.0));
+  return squared_error(image, pifs_decode(full, decode), o.threads) < half_error ? full : half;
 }
 
 }  // namespace ifsforge

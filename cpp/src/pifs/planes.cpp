@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <vector>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/pages.h"
@@ -20,30 +22,49 @@ PifsRaster make(int w, int h) {
 
 float level(float v) { return std::round(std::clamp(v, 0.f, 1.f) * 255.f); }
 
+/// Full-range YCbCr of 8-bit levels (JPEG's matrix, the seed's YUV of Step 1) and back.
+void to_ycc(float v[3]) {
+  const float r = v[0], g = v[1], b = v[2];
+  v[0] = 0.299f * r + 0.587f * g + 0.114f * b;
+  v[1] = 128.f - 0.168736f * r - 0.331264f * g + 0.5f * b;
+  v[2] = 128.f + 0.5f * r - 0.418688f * g - 0.081312f * b;
+}
+
+void to_rgb(float v[3]) {
+  const float Y = v[0], cb = v[1] - 128.f, cr = v[2] - 128.f;
+  v[0] = Y + 1.402f * cr;
+  v[1] = Y - 0.344136f * cb - 0.714136f * cr;
+  v[2] = Y + 1.772f * cb;
+}
+
+/// The mean over rows of per-row sums, summed in row order: the same on any number of threads.
+double mean_of_rows(std::size_t rows, double count, int threads, const std::function<double(std::size_t)>& row_sum) {
+  std::vector<double> sums(rows);
+  parallel_jobs(rows, threads, [&](std::size_t row, int) { sums[row] = row_sum(row); });
+  double total = 0;
+  for (double s : sums) total += s;
+  return total / count;
+}
+
 }  // namespace
 
 std::vector<PifsRaster> image_planes(const Image& image, PifsColor color, int threads, const ProgressCallback& progress) {
   const int w = image.width, h = image.height, c = image.channels;
-  const bool ycc = color == PifsColor::YCbCr420 && c >= 3;
+  const bool ycc = color != PifsColor::Direct && c >= 3, half = ycc && color == PifsColor::YCbCr420;
   // The levels of pixel (x, y), converted to JPEG's full-range YCbCr (the seed's YUV, Step 1).
   const auto pixel = [&](int x, int y, float v[4]) {
     for (int k = 0; k < c; ++k) v[k] = level(image.at(x, y, k));
-    if (ycc) {
-      const float r = v[0], g = v[1], b = v[2];
-      v[0] = 0.299f * r + 0.587f * g + 0.114f * b;
-      v[1] = 128.f - 0.168736f * r - 0.331264f * g + 0.5f * b;
-      v[2] = 128.f + 0.5f * r - 0.418688f * g - 0.081312f * b;
-    }
+    if (ycc) to_ycc(v);
   };
   std::vector<PifsRaster> planes;
-  for (int k = 0; k < c; ++k) planes.push_back(ycc && (k == 1 || k == 2) ? make((w + 1) / 2, (h + 1) / 2) : make(w, h));
-  // Each pixel on its own: rows are jobs (pairs of rows for YCbCr), the same planes on any
-  // number of threads. The chroma is averaged over 2×2 as it is converted (the seed's Step 2;
-  // odd edges average what exists), never held at full size.
-  const int rows = ycc ? (h + 1) / 2 : h;
+  for (int k = 0; k < c; ++k) planes.push_back(half && (k == 1 || k == 2) ? make((w + 1) / 2, (h + 1) / 2) : make(w, h));
+  // Each pixel on its own: rows are jobs (pairs of rows for 4:2:0), the same planes on any
+  // number of threads. Half-size chroma is averaged over 2×2 as it is converted (the seed's
+  // Step 2; odd edges average what exists), never held at full size.
+  const int rows = half ? (h + 1) / 2 : h;
   parallel_jobs(std::size_t(rows), threads, [&](std::size_t row, int) {
     float v[4];
-    if (!ycc) {
+    if (!half) {
       const int y = int(row);
       for (int x = 0; x < w; ++x) {
         pixel(x, y, v);
@@ -89,7 +110,7 @@ int pass_threads(int threads, double pixels) {
 
 Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsColor color, int width,
                       int height, int threads) {
-  const bool ycc = color == PifsColor::YCbCr420 && channels >= 3;
+  const bool ycc = color != PifsColor::Direct && channels >= 3;
   Image image(width, height, channels);
   // Each pixel on its own: row bands on any number of threads give the same image.
   parallel_jobs(std::size_t(height), pass_threads(threads, double(width) * height * channels), [&](std::size_t row, int) {
@@ -97,16 +118,60 @@ Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsC
     for (int x = 0; x < width; ++x) {
       float v[4];
       for (int k = 0; k < channels; ++k) v[k] = planes[k].row(y)[x];
-      if (ycc) {
-        const float Y = v[0], cb = v[1] - 128.f, cr = v[2] - 128.f;
-        v[0] = Y + 1.402f * cr;
-        v[1] = Y - 0.344136f * cb - 0.714136f * cr;
-        v[2] = Y + 1.772f * cb;
-      }
+      if (ycc) to_rgb(v);
       for (int k = 0; k < channels; ++k) image.at(x, y, k) = std::clamp(v[k] / 255.f, 0.f, 1.f);
     }
   });
   return image;
+}
+
+double chroma_halving_error(const Image& image, int threads) {
+  const int w = image.width, h = image.height;
+  if (image.channels < 3) return 0;
+  // Each pair of rows on its own: the 2×2 cell's chroma averaged as image_planes does, every
+  // pixel rebuilt from its own Y and the cell's chroma.
+  return mean_of_rows(std::size_t((h + 1) / 2), 3.0 * w * h, threads, [&](std::size_t row) {
+    const int y0 = 2 * int(row), y1 = std::min(y0 + 2, h);
+    double sum = 0;
+    for (int x0 = 0; x0 < w; x0 += 2) {
+      const int x1 = std::min(x0 + 2, w);
+      float ycc[4][3], cb = 0, cr = 0;
+      int n = 0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x, ++n) {
+          for (int k = 0; k < 3; ++k) ycc[n][k] = level(image.at(x, y, k));
+          to_ycc(ycc[n]);
+          cb += ycc[n][1];
+          cr += ycc[n][2];
+        }
+      n = 0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x, ++n) {
+          const int count = (y1 - y0) * (x1 - x0);
+          float v[3] = {ycc[n][0], cb / count, cr / count};
+          to_rgb(v);
+          for (int k = 0; k < 3; ++k) {
+            const double d = double(v[k]) - level(image.at(x, y, k));
+            sum += d * d;
+          }
+        }
+    }
+    return sum;
+  });
+}
+
+double squared_error(const Image& a, const Image& b, int threads) {
+  if (a.width != b.width || a.height != b.height || a.channels != b.channels)
+    throw InputError("squared_error: the images differ in size");
+  return mean_of_rows(std::size_t(a.height), double(a.width) * a.height * a.channels, threads, [&](std::size_t row) {
+    double sum = 0;
+    for (int x = 0; x < a.width; ++x)
+      for (int k = 0; k < a.channels; ++k) {
+        const double d = 255.0 * (double(a.at(x, int(row), k)) - b.at(x, int(row), k));
+        sum += d * d;
+      }
+    return sum;
+  });
 }
 
 PifsRaster resample_area(const PifsRaster& p, int width, int height) {

@@ -1,6 +1,7 @@
 #pragma once
 /// @file A partitioned IFS code (seed 3.3.2, Definitions 14-16): per image plane, the quadtree
 /// leaves (range cells) with their domain cell, isometry and the quantised Eq. 29 parameters.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -35,13 +36,16 @@ struct PifsPlane {
 };
 
 /// @brief Colour handling of a code (the seed's Steps 1-2 for colour textures).
-enum class PifsColor : std::uint8_t { Direct = 0, YCbCr420 = 1 };
+/// YCbCr420 halves the chroma (Step 2); YCbCr444 keeps it at full size, for budgets rich enough
+/// that half-size chroma would cap the quality.
+enum class PifsColor : std::uint8_t { Direct = 0, YCbCr420 = 1, YCbCr444 = 2 };
 template <>
 struct EnumNames<PifsColor> {
   static constexpr const char* what = "color coding";
   static constexpr NamedValue<PifsColor> values[] = {
       {PifsColor::Direct, "direct"},
-      {PifsColor::YCbCr420, "ycbcr420"}};
+      {PifsColor::YCbCr420, "ycbcr420"},
+      {PifsColor::YCbCr444, "ycbcr444"}};
 };
 
 struct PifsCode {
@@ -52,6 +56,10 @@ struct PifsCode {
   int dc_step = 1;                          ///< quantisation step of the range mean, 8-bit levels
   std::vector<PifsPlane> planes;
 
+  /// @brief Whether the planes are Y, Cb, Cr [, alpha] (else one plane per channel).
+  bool ycc() const { return channels >= 3 && (color == PifsColor::YCbCr420 || color == PifsColor::YCbCr444); }
+  /// @brief Whether plane k is stored at half size (4:2:0 chroma).
+  bool halved(std::size_t k) const { return color == PifsColor::YCbCr420 && channels >= 3 && (k == 1 || k == 2); }
   /// @brief The padded plane size: a multiple of the largest range block.
   int padded(int size) const { const int b = 1 << max_log; return (size + b - 1) / b * b; }
   double s_value(int q) const { return double(q) / double(1 << (s_bits - 1)); }

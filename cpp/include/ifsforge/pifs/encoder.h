@@ -9,6 +9,16 @@
 
 namespace ifsforge {
 
+/// How the chroma of a YCbCr code is sampled: half size (4:2:0, Step 2), full size (4:4:4), or
+/// automatic (full only where half-size chroma would cap a size target's quality).
+enum class PifsChroma { Auto, Half, Full };
+template <>
+struct EnumNames<PifsChroma> {
+  static constexpr const char* what = "chroma";
+  static constexpr NamedValue<PifsChroma> values[] = {
+      {PifsChroma::Auto, "auto"}, {PifsChroma::Half, "half"}, {PifsChroma::Full, "full"}};
+};
+
 struct PifsEncodeOptions {
   /// Range sizes (powers of two): the quadtree depths. min_block 0: with a size target and the
   /// residual layer, the residual's 8×8 block (at most max_block); else 2 when the size target
@@ -21,7 +31,11 @@ struct PifsEncodeOptions {
   std::size_t bytes = 0;
   double ratio = 0;
   double quality = kDefaultQuality;
-  bool ycbcr = true;                  ///< RGB(A) as YCbCr with half-size chroma (Steps 1-2)
+  bool ycbcr = true;                  ///< RGB(A) as YCbCr (Steps 1-2), else R, G, B as they are
+  /// YCbCr chroma sampling. Auto: 4:2:0, except under a size target where averaging the chroma
+  /// 2×2 costs over kFullChromaShare of the 4:2:0 code's squared error (and over
+  /// kChromaErrorFloor): then 4:4:4 is coded too and the code nearer the image kept.
+  PifsChroma chroma = PifsChroma::Auto;
   /// Under a size target, code what the fractal code misses as a DCT residual layer (residual.h).
   bool residual = true;
   PifsSearch search;
@@ -29,6 +43,7 @@ struct PifsEncodeOptions {
 
   static constexpr double kDefaultQuality = 8.0;
   static constexpr double kFineRatio = 16.0, kFineQuality = 2.0;
+  static constexpr double kFullChromaShare = 0.25, kChromaErrorFloor = 0.05;  // 8-bit levels²
 };
 
 /// @brief The PIFS code of `image` (1-4 channels, values in [0, 1], read as 8-bit levels).

@@ -10,7 +10,8 @@
 namespace ifsforge {
 
 /// @brief The planes of `image` (values rounded to 8-bit levels), unpadded: gray [+ alpha],
-/// Y Cb Cr (chroma at half size, rounded up) [+ alpha] for YCbCr420, else one plane per channel.
+/// Y Cb Cr [+ alpha] for YCbCr444, the same with chroma at half size (rounded up) for YCbCr420,
+/// else one plane per channel.
 /// Rows are jobs on `threads` threads (parallel_jobs, with `progress`): the encoder's first step
 /// is not left to one thread.
 std::vector<PifsRaster> image_planes(const Image& image, PifsColor color, int threads = 1,
@@ -25,11 +26,19 @@ PifsRaster pad_plane(const PifsRaster& plane, int width, int height, int threads
 int pass_threads(int threads, double pixels);
 
 /// @brief The image from planes decoded at the same output size (chroma already at full size):
-/// `width`×`height` taken from their top-left corners, converted back to RGB for YCbCr420.
+/// `width`×`height` taken from their top-left corners, converted back to RGB for YCbCr.
 Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsColor color, int width,
                       int height, int threads = 1);
 
 /// @brief Area-weighted resampling of `plane` to `width`×`height` (box filter; exact 2×2 mean for halving).
 PifsRaster resample_area(const PifsRaster& plane, int width, int height);
+
+/// @brief The mean squared RGB error (8-bit levels²) that averaging the chroma of `image` 2×2
+/// alone costs (each pixel rebuilt from its own Y and its cell's chroma); 0 below 3 channels.
+double chroma_halving_error(const Image& image, int threads = 1);
+
+/// @brief The mean squared error of `b` against `a` in 8-bit levels² (equal sizes); the same on
+/// any number of threads.
+double squared_error(const Image& a, const Image& b, int threads = 1);
 
 }  // namespace ifsforge

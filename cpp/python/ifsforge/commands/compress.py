@@ -23,7 +23,10 @@ def register(subparsers):
                    help="smallest range cell, pixels (power of two, at least 2; 0: 8 with the residual layer, "
                    "else 2 at ratios up to 16:1, else 4)")
     p.add_argument("--max-block", type=common.count_option(4096), default=o.max_block, help="largest range cell, pixels (power of two)")
-    p.add_argument("--no-ycbcr", action="store_true", help="code R, G, B as they are (no YCbCr 4:2:0)")
+    p.add_argument("--no-ycbcr", action="store_true", help="code R, G, B as they are (no YCbCr)")
+    p.add_argument("--chroma", choices=ifsforge.choices["chroma"], default=o.chroma,
+                   help="YCbCr chroma: half (4:2:0), full (4:4:4) or auto (full where half-size chroma would cap "
+                        "the quality of a --ratio or --bytes target)")
     p.add_argument("--no-residual", action="store_true",
                    help="with --ratio or --bytes: the fractal code alone (no DCT residual layer for what it misses)")
     p.add_argument("--search", choices=ifsforge.choices["search"], default=o.search,
@@ -80,7 +83,8 @@ def run(args):
         print(f"ifsforge compress: note: '{args.image}' is 16-bit; reduced to 8 bits per sample", file=sys.stderr)
     code = ifsforge.pifs_encode(image, ratio=args.ratio, bytes=args.bytes, quality=args.quality,
                                 min_block=args.min_block, max_block=args.max_block,
-                                ycbcr=not args.no_ycbcr, residual=not args.no_residual, search=args.search, threads=args.threads)
+                                ycbcr=not args.no_ycbcr, chroma=args.chroma, residual=not args.no_residual,
+                                search=args.search, threads=args.threads)
     ifsforge.write_pifs(args.output, code)
     info = describe_code(code)
     if args.json:
