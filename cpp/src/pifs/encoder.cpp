@@ -70,9 +70,10 @@ int automatic_min_block(const Image& image, std::size_t target, double quality, 
   return rich ? 2 : 4;
 }
 
-/// The code of `image` with its colour coded as `color`, under `target` bytes (0: o.quality).
+/// The code of `image` with its colour coded as `color`, under `target` bytes (0: o.quality);
+/// `lambda`, when given, receives the rate control's λ (0 without a size target).
 PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor color, std::size_t target,
-                   const ProgressCallback& progress) {
+                   const ProgressCallback& progress, double* lambda = nullptr) {
   PifsCode code;
   code.width = image.width;
   code.height = image.height;
@@ -235,6 +236,7 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
     if (fit >= 0) best = std::move(probes[std::size_t(fit)]);
   }
   code.planes = std::move(best.planes);
+  if (lambda) *lambda = std::exp(best.log_lambda);
   return code;
 }
 
@@ -253,14 +255,25 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   // whose decode is nearer the image (RGB squared error) is kept.
   const double halving = chroma_halving_error(image, o.threads);
   const bool may_try = halving > PifsEncodeOptions::kChromaErrorFloor;
-  PifsCode half = encode_as(image, o, PifsColor::YCbCr420, target, progress_range(progress, 0.0, may_try ? 0.5 : 1.0));
+  double lambda = 0;
+  PifsCode half =
+      encode_as(image, o, PifsColor::YCbCr420, target, progress_range(progress, 0.0, may_try ? 0.5 : 1.0), &lambda);
   if (!may_try) return half;
   PifsDecodeOptions decode;
   decode.threads = o.threads;
-  const double half_error = squared_error(image, pifs_decode(half, decode), o.threads);
-  if (halving < PifsEncodeOptions::kFullChromaShare * half_error) return half;
+  // The 4:2:0 code's RGB error, foreseen from its residual step without decoding (a decode of
+  // a small image is one thread's work): a uniform quantiser of step q leaves q²/12 per sample,
+  // the chroma's step is half the luma's, and R, G, B take Y's error once each and the chroma's
+  // through the inverse matrix (Cb: 0.344² + 1.772², Cr: 1.402² + 0.714²).
+  const double step2 = lambda / kResidualLambda;
+  const double foreseen = o.residual ? (3.0 + (3.258 + 2.476) / 4) * step2 / 12 / 3
+                                     : squared_error(image, pifs_decode(half, decode), o.threads);
+  if (halving < PifsEncodeOptions::kFullChromaShare * foreseen) return half;
   PifsCode full = encode_as(image, o, PifsColor::YCbCr444, target, progress_range(progress, 0.5, 1.0));
-  return squared_error(image, pifs_decode(full, decode), o.threads) < half_error ? full : half;
+  return squared_error(image, pifs_decode(full, decode), o.threads) <
+                 squared_error(image, pifs_decode(half, decode), o.threads)
+             ? full
+             : half;
 }
 
 }  // namespace ifsforge

@@ -33,8 +33,9 @@ struct PifsEncodeOptions {
   double quality = kDefaultQuality;
   bool ycbcr = true;                  ///< RGB(A) as YCbCr (Steps 1-2), else R, G, B as they are
   /// YCbCr chroma sampling. Auto: 4:2:0, except under a size target where averaging the chroma
-  /// 2×2 costs over kFullChromaShare of the 4:2:0 code's squared error (and over
-  /// kChromaErrorFloor): then 4:4:4 is coded too and the code nearer the image kept.
+  /// 2×2 costs over kFullChromaShare of the squared error the 4:2:0 code's residual step
+  /// foresees (and over kChromaErrorFloor): then 4:4:4 is coded too and the code nearer the
+  /// image kept.
   PifsChroma chroma = PifsChroma::Auto;
   /// Under a size target, code what the fractal code misses as a DCT residual layer (residual.h).
   bool residual = true;
