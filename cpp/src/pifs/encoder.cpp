@@ -253,7 +253,7 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   // quality of a rich one at what averaging the chroma 2×2 loses. So where that loss is a
   // large share of the 4:2:0 code's own error, full-size chroma is coded too and the code
   // whose decode is nearer the image (RGB squared error) is kept.
-  const double halving = chroma_halving_error(image, o.threads);
+  const double halving = chroma_halving_error(image, o.threads, progress_range(progress, 0.0, 0.0));
   const bool may_try = halving > PifsEncodeOptions::kChromaErrorFloor;
   double lambda = 0;
   PifsCode half =

@@ -38,9 +38,10 @@ void to_rgb(float v[3]) {
 }
 
 /// The mean over rows of per-row sums, summed in row order: the same on any number of threads.
-double mean_of_rows(std::size_t rows, double count, int threads, const std::function<double(std::size_t)>& row_sum) {
+double mean_of_rows(std::size_t rows, double count, int threads, const std::function<double(std::size_t)>& row_sum,
+                    const ProgressCallback& progress = nullptr) {
   std::vector<double> sums(rows);
-  parallel_jobs(rows, threads, [&](std::size_t row, int) { sums[row] = row_sum(row); });
+  parallel_jobs(rows, threads, [&](std::size_t row, int) { sums[row] = row_sum(row); }, progress);
   double total = 0;
   for (double s : sums) total += s;
   return total / count;
@@ -125,7 +126,7 @@ Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsC
   return image;
 }
 
-double chroma_halving_error(const Image& image, int threads) {
+double chroma_halving_error(const Image& image, int threads, const ProgressCallback& progress) {
   const int w = image.width, h = image.height;
   if (image.channels < 3) return 0;
   // Each pair of rows on its own: the 2×2 cell's chroma averaged as image_planes does, every
@@ -157,7 +158,7 @@ double chroma_halving_error(const Image& image, int threads) {
         }
     }
     return sum;
-  });
+  }, progress);
 }
 
 double squared_error(const Image& a, const Image& b, int threads) {

@@ -35,7 +35,8 @@ PifsRaster resample_area(const PifsRaster& plane, int width, int height);
 
 /// @brief The mean squared RGB error (8-bit levels²) that averaging the chroma of `image` 2×2
 /// alone costs (each pixel rebuilt from its own Y and its cell's chroma); 0 below 3 channels.
-double chroma_halving_error(const Image& image, int threads = 1);
+/// Pairs of rows are jobs on `threads` threads (parallel_jobs, with `progress`).
+double chroma_halving_error(const Image& image, int threads = 1, const ProgressCallback& progress = nullptr);
 
 /// @brief The mean squared error of `b` against `a` in 8-bit levels² (equal sizes); the same on
 /// any number of threads.
