@@ -11,6 +11,25 @@
 namespace ifsforge::chains {
 namespace {
 
+/// The permute that takes map i's double (floats 2i and 2i + 1 of a table) into each lane.
+inline __m256i pairs(__m256i map) {
+  const __m256i twice = _mm256_slli_epi64(map, 1);
+  return _mm256_or_si256(twice, _mm256_slli_epi64(_mm256_add_epi64(twice, _mm256_set1_epi64x(1)), 32));
+}
+
+/// Coefficients k to k + 3 of each lane's row (lane i's at from[at[i]]), a register per
+/// coefficient: four loads and a 4x4 transpose (loads and shuffles cost less than gathers).
+inline void transposed(const double* from, const std::uint64_t* at, __m256d* out) {
+  const __m256d r0 = _mm256_loadu_pd(from + at[0]), r1 = _mm256_loadu_pd(from + at[1]);
+  const __m256d r2 = _mm256_loadu_pd(from + at[2]), r3 = _mm256_loadu_pd(from + at[3]);
+  const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+  const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+  out[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+  out[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  out[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+  out[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
 /// Each lane's map's coefficients (a row by row, then b), for four lanes at once. A coefficient
 /// that every map shares (the same bits: similitudes of one ratio share their a) is a constant;
 /// the others, with at most four maps, come from registers that hold every map's (a permute
@@ -43,11 +62,22 @@ struct Coefficients {
     }
   }
 
+  /// x' = ((b + a0 x0) + a1 x1) + ...: the general path's order.
+  void apply(__m256i map, __m256d* p) const {
+    __m256d k[kPadded];
+    fetch(map, k);
+    __m256d q[N];
+    for (int r = 0; r < N; ++r) {
+      __m256d value = k[N * N + r];
+      for (int c = 0; c < N; ++c) value = _mm256_add_pd(value, _mm256_mul_pd(k[r * N + c], p[c]));
+      q[r] = value;
+    }
+    for (int r = 0; r < N; ++r) p[r] = q[r];
+  }
+
   void fetch(__m256i map, __m256d* out) const {
     if constexpr (kFew) {
-      // Map i's double is floats 2i and 2i + 1 of a table.
-      const __m256i twice = _mm256_slli_epi64(map, 1);
-      const __m256i pair = _mm256_or_si256(twice, _mm256_slli_epi64(_mm256_add_epi64(twice, _mm256_set1_epi64x(1)), 32));
+      const __m256i pair = pairs(map);
 #pragma GCC unroll 80
       for (int k = 0; k < kCount; ++k)
         out[k] = varies[k] ? _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(tables[k]), pair)) : shared[k];
@@ -60,16 +90,56 @@ struct Coefficients {
           for (int k = j; k < j + 4; ++k) out[k] = shared[k];
           continue;
         }
-        const __m256d r0 = _mm256_loadu_pd(rows + at[0] + j), r1 = _mm256_loadu_pd(rows + at[1] + j);
-        const __m256d r2 = _mm256_loadu_pd(rows + at[2] + j), r3 = _mm256_loadu_pd(rows + at[3] + j);
-        const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
-        const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
-        out[j] = _mm256_permute2f128_pd(t0, t2, 0x20);
-        out[j + 1] = _mm256_permute2f128_pd(t1, t3, 0x20);
-        out[j + 2] = _mm256_permute2f128_pd(t0, t2, 0x31);
-        out[j + 3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+        transposed(rows + j, at, out + j);
       }
     }
+  }
+};
+
+/// The maps of a system whose maps all share their linear part (the same bits: similitudes of
+/// one ratio, the colour samples' channel rows): the a are constants and only the offsets b
+/// differ from lane to lane, each from a permute (at most four maps) or a gather (on more, the
+/// few gathers cost less than loading and transposing the rows).
+template <int N, bool kFew>
+struct SharedLinear {
+  __m256d a[N * N];
+  __m256d tables[kFew ? N : 1];
+  const double* offsets;  // map 0's b
+  long long stride;
+
+  static bool fits(const Maps& m) {
+    for (int i = 1; i < m.count; ++i)
+      if (__builtin_memcmp(m.coefficients + i * m.stride, m.coefficients, N * N * sizeof(double)) != 0) return false;
+    return true;
+  }
+
+  explicit SharedLinear(const Maps& m) : offsets(m.coefficients + N * N), stride(m.stride) {
+    for (int k = 0; k < N * N; ++k) a[k] = _mm256_set1_pd(m.coefficients[k]);
+    if constexpr (kFew)
+      for (int r = 0; r < N; ++r) {
+        alignas(32) double across[kWidth] = {};
+        for (int i = 0; i < m.count; ++i) across[i] = offsets[i * stride + r];
+        tables[r] = _mm256_load_pd(across);
+      }
+  }
+
+  /// x' = ((b + a0 x0) + a1 x1) + ...: the general path's order.
+  void apply(__m256i map, __m256d* p) const {
+    __m256d b[N];
+    if constexpr (kFew) {
+      const __m256i pair = pairs(map);
+      for (int r = 0; r < N; ++r) b[r] = _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(tables[r]), pair));
+    } else {
+      const __m256i at = _mm256_mul_epu32(map, _mm256_set1_epi64x(stride));
+      for (int r = 0; r < N; ++r) b[r] = _mm256_i64gather_pd(offsets + r, at, 8);
+    }
+    __m256d q[N];
+    for (int r = 0; r < N; ++r) {
+      __m256d value = b[r];
+      for (int c = 0; c < N; ++c) value = _mm256_add_pd(value, _mm256_mul_pd(a[r * N + c], p[c]));
+      q[r] = value;
+    }
+    for (int r = 0; r < N; ++r) p[r] = q[r];
   }
 };
 
@@ -104,25 +174,16 @@ struct Quad {
     map = _mm256_blendv_epi8(_mm256_srli_epi64(choice, 32), column, keep);
   }
 
-  /// x' = ((b + a0 x0) + a1 x1) + ...: the general path's order.
-  template <bool kFew>
-  void apply(const Coefficients<N, kFew>& coefficients) {
-    __m256d k[Coefficients<N, kFew>::kPadded];
-    coefficients.fetch(map, k);
-    __m256d q[N];
-    for (int r = 0; r < N; ++r) {
-      __m256d value = k[N * N + r];
-      for (int c = 0; c < N; ++c) value = _mm256_add_pd(value, _mm256_mul_pd(k[r * N + c], p[c]));
-      q[r] = value;
-    }
-    for (int r = 0; r < N; ++r) p[r] = q[r];
+  template <class Coefficients>
+  void apply(const Coefficients& coefficients) {
+    coefficients.apply(map, p);
   }
 };
 
-template <int N, int G, bool kFew>
+template <int N, int G, class Coefficients>
 void run(const Maps& m, const Job& job) {
   constexpr int kTerms = N < 3 ? N : 3;
-  const Coefficients<N, kFew> coefficients(m);
+  const Coefficients coefficients(m);
   Quad<N> quads[G];
   for (int g = 0; g < G; ++g) {
     alignas(32) std::uint64_t s[4][kWidth], map[kWidth];
@@ -140,24 +201,35 @@ void run(const Maps& m, const Job& job) {
     q.map = _mm256_load_si256(reinterpret_cast<const __m256i*>(map));
   }
   const __m256i count = _mm256_set1_epi64x(m.count);
+  // Each step's map is drawn a step ahead (after the previous point's map was applied): the same
+  // draws in the same order, one more at the end, unused; the draw and its loads then overlap
+  // the arithmetic of the point before.
+  for (auto& q : quads) q.choose(m, count);
   for (std::uint64_t i = 0; i < job.skip; ++i)
     for (auto& q : quads) {
-      q.choose(m, count);
       q.apply(coefficients);
+      q.choose(m, count);
     }
   const __m256d zero = _mm256_setzero_pd(), width = _mm256_set1_pd(m.width), height = _mm256_set1_pd(m.height);
   const __m128i columns = _mm_set1_epi32(static_cast<int>(m.columns)), trash = _mm_set1_epi32(static_cast<int>(m.trash));
   const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
   const int channels = m.dim - m.spatial;
-  Batches batches(job, m.extras);
+  __m256d lo[kMaxDim], scale[kMaxDim];
+  for (int c = 0; c < channels; ++c) {
+    lo[c] = _mm256_set1_pd(m.lo[c]);
+    scale[c] = _mm256_set1_pd(m.scale[c]);
+  }
+  const __m256d steps = _mm256_set1_pd(m.steps), half = _mm256_set1_pd(0.5);
+  Batches batches(job, channels);
   for (std::uint64_t i = 0; i < job.points; ++i) {
     std::uint32_t* slots = batches.slots();
-    double* extras = batches.extras();
+    std::uint32_t* levels = batches.levels();
+    float* depths = batches.depths();
     const std::size_t filled = batches.filled();
     for (int g = 0; g < G; ++g) {
       Quad<N>& q = quads[g];
-      q.choose(m, count);
       q.apply(coefficients);
+      q.choose(m, count);
       __m256d px = _mm256_set1_pd(m.u0), py = _mm256_set1_pd(m.v0);
       for (int t = 0; t < kTerms; ++t) {
         px = _mm256_add_pd(px, _mm256_mul_pd(_mm256_set1_pd(m.u[t]), q.p[t]));
@@ -179,14 +251,22 @@ void run(const Maps& m, const Job& job) {
       _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 1)) * job.counter_bytes, _MM_HINT_T0);
       _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 2)) * job.counter_bytes, _MM_HINT_T0);
       _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 3)) * job.counter_bytes, _MM_HINT_T0);
-      for (int c = 0; c < channels; ++c) _mm256_storeu_pd(extras + c * kStride + at, q.p[m.spatial + c]);
+      // Accumulator::quantised: q < 0 ? 0 : min(q, steps) is max(q, 0) then the min (a zero of
+      // either sign gives level 0 both ways), and the levels are below 2^31: truncation to 32 bits
+      // is the conversion to 64.
+      for (int c = 0; c < channels; ++c) {
+        const __m256d level = _mm256_mul_pd(_mm256_sub_pd(q.p[m.spatial + c], lo[c]), scale[c]);
+        const __m256d clamped = _mm256_min_pd(_mm256_max_pd(level, zero), steps);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(levels + c * kStride + at),
+                         _mm256_cvttpd_epi32(_mm256_add_pd(clamped, half)));
+      }
       if constexpr (N >= 3)
-        if (m.spatial == 3) {
+        if (m.spatial == 3) {  // rounded to float as Accumulator::add_depth
           const __m256d depth = _mm256_add_pd(
               _mm256_add_pd(_mm256_mul_pd(_mm256_set1_pd(m.toward[0]), q.p[0]),
                             _mm256_mul_pd(_mm256_set1_pd(m.toward[1]), q.p[1])),
               _mm256_mul_pd(_mm256_set1_pd(m.toward[2]), q.p[2]));
-          _mm256_storeu_pd(extras + channels * kStride + at, depth);
+          _mm_storeu_ps(depths + at, _mm256_cvtpd_ps(depth));
         }
     }
     batches.advance(job.chains);
@@ -194,12 +274,18 @@ void run(const Maps& m, const Job& job) {
   batches.finish();
 }
 
+template <int N, class Coefficients>
+void run_with(const Maps& m, const Job& job) {
+  (job.chains > kWidth ? run<N, 2, Coefficients> : run<N, 1, Coefficients>)(m, job);
+}
+
 template <int N>
 void run_dim(const Maps& m, const Job& job) {
+  const bool shared = SharedLinear<N, true>::fits(m);
   if (m.count <= kWidth)
-    (job.chains > kWidth ? run<N, 2, true> : run<N, 1, true>)(m, job);
+    (shared ? run_with<N, SharedLinear<N, true>> : run_with<N, Coefficients<N, true>>)(m, job);
   else
-    (job.chains > kWidth ? run<N, 2, false> : run<N, 1, false>)(m, job);
+    (shared ? run_with<N, SharedLinear<N, false>> : run_with<N, Coefficients<N, false>>)(m, job);
 }
 
 }  // namespace

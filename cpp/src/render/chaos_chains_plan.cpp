@@ -20,7 +20,8 @@ std::uint64_t jobs_per_task(std::uint64_t jobs, int threads) {
   return std::clamp<std::uint64_t>(share, 1, kMaxChains);
 }
 
-Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain) : ifs_(ifs), chain_(chain) {
+Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accumulator& accumulator)
+    : ifs_(ifs), chain_(chain) {
   const int n = ifs.dim(), count = static_cast<int>(ifs.size()), spatial = ifs.spatial_dims();
   const int stride = (n * n + n + 3) / 4 * 4;  // whole registers of four doubles
   coefficients_.assign(std::size_t(count) * stride, 0.0);
@@ -43,7 +44,6 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain) : ifs_(ifs
   m.spatial = spatial;
   m.count = count;
   m.recurrent = chain.follows_transitions();
-  m.extras = n - spatial + (spatial == 3);
   m.stride = stride;
   m.coefficients = coefficients_.data();
   m.choices = choices_.data();
@@ -61,6 +61,11 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain) : ifs_(ifs
   m.height = frame.height();
   m.columns = static_cast<std::uint32_t>(frame.width());
   m.trash = static_cast<std::uint32_t>(std::uint64_t(frame.width()) * frame.height());
+  for (int c = 0; c < n - spatial; ++c) {
+    m.lo[c] = accumulator.channel_lo(c);
+    m.scale[c] = accumulator.channel_scale(c);
+  }
+  m.steps = Accumulator::kChannelSteps;
 }
 
 void Plan::run(std::uint64_t first, int count, std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
@@ -79,9 +84,11 @@ void Plan::run(std::uint64_t first, int count, std::uint64_t points, std::uint64
   job.counters = static_cast<const char*>(counters);
   job.counter_bytes = counter_bytes;
   std::vector<std::uint32_t> slots(2 * kStride);
-  std::vector<double> extras(2 * std::size_t(maps_.extras) * kStride + 1);
+  std::vector<std::uint32_t> levels(2 * std::size_t(maps_.dim - maps_.spatial) * kStride + 1);
+  std::vector<float> depths(maps_.spatial == 3 ? 2 * kStride : 0);
   job.slots = slots.data();
-  job.extras = extras.data();
+  job.levels = levels.data();
+  job.depths = depths.empty() ? nullptr : depths.data();
   job.flush = flush;
   job.sink = target;
   kernel()(maps_, job);
