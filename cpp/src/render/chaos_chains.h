@@ -23,6 +23,11 @@ constexpr int kMaxChains = 8;  ///< jobs in flight: two registers, to hide the m
 /// as each point was made, have arrived (a large image's counters miss the caches).
 constexpr std::size_t kBatch = 32;
 constexpr std::size_t kStride = kBatch + kMaxChains;
+/// Doubles per row of Maps::draws: the choice, two offsets of `dim`, in whole registers of four.
+constexpr int draw_row(int dim) { return (1 + 2 * dim + 3) / 4 * 4; }
+/// Draws (rows times columns) up to which Plan builds Maps::draws (a recurrent system's table
+/// grows with the square of its maps).
+constexpr std::size_t kMaxDraws = std::size_t(1) << 16;
 
 /// A system's maps and the frame's projection, as the general path (chaos_game.cpp) uses them.
 struct Maps {
@@ -31,6 +36,11 @@ struct Maps {
   int stride;                    ///< doubles per map in `coefficients`: dim * dim + dim, padded with zeros to a multiple of 4
   const double* coefficients;    ///< map i at i * stride: a row by row, then b
   const std::uint64_t* choices;  ///< [row * count + column]: alias << 32 | threshold (MapSampler)
+  bool shared_linear;            ///< every map's a has the same bits: only the offsets b differ
+  /// Shared linear parts and more than kWidth maps, else null: per draw (row * count + column) a
+  /// row of draw_row(dim) doubles: the choice's bits, column's b, then its alias's b (zero-padded),
+  /// so that one row per lane gives both the map and its offsets, without a gather.
+  const double* draws;
   /// px = u0 + u . x, py = v0 + v . x over min(dim, 3) terms (zero past the spatial ones), and
   /// the depth toward . x in 3D.
   double u[3], v[3], u0, v0, toward[3];

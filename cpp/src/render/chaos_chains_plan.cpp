@@ -39,6 +39,23 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
       const MapSampler& sampler = chain.row(row);
       choices_.push_back(std::uint64_t(sampler.alias(column)) << 32 | sampler.threshold(column));
     }
+  // Shared linear parts (the same bits): the offsets of both maps each draw may give, beside it.
+  bool shared = true;
+  for (int i = 1; i < count; ++i)
+    shared = shared && std::memcmp(&coefficients_[std::size_t(i) * stride], &coefficients_[0], n * n * sizeof(double)) == 0;
+  if (shared && count > kWidth && choices_.size() <= kMaxDraws) {
+    const int row = draw_row(n);
+    draws_.assign(choices_.size() * row, 0.0);
+    for (std::size_t d = 0; d < choices_.size(); ++d) {
+      double* entry = &draws_[d * row];
+      std::memcpy(entry, &choices_[d], sizeof(double));
+      const std::size_t column = d % count, alias = choices_[d] >> 32;
+      for (int r = 0; r < n; ++r) {
+        entry[1 + r] = coefficients_[column * stride + n * n + r];
+        entry[1 + n + r] = coefficients_[alias * stride + n * n + r];
+      }
+    }
+  }
   Maps& m = maps_;
   m.dim = n;
   m.spatial = spatial;
@@ -47,6 +64,8 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
   m.stride = stride;
   m.coefficients = coefficients_.data();
   m.choices = choices_.data();
+  m.shared_linear = shared;
+  m.draws = draws_.empty() ? nullptr : draws_.data();
   // The general path's projection (chaos_game.cpp): the same doubles, the same zeros.
   const auto& proj = frame.projection();
   const double s = 1.0 / frame.pixel_size();

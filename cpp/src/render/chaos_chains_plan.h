@@ -58,6 +58,7 @@ class Plan {
   const MapChain& chain_;
   std::vector<double> coefficients_;
   std::vector<std::uint64_t> choices_;
+  std::vector<double> draws_;
   Maps maps_{};
 };
 
