@@ -7,6 +7,9 @@
 /// instruction set. One kernel per instruction set, each in its own translation unit
 /// (chaos_chains_avx2.cpp, chaos_chains_baseline.cpp); like chaos_lanes.h this header holds
 /// plain data only, so nothing of ours is compiled for a wider set than the one that runs it.
+/// The lanes also quantise each point's channels as Accumulator::quantised does and round its
+/// depth to float as Accumulator::add_depth does (the same operations: the same integers and
+/// floats), so that a batch reaches the sink as integers and floats only.
 #include <cstddef>
 #include <cstdint>
 
@@ -20,20 +23,31 @@ constexpr int kMaxChains = 8;  ///< jobs in flight: two registers, to hide the m
 /// as each point was made, have arrived (a large image's counters miss the caches).
 constexpr std::size_t kBatch = 32;
 constexpr std::size_t kStride = kBatch + kMaxChains;
+/// Doubles per row of Maps::draws: the choice, two offsets of `dim`, in whole registers of four.
+constexpr int draw_row(int dim) { return (1 + 2 * dim + 3) / 4 * 4; }
+/// Draws (rows times columns) up to which Plan builds Maps::draws (a recurrent system's table
+/// grows with the square of its maps).
+constexpr std::size_t kMaxDraws = std::size_t(1) << 16;
 
 /// A system's maps and the frame's projection, as the general path (chaos_game.cpp) uses them.
 struct Maps {
   int dim, spatial, count;
   bool recurrent;
-  int extras;                    ///< values per point beside its slot: the channels, then the depth in 3D
   int stride;                    ///< doubles per map in `coefficients`: dim * dim + dim, padded with zeros to a multiple of 4
   const double* coefficients;    ///< map i at i * stride: a row by row, then b
   const std::uint64_t* choices;  ///< [row * count + column]: alias << 32 | threshold (MapSampler)
+  bool shared_linear;            ///< every map's a has the same bits: only the offsets b differ
+  /// Shared linear parts and more than kWidth maps, else null: per draw (row * count + column) a
+  /// row of draw_row(dim) doubles: the choice's bits, column's b, then its alias's b (zero-padded),
+  /// so that one row per lane gives both the map and its offsets, without a gather.
+  const double* draws;
   /// px = u0 + u . x, py = v0 + v . x over min(dim, 3) terms (zero past the spatial ones), and
   /// the depth toward . x in 3D.
   double u[3], v[3], u0, v0, toward[3];
   double width, height;
   std::uint32_t columns, trash;  ///< the image's width in pixels; the slot of points off it
+  /// Channel c's level: (x - lo[c]) * scale[c] clamped to [0, steps], plus 0.5, truncated.
+  double lo[kMaxDim], scale[kMaxDim], steps;
 };
 
 /// Up to kMaxChains jobs: each chain's start, stream state and current map; the points per
@@ -47,10 +61,13 @@ struct Job {
   /// Where a slot's counters are: counters + slot * counter_bytes (prefetched, never written).
   const char* counters;
   std::size_t counter_bytes;
-  std::uint32_t* slots;  ///< 2 * kStride slots: buffer b at b * kStride
-  double* extras;        ///< 2 * extras * kStride values: extra e of buffer b's point i at (b * extras + e) * kStride + i
-  /// Receives each batch: the points' slots and extras, chain 0's point first in each step.
-  void (*flush)(void* sink, const std::uint32_t* slots, const double* extras, std::size_t n);
+  std::uint32_t* slots;   ///< 2 * kStride slots: buffer b at b * kStride
+  std::uint32_t* levels;  ///< 2 * channels * kStride levels: channel c of buffer b's point i at (b * channels + c) * kStride + i
+  float* depths;          ///< 3D: 2 * kStride depths, buffer b at b * kStride
+  /// Receives each batch: the points' slots, levels (channel c's at c * kStride) and depths,
+  /// chain 0's point first in each step.
+  void (*flush)(void* sink, const std::uint32_t* slots, const std::uint32_t* levels, const float* depths,
+                std::size_t n);
   void* sink;
 };
 
@@ -59,9 +76,10 @@ namespace {  // internal linkage: each kernel's unit compiles its own copy for i
 /// The two alternating batch buffers of a job.
 class Batches {
  public:
-  Batches(const Job& job, int extras) : job_(job), extras_(extras) {}
+  Batches(const Job& job, int channels) : job_(job), channels_(channels) {}
   std::uint32_t* slots() const { return job_.slots + buffer_ * kStride; }
-  double* extras() const { return job_.extras + std::size_t(buffer_) * extras_ * kStride; }
+  std::uint32_t* levels() const { return levels(buffer_); }
+  float* depths() const { return depths(buffer_); }
   std::size_t filled() const { return filled_; }
   /// After a step of `chains` points: the other buffer to the sink once this one is full.
   void advance(int chains) {
@@ -74,17 +92,19 @@ class Batches {
   void finish() {
     send_other();
     waiting_ = 0;
-    if (filled_) job_.flush(job_.sink, slots(), extras(), filled_);
+    if (filled_) job_.flush(job_.sink, slots(), levels(), depths(), filled_);
   }
 
  private:
+  std::uint32_t* levels(int buffer) const { return job_.levels + std::size_t(buffer) * channels_ * kStride; }
+  float* depths(int buffer) const { return job_.depths ? job_.depths + buffer * kStride : nullptr; }
   void send_other() const {
     if (!waiting_) return;
     const int other = buffer_ ^ 1;
-    job_.flush(job_.sink, job_.slots + other * kStride, job_.extras + std::size_t(other) * extras_ * kStride, waiting_);
+    job_.flush(job_.sink, job_.slots + other * kStride, levels(other), depths(other), waiting_);
   }
   const Job& job_;
-  int extras_;
+  int channels_;
   int buffer_ = 0;
   std::size_t filled_ = 0, waiting_ = 0;
 };

@@ -11,13 +11,57 @@
 namespace ifsforge::chains {
 namespace {
 
+/// x' = ((b + a0 x0) + a1 x1) + ...: the general path's order (a row by row).
+template <int N>
+[[gnu::always_inline]] inline void affine(const __m256d* a, const __m256d* b, __m256d* p) {
+  __m256d next[N];
+  for (int r = 0; r < N; ++r) {
+    __m256d value = b[r];
+    for (int c = 0; c < N; ++c) value = _mm256_add_pd(value, _mm256_mul_pd(a[r * N + c], p[c]));
+    next[r] = value;
+  }
+  for (int r = 0; r < N; ++r) p[r] = next[r];
+}
+
+/// The permute that takes map i's double (floats 2i and 2i + 1 of a table) into each lane.
+[[gnu::always_inline]] inline __m256i pairs(__m256i map) {
+  const __m256i twice = _mm256_slli_epi64(map, 1);
+  return _mm256_or_si256(twice, _mm256_slli_epi64(_mm256_add_epi64(twice, _mm256_set1_epi64x(1)), 32));
+}
+
+/// Coefficients k to k + 3 of each lane's row (lane i's at from[at[i]]), a register per
+/// coefficient: four loads and a 4x4 transpose (loads and shuffles cost less than gathers).
+[[gnu::always_inline]] inline void transposed(const double* from, const std::uint64_t* at, __m256d* out) {
+  const __m256d r0 = _mm256_loadu_pd(from + at[0]), r1 = _mm256_loadu_pd(from + at[1]);
+  const __m256d r2 = _mm256_loadu_pd(from + at[2]), r3 = _mm256_loadu_pd(from + at[3]);
+  const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+  const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+  out[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+  out[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+  out[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+  out[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+/// The draw of Coefficients and SharedLinear: Quad::choose's, and their map applied to the quad.
+template <class Self>
+struct FromChoices {
+  template <class Q>
+  [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
+    q.choose(m, count);
+  }
+  template <class Q>
+  void apply(Q& q) const {
+    static_cast<const Self&>(*this).apply_to(q.map, q.p);
+  }
+};
+
 /// Each lane's map's coefficients (a row by row, then b), for four lanes at once. A coefficient
 /// that every map shares (the same bits: similitudes of one ratio share their a) is a constant;
 /// the others, with at most four maps, come from registers that hold every map's (a permute
 /// each), else from each lane's row, loaded, the four rows transposed a register at a time
 /// (loads and shuffles cost less than gathers).
 template <int N, bool kFew>
-struct Coefficients {
+struct Coefficients : FromChoices<Coefficients<N, kFew>> {
   static constexpr int kCount = N * N + N;
   static constexpr int kPadded = (kCount + 3) / 4 * 4;  // whole registers
   __m256d shared[kPadded];  // map 0's, broadcast
@@ -43,11 +87,15 @@ struct Coefficients {
     }
   }
 
+  void apply_to(__m256i map, __m256d* p) const {
+    __m256d k[kPadded];
+    fetch(map, k);
+    affine<N>(k, k + N * N, p);
+  }
+
   void fetch(__m256i map, __m256d* out) const {
     if constexpr (kFew) {
-      // Map i's double is floats 2i and 2i + 1 of a table.
-      const __m256i twice = _mm256_slli_epi64(map, 1);
-      const __m256i pair = _mm256_or_si256(twice, _mm256_slli_epi64(_mm256_add_epi64(twice, _mm256_set1_epi64x(1)), 32));
+      const __m256i pair = pairs(map);
 #pragma GCC unroll 80
       for (int k = 0; k < kCount; ++k)
         out[k] = varies[k] ? _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(tables[k]), pair)) : shared[k];
@@ -60,16 +108,46 @@ struct Coefficients {
           for (int k = j; k < j + 4; ++k) out[k] = shared[k];
           continue;
         }
-        const __m256d r0 = _mm256_loadu_pd(rows + at[0] + j), r1 = _mm256_loadu_pd(rows + at[1] + j);
-        const __m256d r2 = _mm256_loadu_pd(rows + at[2] + j), r3 = _mm256_loadu_pd(rows + at[3] + j);
-        const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
-        const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
-        out[j] = _mm256_permute2f128_pd(t0, t2, 0x20);
-        out[j + 1] = _mm256_permute2f128_pd(t1, t3, 0x20);
-        out[j + 2] = _mm256_permute2f128_pd(t0, t2, 0x31);
-        out[j + 3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+        transposed(rows + j, at, out + j);
       }
     }
+  }
+};
+
+/// At most four maps that share their linear part (the same bits: similitudes of one ratio, the
+/// colour samples' channel rows): the a are constants and only the offsets b differ from lane to
+/// lane, each from a permute; without transitions the draw's choice is a permute too.
+template <int N>
+struct SharedLinear : FromChoices<SharedLinear<N>> {
+  __m256d a[N * N];
+  __m256d tables[N];
+  __m256i choices;  // not recurrent: column i's choice in lane i
+
+  explicit SharedLinear(const Maps& m) {
+    alignas(32) std::uint64_t row[kWidth] = {};
+    for (int i = 0; i < m.count && !m.recurrent; ++i) row[i] = m.choices[i];
+    choices = _mm256_load_si256(reinterpret_cast<const __m256i*>(row));
+    for (int k = 0; k < N * N; ++k) a[k] = _mm256_set1_pd(m.coefficients[k]);
+    for (int r = 0; r < N; ++r) {
+      alignas(32) double across[kWidth] = {};
+      for (int i = 0; i < m.count; ++i) across[i] = m.coefficients[i * m.stride + N * N + r];
+      tables[r] = _mm256_load_pd(across);
+    }
+  }
+
+  template <class Q>
+  [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
+    if (m.recurrent) return q.choose(m, count);
+    __m256i random, column;
+    q.draw(m, count, random, column);
+    q.pick(_mm256_castps_si256(_mm256_permutevar8x32_ps(_mm256_castsi256_ps(choices), pairs(column))), random, column);
+  }
+
+  void apply_to(__m256i map, __m256d* p) const {
+    const __m256i pair = pairs(map);
+    __m256d b[N];
+    for (int r = 0; r < N; ++r) b[r] = _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(tables[r]), pair));
+    affine<N>(a, b, p);
   }
 };
 
@@ -79,7 +157,7 @@ struct Quad {
   __m256d p[N];
   __m256i s0, s1, s2, s3, map;
 
-  __m256i next() {
+  [[gnu::always_inline]] __m256i next() {
     const __m256i result = _mm256_add_epi64(s0, s3);
     const __m256i t = _mm256_slli_epi64(s1, 17);
     s2 = _mm256_xor_si256(s2, s0);
@@ -91,38 +169,68 @@ struct Quad {
     return result;
   }
 
-  /// MapSampler's draw from the row of the current map (row 0 unless recurrent).
-  void choose(const Maps& m, __m256i count) {
-    const __m256i random = next();
-    const __m256i column = _mm256_srli_epi64(_mm256_mul_epu32(_mm256_srli_epi64(random, 32), count), 32);
-    const __m256i at = m.recurrent ? _mm256_add_epi64(_mm256_mul_epu32(map, count), column) : column;
-    const __m256i choice =
-        _mm256_i64gather_epi64(reinterpret_cast<const long long*>(m.choices), at, 8);
+  __m256d b[N];  // SharedLinearDraws: the offsets of the map drawn for the next step
+
+  /// MapSampler's draw from the row of the current map (row 0 unless recurrent): the random
+  /// number, its column, and the draw's index in Maps::choices.
+  [[gnu::always_inline]] __m256i draw(const Maps& m, __m256i count, __m256i& random, __m256i& column) {
+    random = next();
+    column = _mm256_srli_epi64(_mm256_mul_epu32(_mm256_srli_epi64(random, 32), count), 32);
+    return m.recurrent ? _mm256_add_epi64(_mm256_mul_epu32(map, count), column) : column;
+  }
+
+  /// Whether each lane keeps its column (else takes the alias), and the map it takes.
+  [[gnu::always_inline]] __m256i pick(__m256i choice, __m256i random, __m256i column) {
     const __m256i low32 = _mm256_set1_epi64x(0xFFFFFFFFll);
     // Both sides below 2^32: the signed 64-bit compare is the unsigned 32-bit one.
     const __m256i keep = _mm256_cmpgt_epi64(_mm256_and_si256(choice, low32), _mm256_and_si256(random, low32));
     map = _mm256_blendv_epi8(_mm256_srli_epi64(choice, 32), column, keep);
+    return keep;
   }
 
-  /// x' = ((b + a0 x0) + a1 x1) + ...: the general path's order.
-  template <bool kFew>
-  void apply(const Coefficients<N, kFew>& coefficients) {
-    __m256d k[Coefficients<N, kFew>::kPadded];
-    coefficients.fetch(map, k);
-    __m256d q[N];
-    for (int r = 0; r < N; ++r) {
-      __m256d value = k[N * N + r];
-      for (int c = 0; c < N; ++c) value = _mm256_add_pd(value, _mm256_mul_pd(k[r * N + c], p[c]));
-      q[r] = value;
-    }
-    for (int r = 0; r < N; ++r) p[r] = q[r];
+  [[gnu::always_inline]] void choose(const Maps& m, __m256i count) {
+    __m256i random, column;
+    const __m256i at = draw(m, count, random, column);
+    pick(_mm256_i64gather_epi64(reinterpret_cast<const long long*>(m.choices), at, 8), random, column);
   }
 };
 
-template <int N, int G, bool kFew>
+/// More than four maps that share their linear part: each lane's draw loads its row of
+/// Maps::draws (transposed, four lanes at once), which gives the choice and the offsets of both
+/// maps it may pick, so the map and its offsets come without a gather (slow on some CPUs) and
+/// without waiting on each other. The offsets wait in the quad for the next step's apply.
+template <int N>
+struct SharedLinearDraws {
+  static constexpr int kRow = draw_row(N);
+  __m256d a[N * N];
+  const double* draws;
+
+  explicit SharedLinearDraws(const Maps& m) : draws(m.draws) {
+    for (int k = 0; k < N * N; ++k) a[k] = _mm256_set1_pd(m.coefficients[k]);
+  }
+
+  template <class Q>
+  [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
+    __m256i random, column;
+    alignas(32) std::uint64_t at[kWidth];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(at),
+                       _mm256_mul_epu32(q.draw(m, count, random, column), _mm256_set1_epi64x(kRow)));
+    __m256d row[kRow];
+    for (int j = 0; j < kRow; j += 4) transposed(draws + j, at, row + j);
+    const __m256d keep = _mm256_castsi256_pd(q.pick(_mm256_castpd_si256(row[0]), random, column));
+    for (int r = 0; r < N; ++r) q.b[r] = _mm256_blendv_pd(row[1 + N + r], row[1 + r], keep);
+  }
+
+  template <class Q>
+  void apply(Q& q) const {
+    affine<N>(a, q.b, q.p);
+  }
+};
+
+template <int N, int G, class Coefficients>
 void run(const Maps& m, const Job& job) {
   constexpr int kTerms = N < 3 ? N : 3;
-  const Coefficients<N, kFew> coefficients(m);
+  const Coefficients coefficients(m);
   Quad<N> quads[G];
   for (int g = 0; g < G; ++g) {
     alignas(32) std::uint64_t s[4][kWidth], map[kWidth];
@@ -140,24 +248,35 @@ void run(const Maps& m, const Job& job) {
     q.map = _mm256_load_si256(reinterpret_cast<const __m256i*>(map));
   }
   const __m256i count = _mm256_set1_epi64x(m.count);
+  // Each step's map is drawn a step ahead (after the previous point's map was applied): the same
+  // draws in the same order, one more at the end, unused; the draw and its loads then overlap
+  // the arithmetic of the point before.
+  for (auto& q : quads) coefficients.choose(q, m, count);
   for (std::uint64_t i = 0; i < job.skip; ++i)
     for (auto& q : quads) {
-      q.choose(m, count);
-      q.apply(coefficients);
+      coefficients.apply(q);
+      coefficients.choose(q, m, count);
     }
   const __m256d zero = _mm256_setzero_pd(), width = _mm256_set1_pd(m.width), height = _mm256_set1_pd(m.height);
   const __m128i columns = _mm_set1_epi32(static_cast<int>(m.columns)), trash = _mm_set1_epi32(static_cast<int>(m.trash));
   const __m256i low_halves = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
   const int channels = m.dim - m.spatial;
-  Batches batches(job, m.extras);
+  __m256d lo[kMaxDim], scale[kMaxDim];
+  for (int c = 0; c < channels; ++c) {
+    lo[c] = _mm256_set1_pd(m.lo[c]);
+    scale[c] = _mm256_set1_pd(m.scale[c]);
+  }
+  const __m256d steps = _mm256_set1_pd(m.steps), half = _mm256_set1_pd(0.5);
+  Batches batches(job, channels);
   for (std::uint64_t i = 0; i < job.points; ++i) {
     std::uint32_t* slots = batches.slots();
-    double* extras = batches.extras();
+    std::uint32_t* levels = batches.levels();
+    float* depths = batches.depths();
     const std::size_t filled = batches.filled();
     for (int g = 0; g < G; ++g) {
       Quad<N>& q = quads[g];
-      q.choose(m, count);
-      q.apply(coefficients);
+      coefficients.apply(q);
+      coefficients.choose(q, m, count);
       __m256d px = _mm256_set1_pd(m.u0), py = _mm256_set1_pd(m.v0);
       for (int t = 0; t < kTerms; ++t) {
         px = _mm256_add_pd(px, _mm256_mul_pd(_mm256_set1_pd(m.u[t]), q.p[t]));
@@ -179,14 +298,22 @@ void run(const Maps& m, const Job& job) {
       _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 1)) * job.counter_bytes, _MM_HINT_T0);
       _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 2)) * job.counter_bytes, _MM_HINT_T0);
       _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 3)) * job.counter_bytes, _MM_HINT_T0);
-      for (int c = 0; c < channels; ++c) _mm256_storeu_pd(extras + c * kStride + at, q.p[m.spatial + c]);
+      // Accumulator::quantised: q < 0 ? 0 : min(q, steps) is max(q, 0) then the min (a zero of
+      // either sign gives level 0 both ways), and the levels are below 2^31: truncation to 32 bits
+      // is the conversion to 64.
+      for (int c = 0; c < channels; ++c) {
+        const __m256d level = _mm256_mul_pd(_mm256_sub_pd(q.p[m.spatial + c], lo[c]), scale[c]);
+        const __m256d clamped = _mm256_min_pd(_mm256_max_pd(level, zero), steps);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(levels + c * kStride + at),
+                         _mm256_cvttpd_epi32(_mm256_add_pd(clamped, half)));
+      }
       if constexpr (N >= 3)
-        if (m.spatial == 3) {
+        if (m.spatial == 3) {  // rounded to float as Accumulator::add_depth
           const __m256d depth = _mm256_add_pd(
               _mm256_add_pd(_mm256_mul_pd(_mm256_set1_pd(m.toward[0]), q.p[0]),
                             _mm256_mul_pd(_mm256_set1_pd(m.toward[1]), q.p[1])),
               _mm256_mul_pd(_mm256_set1_pd(m.toward[2]), q.p[2]));
-          _mm256_storeu_pd(extras + channels * kStride + at, depth);
+          _mm_storeu_ps(depths + at, _mm256_cvtpd_ps(depth));
         }
     }
     batches.advance(job.chains);
@@ -194,12 +321,17 @@ void run(const Maps& m, const Job& job) {
   batches.finish();
 }
 
+template <int N, class Coefficients>
+void run_with(const Maps& m, const Job& job) {
+  (job.chains > kWidth ? run<N, 2, Coefficients> : run<N, 1, Coefficients>)(m, job);
+}
+
 template <int N>
 void run_dim(const Maps& m, const Job& job) {
   if (m.count <= kWidth)
-    (job.chains > kWidth ? run<N, 2, true> : run<N, 1, true>)(m, job);
+    (m.shared_linear ? run_with<N, SharedLinear<N>> : run_with<N, Coefficients<N, true>>)(m, job);
   else
-    (job.chains > kWidth ? run<N, 2, false> : run<N, 1, false>)(m, job);
+    (m.draws ? run_with<N, SharedLinearDraws<N>> : run_with<N, Coefficients<N, false>>)(m, job);
 }
 
 }  // namespace

@@ -2,7 +2,8 @@
 // (chaos_game.cpp: MapSampler's draw, b + a x term by term, the projection term by term), the
 // chains side by side in each step so that their latencies overlap. Compiled with
 // -ffp-contract=off like the whole library: the AVX2 kernel's separate multiplies and adds are
-// these. It includes nothing of the library but chaos_chains.h.
+// these; the channels quantised and the depth rounded as the accumulator does (chaos_chains.h).
+// It includes nothing of the library but chaos_chains.h.
 #include "chaos_chains.h"
 
 namespace ifsforge::chains {
@@ -46,10 +47,11 @@ void run(const Maps& m, const Job& job) {
   for (std::uint64_t i = 0; i < job.skip; ++i)
     for (int k = 0; k < chains; ++k) step(k);
   const int channels = m.dim - m.spatial;
-  Batches batches(job, m.extras);
+  Batches batches(job, channels);
   for (std::uint64_t i = 0; i < job.points; ++i) {
     std::uint32_t* slots = batches.slots();
-    double* extras = batches.extras();
+    std::uint32_t* levels = batches.levels();
+    float* depths = batches.depths();
     std::size_t filled = batches.filled();
     for (int k = 0; k < chains; ++k) {
       step(k);
@@ -61,11 +63,14 @@ void run(const Maps& m, const Job& job) {
       const bool inside = px >= 0.0 && px < m.width && py >= 0.0 && py < m.height;
       slots[filled] = inside ? std::uint32_t(py) * m.columns + std::uint32_t(px) : m.trash;
       __builtin_prefetch(job.counters + slots[filled] * job.counter_bytes);
-      for (int c = 0; c < channels; ++c) extras[c * kStride + filled] = p[k][m.spatial + c];
+      for (int c = 0; c < channels; ++c) {  // Accumulator::quantised
+        double q = (p[k][m.spatial + c] - m.lo[c]) * m.scale[c];
+        q = q < 0.0 ? 0.0 : (q > m.steps ? m.steps : q);
+        levels[c * kStride + filled] = static_cast<std::uint32_t>(static_cast<std::uint64_t>(q + 0.5));
+      }
       if constexpr (N >= 3)
-        if (m.spatial == 3)
-          extras[channels * kStride + filled] =
-              m.toward[0] * p[k][0] + m.toward[1] * p[k][1] + m.toward[2] * p[k][2];
+        if (m.spatial == 3)  // Accumulator::add_depth's float
+          depths[filled] = static_cast<float>(m.toward[0] * p[k][0] + m.toward[1] * p[k][1] + m.toward[2] * p[k][2]);
       ++filled;
     }
     batches.advance(chains);

@@ -20,7 +20,8 @@ std::uint64_t jobs_per_task(std::uint64_t jobs, int threads) {
   return std::clamp<std::uint64_t>(share, 1, kMaxChains);
 }
 
-Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain) : ifs_(ifs), chain_(chain) {
+Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accumulator& accumulator)
+    : ifs_(ifs), chain_(chain) {
   const int n = ifs.dim(), count = static_cast<int>(ifs.size()), spatial = ifs.spatial_dims();
   const int stride = (n * n + n + 3) / 4 * 4;  // whole registers of four doubles
   coefficients_.assign(std::size_t(count) * stride, 0.0);
@@ -38,15 +39,33 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain) : ifs_(ifs
       const MapSampler& sampler = chain.row(row);
       choices_.push_back(std::uint64_t(sampler.alias(column)) << 32 | sampler.threshold(column));
     }
+  // Shared linear parts (the same bits): the offsets of both maps each draw may give, beside it.
+  bool shared = true;
+  for (int i = 1; i < count; ++i)
+    shared = shared && std::memcmp(&coefficients_[std::size_t(i) * stride], &coefficients_[0], n * n * sizeof(double)) == 0;
+  if (shared && count > kWidth && choices_.size() <= kMaxDraws) {
+    const int row = draw_row(n);
+    draws_.assign(choices_.size() * row, 0.0);
+    for (std::size_t d = 0; d < choices_.size(); ++d) {
+      double* entry = &draws_[d * row];
+      std::memcpy(entry, &choices_[d], sizeof(double));
+      const std::size_t column = d % count, alias = choices_[d] >> 32;
+      for (int r = 0; r < n; ++r) {
+        entry[1 + r] = coefficients_[column * stride + n * n + r];
+        entry[1 + n + r] = coefficients_[alias * stride + n * n + r];
+      }
+    }
+  }
   Maps& m = maps_;
   m.dim = n;
   m.spatial = spatial;
   m.count = count;
   m.recurrent = chain.follows_transitions();
-  m.extras = n - spatial + (spatial == 3);
   m.stride = stride;
   m.coefficients = coefficients_.data();
   m.choices = choices_.data();
+  m.shared_linear = shared;
+  m.draws = draws_.empty() ? nullptr : draws_.data();
   // The general path's projection (chaos_game.cpp): the same doubles, the same zeros.
   const auto& proj = frame.projection();
   const double s = 1.0 / frame.pixel_size();
@@ -61,6 +80,11 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain) : ifs_(ifs
   m.height = frame.height();
   m.columns = static_cast<std::uint32_t>(frame.width());
   m.trash = static_cast<std::uint32_t>(std::uint64_t(frame.width()) * frame.height());
+  for (int c = 0; c < n - spatial; ++c) {
+    m.lo[c] = accumulator.channel_lo(c);
+    m.scale[c] = accumulator.channel_scale(c);
+  }
+  m.steps = Accumulator::kChannelSteps;
 }
 
 void Plan::run(std::uint64_t first, int count, std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
@@ -79,9 +103,11 @@ void Plan::run(std::uint64_t first, int count, std::uint64_t points, std::uint64
   job.counters = static_cast<const char*>(counters);
   job.counter_bytes = counter_bytes;
   std::vector<std::uint32_t> slots(2 * kStride);
-  std::vector<double> extras(2 * std::size_t(maps_.extras) * kStride + 1);
+  std::vector<std::uint32_t> levels(2 * std::size_t(maps_.dim - maps_.spatial) * kStride + 1);
+  std::vector<float> depths(maps_.spatial == 3 ? 2 * kStride : 0);
   job.slots = slots.data();
-  job.extras = extras.data();
+  job.levels = levels.data();
+  job.depths = depths.empty() ? nullptr : depths.data();
   job.flush = flush;
   job.sink = target;
   kernel()(maps_, job);

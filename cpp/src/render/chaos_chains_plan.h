@@ -8,6 +8,7 @@
 #include "chaos_chains.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/model/orbit.h"
+#include "ifsforge/render/accumulator.h"
 #include "ifsforge/render/frame.h"
 
 namespace ifsforge::chains {
@@ -24,44 +25,32 @@ Kernel kernel();
 /// every thread still has a task.
 std::uint64_t jobs_per_task(std::uint64_t jobs, int threads);
 
-/// One render's tables: the maps, the chain's draws and the frame's projection.
+/// One render's tables: the maps, the chain's draws, the frame's projection and the channels'
+/// quantisation (the accumulator's).
 class Plan {
  public:
-  Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain);
+  Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accumulator& accumulator);
   Plan(const Plan&) = delete;  // maps_ points into the tables
   Plan& operator=(const Plan&) = delete;
 
   /// Jobs [first, first + count) (count at most kMaxChains): each draws `points` points after
   /// `skip` unplotted ones, exactly as the general path's one-job loop does, into `sink`: its
-  /// add(pixel, channels, depth?, depth), and counters() and counter_bytes(), where the kernel
-  /// prefetches each pixel's counters.
+  /// add_batch(slots, levels, depths, n) (levels and depths as Job::flush has them), and
+  /// counters() and counter_bytes(), where the kernel prefetches each pixel's counters.
   template <class Sink>
   void run(std::uint64_t first, int count, std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
            const Sink& sink) const {
-    const Target<Sink> target{sink, maps_.dim - maps_.spatial, maps_.spatial == 3, maps_.extras};
-    run(first, count, points, skip, seed, &Target<Sink>::flush, const_cast<Target<Sink>*>(&target), sink.counters(),
+    run(first, count, points, skip, seed, &flush<Sink>, const_cast<Sink*>(&sink), sink.counters(),
         sink.counter_bytes());
   }
 
  private:
   template <class Sink>
-  struct Target {
-    const Sink& sink;
-    int channels;
-    bool depth;
-    int extras;
-    /// A batch into the sink (integer sums and maxima: the order of the adds does not change
-    /// the bytes).
-    static void flush(void* self, const std::uint32_t* slots, const double* extras, std::size_t n) {
-      const Target& t = *static_cast<const Target*>(self);
-      double values[kMaxDim + 1];
-      for (std::size_t i = 0; i < n; ++i) {
-        for (int e = 0; e < t.extras; ++e) values[e] = extras[e * kStride + i];
-        t.sink.add(slots[i], values, t.depth, t.depth ? values[t.channels] : 0.0);
-      }
-    }
-  };
-  using Flush = void (*)(void*, const std::uint32_t*, const double*, std::size_t);
+  static void flush(void* sink, const std::uint32_t* slots, const std::uint32_t* levels, const float* depths,
+                    std::size_t n) {
+    static_cast<const Sink*>(sink)->add_batch(slots, levels, depths, n);
+  }
+  using Flush = void (*)(void*, const std::uint32_t*, const std::uint32_t*, const float*, std::size_t);
   void run(std::uint64_t first, int count, std::uint64_t points, std::uint64_t skip, std::uint64_t seed, Flush flush,
            void* target, const void* counters, std::size_t counter_bytes) const;
 
@@ -69,6 +58,7 @@ class Plan {
   const MapChain& chain_;
   std::vector<double> coefficients_;
   std::vector<std::uint64_t> choices_;
+  std::vector<double> draws_;
   Maps maps_{};
 };
 

@@ -15,11 +15,17 @@
 #include "ifsforge/render/accumulator.h"
 #include "chaos_chains_plan.h"
 #include "chaos_lanes.h"
+#include "chaos_sinks.h"
 #include "chaos_tiles.h"
 #include "polar_render.h"
 
 namespace ifsforge {
 namespace {
+
+using lanes::HitDepth;
+using sinks::AccumulatorSink;
+using sinks::ChannelSink;
+using sinks::NarrowSink;
 
 constexpr std::uint64_t kPointsPerJob = 1u << 22;
 
@@ -33,67 +39,6 @@ JobPlan plan_jobs(std::uint64_t total, std::uint64_t lanes) {
   per_job = (per_job + lanes - 1) / lanes * lanes;
   return {jobs, per_job};
 }
-
-using lanes::HitDepth;
-
-/// Where the general path's points go: a worker's accumulator (channels carried)...
-struct AccumulatorSink {
-  Accumulator& acc;
-  void prefetch(std::size_t pixel) const { acc.prefetch(pixel); }
-  const void* counters() const { return acc.hits(); }  // the chain lanes' prefetch (chaos_chains.h)
-  std::size_t counter_bytes() const { return sizeof(std::uint64_t); }
-  void add(std::size_t pixel, const double* channels, bool depth, double toward) const {
-    acc.add(pixel, channels);
-    if (depth) acc.add_depth(pixel, toward);
-  }
-};
-
-/// ... or, for a purely spatial system, the narrow counters the lanes count into: 8-bit hits
-/// whose wraps add 256 to the shared totals (2D), or 32-bit hits beside the largest depth (3D).
-/// A large image's counters then stay in the caches (integer sums and a maximum: the same bytes).
-struct NarrowSink {
-  std::uint8_t* low;
-  std::uint64_t* carry;
-  HitDepth* cells;
-  void prefetch(std::size_t pixel) const { __builtin_prefetch(cells ? (void*)(cells + pixel) : (void*)(low + pixel), 1); }
-  const void* counters() const { return cells ? (const void*)cells : (const void*)low; }
-  std::size_t counter_bytes() const { return cells ? sizeof(HitDepth) : 1; }
-  void add(std::size_t pixel, const double*, bool depth, double toward) const {
-    if (!cells) {
-      if (++low[pixel] == 0) __atomic_fetch_add(carry + pixel, 256, __ATOMIC_RELAXED);
-      return;
-    }
-    HitDepth& cell = cells[pixel];
-    ++cell.hits;
-    const float d = static_cast<float>(toward);  // as Accumulator::add_depth
-    if (depth && d > cell.depth) cell.depth = d;
-  }
-};
-
-/// ... or, for a 2D system with channels, per pixel 32-bit hits and each channel's quantised
-/// sum in 32 bits (its wraps add 2^32 to the shared totals): one record per pixel, in cache.
-struct ChannelSink {
-  std::uint32_t* cells;
-  std::uint64_t* carry;  // the wide accumulator's channel sums
-  const Accumulator* acc;
-  int channels;
-  void prefetch(std::size_t pixel) const {
-    __builtin_prefetch(cells + pixel * (channels + 1), 1);
-    __builtin_prefetch(cells + pixel * (channels + 1) + channels, 1);
-  }
-  const void* counters() const { return cells; }
-  std::size_t counter_bytes() const { return sizeof(std::uint32_t) * (channels + 1); }
-  void add(std::size_t pixel, const double* values, bool, double) const {
-    std::uint32_t* cell = cells + pixel * (channels + 1);
-    ++cell[0];
-    for (int c = 0; c < channels; ++c) {
-      const auto q = static_cast<std::uint32_t>(acc->quantised(c, values[c]));
-      const std::uint32_t sum = cell[1 + c] + q;
-      if (sum < q) __atomic_fetch_add(carry + pixel * channels + c, std::uint64_t(1) << 32, __ATOMIC_RELAXED);
-      cell[1 + c] = sum;
-    }
-  }
-};
 
 /// The general nD path: double precision, any layout, channels carried. The dimension is a
 /// template parameter so the map and the projection unroll (a runtime loop cannot).
@@ -375,7 +320,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   // (each job's chain and points unchanged: the same bytes); else one job per task. A task of
   // one job takes the one-job loop: lanes that carry a single chain cost more than it.
   const bool chained = !simd && !ifs.polar() && chains::enabled() && pixels < (std::size_t(1) << 31);
-  const std::unique_ptr<chains::Plan> chain_plan = chained ? std::make_unique<chains::Plan>(ifs, frame, chain) : nullptr;
+  const std::unique_ptr<chains::Plan> chain_plan = chained ? std::make_unique<chains::Plan>(ifs, frame, chain, acc[0]) : nullptr;
   const std::uint64_t per_task = chained ? chains::jobs_per_task(last - first, threads) : 1;
 
   parallel_jobs(

@@ -46,6 +46,9 @@ class Accumulator {
     q = q < 0.0 ? 0.0 : (q > kChannelSteps ? kChannelSteps : q);
     return static_cast<std::uint64_t>(q + 0.5);
   }
+  /// @brief quantised()'s terms: channel `c`'s lower bound and steps per unit.
+  double channel_lo(int c) const { return lo_[c]; }
+  double channel_scale(int c) const { return scale_[c]; }
   /// @brief The channel sums, pixel-major (narrow per-worker counters add their wraps here).
   std::uint64_t* sums() { return sums_.data(); }
   /// @brief Asks for `pixel`'s counters ahead of its add(): a large image's counters miss the
