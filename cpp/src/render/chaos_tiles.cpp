@@ -1,11 +1,9 @@
 #include "chaos_tiles.h"
 
 #include <cstdlib>
-#include <cstring>
 #include <string>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+
+#include "ifsforge/core/stream_lines.h"
 
 namespace ifsforge::lanes {
 
@@ -15,16 +13,6 @@ static_assert(kStageBytes == 64, "a stage is one cache line");
 
 std::size_t tiles_of(std::size_t slots) { return (slots + (std::size_t(1) << kTileShift) - 1) >> kTileShift; }
 
-/// Copies a full stage to its bin with streaming stores: the bin's line is written whole, so it
-/// is not read first.
-inline void write_line(std::uint16_t* to, const std::uint16_t* from) {
-#if defined(__SSE2__)
-  for (int k = 0; k < 4; ++k)
-    _mm_stream_si128(reinterpret_cast<__m128i*>(to) + k, _mm_load_si128(reinterpret_cast<const __m128i*>(from) + k));
-#else
-  std::memcpy(to, from, kStageBytes);
-#endif
-}
 }  // namespace
 
 std::size_t tiled_from_pixels() {
@@ -69,7 +57,7 @@ void TiledCounter::add(const std::uint32_t* slots, std::size_t n) {
 void TiledCounter::unstage(std::size_t tile) {
   std::uint16_t* const stage = stage_ + tile * kStagePoints;
   std::uint16_t* const bin = bins_ + tile * kBinPoints;
-  write_line(fill_[tile], stage);
+  stream_lines(fill_[tile], stage, 1);  // whole: the bin's line is not read first
   staged_[tile] = stage;
   if ((fill_[tile] += kStagePoints) < bin + kBinPoints) return;
   count(tile, bin, kBinPoints);
