@@ -63,14 +63,18 @@ double chaos_seconds(int size, std::uint64_t points, int repeat, bool tiles) {
   return t.cpu;
 }
 
-/// CPU seconds and occupied voxels of the tetrahedron's random-iteration volume.
-bench::Timing volume_seconds(int resolution, std::uint64_t points, int repeat, std::size_t& voxels) {
+/// CPU seconds and occupied voxels of the tetrahedron's random-iteration volume; `bins` false:
+/// every point added to the voxel table as it comes (IFSFORGE_VOXEL_BINS=0), for the comparison.
+double volume_seconds(int resolution, std::uint64_t points, int repeat, bool bins, std::size_t& voxels) {
+  setenv("IFSFORGE_VOXEL_BINS", bins ? "1" : "0", 1);
   VolumeOptions o;
   o.resolution = resolution;
   o.iterations = points;
   o.threads = 1;
   static const Ifs tetrahedron = bench::sierpinski(3);
-  return bench::best_of(repeat, [&] { voxels = render_volume(tetrahedron, "ria", o).size(); });
+  const bench::Timing t = bench::best_of(repeat, [&] { voxels = render_volume(tetrahedron, "ria", o).size(); });
+  unsetenv("IFSFORGE_VOXEL_BINS");
+  return t.cpu;
 }
 
 std::vector<int> size_list(int argc, char** argv, const char* name, const char* fallback) {
@@ -121,15 +125,19 @@ int main(int argc, char** argv) {
   }
   std::printf("\nThe random-iteration volume (ria) of the Sierpinski tetrahedron, %.3g points per run, one "
               "thread, best of %d: millions of points per CPU-second, whole (grid, tables, merge and volume "
-              "included) and marginal (less a 1,024-point render's CPU time).\n\n| volume | voxels | whole "
-              "| marginal |\n| --- | ---: | ---: | ---: |\n",
+              "included) and marginal (less a 1,024-point render's CPU time), each point added to the voxel "
+              "table as it comes (direct) or through bins by region (the default for tables of 4 MB or "
+              "more).\n\n| volume | voxels | whole, direct | whole, default | marginal, direct | marginal, "
+              "default |\n| --- | ---: | ---: | ---: | ---: | ---: |\n",
               double(volume_points), repeat);
   for (int resolution : volume_sizes) {
     std::size_t voxels = 0;
-    const double fixed = volume_seconds(resolution, 1024, repeat, voxels).cpu;
-    const double whole = volume_seconds(resolution, volume_points, repeat, voxels).cpu;
-    std::printf("| %d³ | %zu | %.1f M | %.1f M |\n", resolution, voxels, double(volume_points) / whole / 1e6,
-                double(volume_points) / std::max(whole - fixed, 1e-9) / 1e6);
+    const double fixed = volume_seconds(resolution, 1024, repeat, true, voxels);
+    const double direct = volume_seconds(resolution, volume_points, repeat, false, voxels);
+    const double binned = volume_seconds(resolution, volume_points, repeat, true, voxels);
+    auto rate = [&](double seconds) { return double(volume_points) / std::max(seconds, 1e-9) / 1e6; };
+    std::printf("| %d³ | %zu | %.1f M | %.1f M | %.1f M | %.1f M |\n", resolution, voxels, rate(direct), rate(binned),
+                rate(direct - fixed), rate(binned - fixed));
     std::fflush(stdout);
   }
   return 0;

@@ -41,7 +41,8 @@ class VoxelBins {
     while ((kRegionBytes << bits_) < table.bytes()) ++bits_;
     if (table.bytes() < kBinnedFromBytes || bits_ == 0) return false;
     const std::size_t regions = std::size_t(1) << bits_;
-    // The stages after the bins (both from a 2 MB boundary: whole lines).
+    // The stages after the bins (16-byte aligned at least, as streaming stores need; whole lines
+    // from 1 MB up, which start on a 2 MB boundary).
     const std::size_t words = regions * (kBinPoints + kStagePoints) * words_;
     if (records_.size() < words) assign_large(records_, words, std::uint64_t(0));
     fill_.resize(regions);
