@@ -1,9 +1,12 @@
 // The scatter ceiling beside the renderer: a plain loop of random increments over an image's
 // counters (32-bit and 8-bit, uniformly random pixels) and the chaos game's fern, at 1024² to
 // 8192², in points per CPU-second of one thread. Both fall as the image leaves the caches; the
-// renderer's accumulation is measured against the naive loop in the same run. A plain program.
+// renderer's accumulation is measured against the naive loop in the same run. Then the
+// random-iteration volume (ria) of the Sierpinski tetrahedron at 128³ to 1024³, whose voxels
+// go into a hash table per thread. A plain program.
 //
 //   build/cpp/bench/bench_scatter [--points 200000000] [--repeat 3] [--sizes 1024,2048,4096,8192]
+//                                 [--volume-points 50000000] [--volume-sizes 128,512,1024]
 //   /usr/bin/python3 cpp/bench/results.py bench_scatter --plain   # the same, written to RESULTS.md
 #include <algorithm>
 #include <cstdint>
@@ -16,6 +19,7 @@
 #include "bench_systems.h"
 #include "bench_timing.h"
 #include "ifsforge/render/renderer.h"
+#include "ifsforge/volume/volume_renderer.h"
 
 using namespace ifsforge;
 
@@ -59,18 +63,40 @@ double chaos_seconds(int size, std::uint64_t points, int repeat, bool tiles) {
   return t.cpu;
 }
 
+/// CPU seconds and occupied voxels of the tetrahedron's random-iteration volume; `bins` false:
+/// every point added to the voxel table as it comes (IFSFORGE_VOXEL_BINS=0), for the comparison.
+double volume_seconds(int resolution, std::uint64_t points, int repeat, bool bins, std::size_t& voxels) {
+  setenv("IFSFORGE_VOXEL_BINS", bins ? "1" : "0", 1);
+  VolumeOptions o;
+  o.resolution = resolution;
+  o.iterations = points;
+  o.threads = 1;
+  static const Ifs tetrahedron = bench::sierpinski(3);
+  const bench::Timing t = bench::best_of(repeat, [&] { voxels = render_volume(tetrahedron, "ria", o).size(); });
+  unsetenv("IFSFORGE_VOXEL_BINS");
+  return t.cpu;
+}
+
+std::vector<int> size_list(int argc, char** argv, const char* name, const char* fallback) {
+  std::vector<int> sizes;
+  std::stringstream list(bench::option(argc, argv, name, fallback));
+  for (std::string item; std::getline(list, item, ',');) sizes.push_back(std::stoi(item));
+  return sizes;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (bench::flag(argc, argv, "help")) {
-    std::puts("bench_scatter [--points P (2e8)] [--repeat R (3)] [--sizes 1024,2048,4096,8192]");
+    std::puts("bench_scatter [--points P (2e8)] [--repeat R (3)] [--sizes 1024,2048,4096,8192] [--volume-points P "
+              "(5e7)] [--volume-sizes 128,512,1024]");
     return 0;
   }
   const auto points = static_cast<std::uint64_t>(std::stod(bench::option(argc, argv, "points", "2e8")));
   const int repeat = std::stoi(bench::option(argc, argv, "repeat", "3"));
-  std::vector<int> sizes;
-  std::stringstream list(bench::option(argc, argv, "sizes", "1024,2048,4096,8192"));
-  for (std::string item; std::getline(list, item, ',');) sizes.push_back(std::stoi(item));
+  const std::vector<int> sizes = size_list(argc, argv, "sizes", "1024,2048,4096,8192");
+  const auto volume_points = static_cast<std::uint64_t>(std::stod(bench::option(argc, argv, "volume-points", "5e7")));
+  const std::vector<int> volume_sizes = size_list(argc, argv, "volume-sizes", "128,512,1024");
 
   std::printf("Millions of points per CPU-second, one thread, %.3g points per run, best of %d. Scatter: "
               "increments of uniformly random counters. Chaos: the fern's render, whole (framing, "
@@ -95,6 +121,23 @@ int main(int argc, char** argv) {
     auto rate = [&](double seconds) { return double(points) / std::max(seconds - fixed, 1e-9) / 1e6; };
     std::printf("| %d² | %.0f M | %.0f M | %.0f M | %.0f M | %.0f M | %.2f× |\n", size, wide / 1e6, narrow / 1e6,
                 double(points) / tiled / 1e6, rate(direct), rate(tiled), rate(tiled) * 1e6 / wide);
+    std::fflush(stdout);
+  }
+  std::printf("\nThe random-iteration volume (ria) of the Sierpinski tetrahedron, %.3g points per run, one "
+              "thread, best of %d: millions of points per CPU-second, whole (grid, tables, merge and volume "
+              "included) and marginal (less a 1,024-point render's CPU time), each point added to the voxel "
+              "table as it comes (direct) or through bins by region (the default for tables of 4 MB or "
+              "more).\n\n| volume | voxels | whole, direct | whole, default | marginal, direct | marginal, "
+              "default |\n| --- | ---: | ---: | ---: | ---: | ---: |\n",
+              double(volume_points), repeat);
+  for (int resolution : volume_sizes) {
+    std::size_t voxels = 0;
+    const double fixed = volume_seconds(resolution, 1024, repeat, true, voxels);
+    const double direct = volume_seconds(resolution, volume_points, repeat, false, voxels);
+    const double binned = volume_seconds(resolution, volume_points, repeat, true, voxels);
+    auto rate = [&](double seconds) { return double(volume_points) / std::max(seconds, 1e-9) / 1e6; };
+    std::printf("| %d³ | %zu | %.1f M | %.1f M | %.1f M | %.1f M |\n", resolution, voxels, rate(direct), rate(binned),
+                rate(direct - fixed), rate(binned - fixed));
     std::fflush(stdout);
   }
   return 0;

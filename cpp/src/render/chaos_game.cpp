@@ -210,7 +210,7 @@ struct ChaosSetup {
 
 /// Whether a render's 2D lane counts go through tiles (chaos_tiles.h).
 bool tiled_counts(bool simd, bool depth, std::size_t pixels) {
-  return simd && !depth && pixels >= lanes::kTiledFromPixels && lanes::lane_tiles();
+  return simd && !depth && pixels >= lanes::tiled_from_pixels() && lanes::lane_tiles();
 }
 
 ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads) {

@@ -10,6 +10,7 @@
 #include "ifsforge/model/fixed_maps.h"
 #include "ifsforge/model/orbit.h"
 #include "ifsforge/volume/volume_jobs.h"
+#include "voxel_bins.h"
 #include "voxel_table.h"
 
 namespace ifsforge {
@@ -24,7 +25,7 @@ constexpr std::uint64_t kMaxAutoPoints = std::uint64_t(1) << 34;
 template <int N>
 void chaos_job(const Ifs& ifs, const MapChain& chain, const VoxelGrid& grid,
                const ChannelQuantizer& quantizer, std::uint64_t points, std::uint64_t seed,
-               std::uint64_t job, VoxelTable& table) {
+               std::uint64_t job, VoxelTable& table, VoxelBins& bins) {
   const auto maps = fixed_maps<N>(ifs);
   Rng rng(seed, job);
   const Point start = ifs.start_point();
@@ -43,7 +44,9 @@ void chaos_job(const Ifs& ifs, const MapChain& chain, const VoxelGrid& grid,
   };
   for (std::uint64_t i = 0; i < kSkip; ++i) step();
   // Points go in batches: every key of a batch is computed and its slot prefetched before
-  // the first add, so the table's cache misses overlap instead of stalling one by one.
+  // the first add, so the table's cache misses overlap instead of stalling one by one; or, into
+  // a large table, through bins by region (voxel_bins.h).
+  const bool binned = bins.start(table);
   constexpr int kBatch = 16;
   std::uint64_t keys[kBatch], values[kBatch][kMaxDim] = {};
   for (std::uint64_t done = 0; done < points;) {
@@ -57,11 +60,15 @@ void chaos_job(const Ifs& ifs, const MapChain& chain, const VoxelGrid& grid,
         continue;
       }
       for (int c = 3; c < N; ++c) values[kept][c - 3] = quantizer.quantize(c - 3, p[c]);
-      table.prefetch(keys[kept++]);
+      if (binned)
+        bins.add(table, keys[kept], values[kept]);
+      else
+        table.prefetch(keys[kept++]);
     }
     for (int b = 0; b < kept; ++b) table.add(keys[b], 1, 1, values[b]);
     done += batch;
   }
+  if (binned) bins.drain(table);
 }
 
 /// Voxels hit so far, and those hit exactly once and twice (f1, f2).
@@ -106,7 +113,7 @@ VoxelList take_all(std::vector<VoxelTable>& tables, int threads) {
 }
 
 using ChaosJob = void (*)(const Ifs&, const MapChain&, const VoxelGrid&, const ChannelQuantizer&,
-                          std::uint64_t, std::uint64_t, std::uint64_t, VoxelTable&);
+                          std::uint64_t, std::uint64_t, std::uint64_t, VoxelTable&, VoxelBins&);
 
 ChaosJob chaos_job_for(int dim) {
   static constexpr ChaosJob kJobs[] = {chaos_job<3>, chaos_job<4>, chaos_job<5>,
@@ -135,6 +142,7 @@ Volume RandomIterationVolume::draw(const Ifs& ifs, const VolumeOptions& options)
   const MapChain chain(ifs);
   const ChaosJob run = chaos_job_for(ifs.dim());
   std::vector<VoxelTable> tables(setup.threads, VoxelTable(channels));
+  std::vector<VoxelBins> bins(setup.threads, VoxelBins(channels));
   VoxelList total(channels);  // with `distribute`; otherwise the tables hold the points until the end
   std::uint64_t points = 0, jobs_done = 0;
 
@@ -154,7 +162,7 @@ Volume RandomIterationVolume::draw(const Ifs& ifs, const VolumeOptions& options)
       parallel_jobs(last - first, setup.threads, [&](std::size_t k, int worker) {
         const std::uint64_t job = first + k;
         const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
-        run(ifs, chain, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
+        run(ifs, chain, setup.grid, setup.quantizer, count, options.seed, job, tables[worker], bins[worker]);
       }, progress);
     }
     points = std::min(limit, last * kPointsPerJob);
@@ -213,12 +221,13 @@ std::string RandomIterationVolume::draw_jobs(const Ifs& ifs, const VolumeOptions
   last = std::min(last, (limit + kPointsPerJob - 1) / kPointsPerJob);
   const int threads = static_cast<int>(std::min<std::uint64_t>(setup.threads, std::max(first, last) - first));
   std::vector<VoxelTable> tables(std::max(1, threads), VoxelTable(channels));
+  std::vector<VoxelBins> bins(std::max(1, threads), VoxelBins(channels));
   VolumeJobsResult out;
   if (first < last)
     parallel_jobs(last - first, threads, [&](std::size_t k, int worker) {
       const std::uint64_t job = first + k;
       const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
-      run(ifs, chain, setup.grid, setup.quantizer, count, options.seed, job, tables[worker]);
+      run(ifs, chain, setup.grid, setup.quantizer, count, options.seed, job, tables[worker], bins[worker]);
     }, options.progress);
   out.voxels = take_all(tables, setup.threads);
   for (std::uint64_t job = first; job < last; ++job) out.points += std::min(kPointsPerJob, limit - job * kPointsPerJob);

@@ -16,6 +16,8 @@ namespace ifsforge {
 /// one per array: random points miss the cache on every add.
 class VoxelTable {
  public:
+  /// The multiplier of the slots' Fibonacci hash: a key's slot is the top bits of key * kHash.
+  static constexpr std::uint64_t kHash = 0x9E3779B97F4A7C15ull;
   /// `extremes`: whether voxels keep VoxelList::kExtremes points (merged by min / max).
   VoxelTable(int channels, bool extremes = false)
       : channels_(channels), extremes_(extremes ? VoxelList::kExtremes : 0), stride_(slot_words(channels, extremes)) {
@@ -34,14 +36,14 @@ class VoxelTable {
 
   /// @brief Starts loading the slot `key` hashes to (the add that follows finds it in cache).
   void prefetch(std::uint64_t key) const {
-    __builtin_prefetch(base_ + ((key * 0x9E3779B97F4A7C15ull) >> shift_) * stride_, 1);
+    __builtin_prefetch(base_ + ((key * kHash) >> shift_) * stride_, 1);
   }
 
   /// @brief Adds `hits` hits with `mass` and quantised channel sums `values` to voxel `key`;
   /// with extremes, `points` holds the packed point in each of the kExtremes slots.
   void add(std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* values,
            const std::uint64_t* points = nullptr) {
-    std::size_t slot = (key * 0x9E3779B97F4A7C15ull) >> shift_;
+    std::size_t slot = (key * kHash) >> shift_;
     std::uint64_t* s = at(slot);
     while (s[0] != kEmpty && s[0] != key) {
       slot = (slot + 1) & mask_;
@@ -68,9 +70,22 @@ class VoxelTable {
     s[2] += mass;
     for (int c = 0; c < channels_; ++c) s[3 + c] += values[c];
   }
+  /// @brief Bytes of the slots.
+  std::size_t bytes() const { return capacity_ * stride_ * sizeof(std::uint64_t); }
+  /// @brief Reads the slots of region `region` of 2^`bits` (the slots whose index starts with
+  /// those bits) in order, one word per cache line, bringing them into cache (voxel_bins.h).
+  void warm(std::size_t region, int bits) const {
+    const int index_bits = 64 - shift_;
+    if (bits > index_bits) return;
+    const std::size_t first = region << (index_bits - bits), count = std::size_t(1) << (index_bits - bits);
+    const std::size_t step = std::max<std::size_t>(1, 8 / stride_);  // slots per cache line
+    std::uint64_t any = 0;
+    for (std::size_t slot = first; slot < first + count; slot += step) any |= base_[slot * stride_];
+    asm volatile("" : : "r"(any));
+  }
   /// @brief Hits of voxel `key`; 0 when no point fell in it.
   std::uint64_t hits_of(std::uint64_t key) const {
-    std::size_t slot = (key * 0x9E3779B97F4A7C15ull) >> shift_;
+    std::size_t slot = (key * kHash) >> shift_;
     for (const std::uint64_t* s = base_ + slot * stride_; s[0] != kEmpty; s = base_ + slot * stride_) {
       if (s[0] == key) return s[1];
       slot = (slot + 1) & mask_;
@@ -134,7 +149,7 @@ class VoxelTable {
     for (std::size_t slot = 0; slot < old_capacity; ++slot) {
       const std::uint64_t* from = old_base + slot * stride_;
       if (from[0] == kEmpty) continue;
-      std::size_t to = (from[0] * 0x9E3779B97F4A7C15ull) >> shift_;
+      std::size_t to = (from[0] * kHash) >> shift_;
       while (at(to)[0] != kEmpty) to = (to + 1) & mask_;
       std::copy(from, from + stride_, at(to));
       ++used_;
