@@ -4,7 +4,7 @@
 // hears a cancel between jobs of 64 leaves and gives the same mesh for any thread count.
 #include "ifsforge/io/vdb.h"
 
-#include <openvdb/openvdb.h>
+#include "vdb_trees.h"
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <algorithm>
