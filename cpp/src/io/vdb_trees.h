@@ -14,6 +14,11 @@ using Int16Tree = openvdb::FloatTree::ValueConverter<openvdb::Int16>::Type;
 using UInt32Tree = openvdb::FloatTree::ValueConverter<openvdb::Index32>::Type;
 }  // namespace ifsforge::detail
 
+// GCC only: it still compiles the inline members a file uses (C++17 [temp.explicit]/10), so only
+// the out-of-line ones come from libopenvdb, whichever -O level. Clang assumes those inline members
+// were compiled with the instantiation and calls them out of line wherever it does not inline
+// them, and libopenvdb, which inlined many of them, does not export them all.
+#if defined(__GNUC__) && !defined(__clang__)
 extern template class openvdb::tree::Tree<openvdb::FloatTree::RootNodeType>;
 extern template class openvdb::tree::Tree<openvdb::BoolTree::RootNodeType>;
 extern template class openvdb::tree::Tree<openvdb::Vec3STree::RootNodeType>;
@@ -22,3 +27,4 @@ extern template class openvdb::tree::Tree<ifsforge::detail::UInt32Tree::RootNode
 extern template class openvdb::Grid<openvdb::FloatTree>;
 extern template class openvdb::Grid<openvdb::BoolTree>;
 extern template class openvdb::Grid<openvdb::Vec3STree>;
+#endif
