@@ -4,8 +4,8 @@
 // declares extern (openvdb/version.h). A tree or grid is polymorphic, so each file that made one
 // otherwise compiled all its virtual members (print, readBuffers, writeBuffers, merge …), most of
 // the compile time of vdb.cpp, vdb_mesh.cpp and vdb_voxels.cpp. Every src/io file includes
-// OpenVDB through this header, so that these declarations come before any use; vdb_trees.cpp
-// instantiates the few members libopenvdb does not export.
+// OpenVDB through this header, so that these declarations come before any use; the few members
+// libopenvdb does not export are instantiated where they are called (vdb_mesh.cpp).
 #include <openvdb/openvdb.h>
 
 namespace ifsforge::detail {
