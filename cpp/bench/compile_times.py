@@ -110,8 +110,11 @@ def main():
     after = sums(log)
     before = sums(args.baseline) if args.baseline else {}
     with results.Section("compile_times.py", args.results, "Cold build CPU time by group (compile_times.py)") as out:
-        out.print(f"Groups built: {' '.join(args.groups)}; {'ccache behind the launcher' if args.ccache else 'no cache'}; "
-                  f"-j{args.jobs}; load {load_before:.1f} before, {load_after:.1f} after.")
+        if args.log:
+            out.print(f"From the log of an earlier run ({Path(args.log).name}); load now {load_after:.1f}.")
+        else:
+            out.print(f"Groups built: {' '.join(args.groups)}; {'ccache behind the launcher' if args.ccache else 'no cache'}; "
+                      f"-j{args.jobs}; load {load_before:.1f} before, {load_after:.1f} after.")
         out.print()
         out.print("| group | compiles | CPU s before | CPU s |")
         out.print("|---|---:|---:|---:|")
