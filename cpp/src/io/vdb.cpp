@@ -1,7 +1,7 @@
 #include "ifsforge/io/vdb.h"
 
+#include "vdb_trees.h"
 #include <openvdb/io/Stream.h>
-#include <openvdb/openvdb.h>
 
 #include <algorithm>
 #include <cmath>

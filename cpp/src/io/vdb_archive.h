@@ -1,8 +1,8 @@
 #pragma once
 // Typed file metadata for .vdb files, and reading one through a stream that stops at the first
 // short read.
+#include "vdb_trees.h"
 #include <openvdb/io/Stream.h>
-#include <openvdb/openvdb.h>
 
 #include <cerrno>
 #include <cstring>

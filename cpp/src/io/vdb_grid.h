@@ -1,6 +1,6 @@
 #pragma once
 // The OpenVDB grids of a volume, shared by the .vdb writer and the iso-surface (src/io only).
-#include <openvdb/openvdb.h>
+#include "vdb_trees.h"
 
 #include <algorithm>
 #include <memory>

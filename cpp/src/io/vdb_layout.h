@@ -2,7 +2,7 @@
 // The parts of a .vdb file the band writer lays out itself (src/io only): where each leaf of a
 // 5-4-3 tree goes, the tree's topology, each grid's head and the file's head, byte for byte as
 // OpenVDB's Archive writes them.
-#include <openvdb/openvdb.h>
+#include "vdb_trees.h"
 
 #include <cstdint>
 #include <string>

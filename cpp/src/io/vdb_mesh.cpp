@@ -4,7 +4,7 @@
 // hears a cancel between jobs of 64 leaves and gives the same mesh for any thread count.
 #include "ifsforge/io/vdb.h"
 
-#include <openvdb/openvdb.h>
+#include "vdb_trees.h"
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <algorithm>
@@ -17,6 +17,14 @@
 #include "ifsforge/core/memory.h"
 #include "ifsforge/core/parallel.h"
 #include "vdb_grid.h"
+
+#if defined(__GNUC__) && !defined(__clang__)
+// Of the trees vdb_trees.h declares extern, the members libopenvdb does not export (it inlined
+// them everywhere) and this file calls out of line: the destructor's helper of the mesher's two
+// index trees. A link error naming another member of a declared tree or grid belongs here.
+template void openvdb::tree::Tree<ifsforge::detail::Int16Tree::RootNodeType>::releaseAllAccessors();
+template void openvdb::tree::Tree<ifsforge::detail::UInt32Tree::RootNodeType>::releaseAllAccessors();
+#endif
 
 namespace ifsforge {
 namespace {

@@ -3,7 +3,7 @@
 // grids, without building them. OpenVDB still writes the parts it owns (descriptors, metadata,
 // transforms); the tree (topology and leaf buffers of a 5-4-3 tree) is written here, leaf by
 // leaf at its place in the file, so a volume never has to be held whole, in any form.
-#include <openvdb/openvdb.h>
+#include "vdb_trees.h"
 
 #include <cstdint>
 #include <functional>

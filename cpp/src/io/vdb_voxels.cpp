@@ -1,7 +1,7 @@
 // 3D targets of the fit: OpenVDB grids and voxelised meshes as voxel sets.
 #include "ifsforge/io/voxel_target.h"
 
-#include <openvdb/openvdb.h>
+#include "vdb_trees.h"
 #include <openvdb/io/Stream.h>
 #include <openvdb/tools/MeshToVolume.h>
 
