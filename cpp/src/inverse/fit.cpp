@@ -31,8 +31,10 @@ constexpr double kBeamAgainBelow = 0.95;
 // One more run, from the affine start (ellipse_collage), after the restarts when they leave the
 // attractor's IoU on the search's grid below kAffineBelow (the held-out rotated systems' reach
 // it; a drawn letter's do not) in a fit that ends with the last search (--maps auto's probes,
-// which rank counts, skip it). Its steps: a fifth of a turn, a twentieth of the scales.
+// which rank counts, skip it), and only once every kind of start has run (a fit asked for fewer
+// restarts is a short one). Its steps: a fifth of a turn, a twentieth of the scales.
 constexpr double kAffineBelow = 0.9;
+constexpr int kStartKinds = 4;  // the restarts' kinds of start, taken in turn
 constexpr double kAffineSigma[3] = {0.05, 0.15, 0.04};  // scales, turns (radians), translations (extents)
 
 using Boxes = Clusters<2>;
@@ -167,7 +169,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     // Four kinds of start, in turn: the k-means collage as it is, the k-means parts turned one
     // at a time, and the target covered by turned copies of itself (its own structure), judged on
     // the search's grid and on the refinement's (fit_seed.h).
-    const int kind = r % 4;
+    const int kind = r % kStartKinds;
     std::vector<double> x0;
     if (kind >= 2) {
       x0 = self_similar_cover(full, target, grid, o.maps, kind == 2 ? o.raster : o.refine_raster, o.max_contraction,
@@ -194,7 +196,8 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   // The refinement's and the last search's grid: the picture's resolution, capped.
   const FitGrid fine = FitGrid::for_target(full, std::max(o.raster, std::min(o.refine_raster, int(grid.side))));
   const PixelSet fine_target = fine.downsample(full);
-  if (o.start.empty() && o.final_generations > 0 && best_value > 1 - kAffineBelow && !stop()) {
+  if (o.start.empty() && o.final_generations > 0 && o.restarts >= kStartKinds && best_value > 1 - kAffineBelow &&
+      !stop()) {
     // On the attractor itself, not the collage: the proxy's overlap term pushes a filled shape's
     // copies apart, though their overlap costs the attractor nothing. First on the search's grid,
     // then with half the steps on one of twice its cells (the coarse grid's IoU forgives the thin
