@@ -40,6 +40,35 @@ TEST(FitMoments, SomeMomentMapIsTheSimilarityThatMadeThePiece) {
     }
 }
 
+TEST(FitMoments, EllipseMapCarriesTheWholesMomentsOntoThePieces) {
+  // A lopsided cloud and a thin, turned piece: w(whole) has the piece's centroid and covariance
+  // (A cov_W A^T = cov_P) at any turn Q and with or without the mirror.
+  Rng rng(5, 0);
+  std::vector<std::array<double, 2>> whole, piece;
+  for (int i = 0; i < 300; ++i) {
+    const double u = rng.uniform(), v = rng.uniform();
+    whole.push_back({0.2 + 0.6 * u * u, 0.1 + 0.5 * v + 0.1 * u});
+    piece.push_back({0.5 + 0.3 * u + 0.02 * v, 0.4 + 0.2 * u - 0.03 * v});
+  }
+  const Moments mw = moments_of(whole), mp = moments_of(piece);
+  for (double turn : {0.0, 1.1, -2.7})
+    for (bool mirror : {false, true}) {
+      const auto p = ellipse_map(mw, mp, turn, mirror);
+      AffineMap w;
+      decode_map(p.data(), 2, 0.99, w);
+      std::vector<std::array<double, 2>> image;
+      for (const auto& q : whole)
+        image.push_back({w.a(0, 0) * q[0] + w.a(0, 1) * q[1] + w.b(0), w.a(1, 0) * q[0] + w.a(1, 1) * q[1] + w.b(1)});
+      const Moments mi = moments_of(image);
+      EXPECT_NEAR(mi.centroid[0], mp.centroid[0], 1e-12);
+      EXPECT_NEAR(mi.centroid[1], mp.centroid[1], 1e-12);
+      EXPECT_NEAR(mi.xx, mp.xx, 1e-12);
+      EXPECT_NEAR(mi.xy, mp.xy, 1e-12);
+      EXPECT_NEAR(mi.yy, mp.yy, 1e-12);
+      EXPECT_EQ(w.a(0, 0) * w.a(1, 1) - w.a(0, 1) * w.a(1, 0) < 0, mirror) << "turn " << turn;
+    }
+}
+
 TEST(FitMoments, MomentMapsTryTheFullCircle) {
   Moments round;
   round.xx = round.yy = 1;

@@ -1,6 +1,7 @@
 #include "ifsforge/inverse/fit.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -10,6 +11,7 @@
 #include "ifsforge/inverse/cma_es.h"
 #include "ifsforge/inverse/collage.h"
 #include "fit_clusters.h"
+#include "fit_moments.h"
 #include "fit_seed.h"
 #include "fit_shared.h"
 #include "fit_raster.h"
@@ -26,16 +28,29 @@ constexpr int kTurns = 36;  // turns tried per map for the rotated starts
 // when the best start so far is below kBeamAgainBelow (a near exact start needs no other).
 constexpr double kBeamBelow = 0.85;
 constexpr double kBeamAgainBelow = 0.95;
+// One more run, from the affine start (ellipse_collage), after the restarts when they leave the
+// attractor's IoU on the search's grid below kAffineBelow (the held-out rotated systems' reach
+// it; a drawn letter's do not) in a fit that ends with the last search (--maps auto's probes,
+// which rank counts, skip it), and only once every kind of start has run (a fit asked for fewer
+// restarts is a short one). Its steps: a fifth of a turn, a twentieth of the scales.
+constexpr double kAffineBelow = 0.9;
+constexpr int kStartKinds = 4;  // the restarts' kinds of start, taken in turn
+constexpr double kAffineSigma[3] = {0.05, 0.15, 0.04};  // scales, turns (radians), translations (extents)
 
 using Boxes = Clusters<2>;
 
-/// k-means of the target's pixels into n clusters (fit_clusters.h), in the plane.
-Boxes pixel_clusters(const PixelSet& t, const FitGrid& grid, int n, Rng& rng) {
+/// The centres of the target's cells, in the plane.
+std::vector<std::array<double, 2>> target_points(const PixelSet& t, const FitGrid& grid) {
   std::vector<std::array<double, 2>> pts;
   for (int y = 0; y < t.height; ++y)
     for (int x = 0; x < t.width; ++x)
       if (t.cells[std::size_t(y) * t.width + x]) pts.push_back(grid.to_plane(x + 0.5, y + 0.5));
-  return cluster_boxes<2>(pts, n, 1.0 / grid.pixels_per_unit, rng);
+  return pts;
+}
+
+/// k-means of the target's pixels into n clusters (fit_clusters.h), in the plane.
+Boxes pixel_clusters(const PixelSet& t, const FitGrid& grid, int n, Rng& rng) {
+  return cluster_boxes<2>(target_points(t, grid), n, 1.0 / grid.pixels_per_unit, rng);
 }
 
 /// The initial collage: map c sends the whole target's box onto part c's box.
@@ -76,6 +91,34 @@ void turn_parts(const Boxes& boxes, const PixelSet& target, const FitGrid& grid,
     }
   }
   evaluations += 2 * kTurns * o.maps;
+}
+
+/// The affine start: map c carries the whole target's centroid and covariance ellipse onto k-means
+/// part c's (ellipse_map), turned and mirrored (2 kTurns ways, from a seeded offset) to keep its
+/// copy nearest the target. A filled shape's parts are thin pieces of its strokes, covered by the
+/// whole squashed into them; a part of fewer than three cells keeps initial_collage's box map.
+std::vector<double> ellipse_collage(const PixelSet& target, const FitGrid& grid, const CollageProxy& proxy,
+                                    const FitOptions& o, Rng& rng, std::uint64_t& evaluations) {
+  const auto pts = target_points(target, grid);
+  const Boxes boxes = cluster_boxes<2>(pts, o.maps, 1.0 / grid.pixels_per_unit, rng);
+  const auto parts = cluster_parts<2>(pts, boxes);
+  const Moments whole = moments_of(pts);
+  std::vector<double> x0 = initial_collage(boxes);
+  const double turn = rng.uniform();
+  for (int c = 0; c < o.maps; ++c) {
+    if (parts[c].size() < 3) continue;
+    const Moments piece = moments_of(parts[c]);
+    double best_score = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 2 * kTurns; ++k) {
+      const auto p = ellipse_map(whole, piece, (k / 2 + turn) * 2 * M_PI / kTurns, k % 2);
+      AffineMap m;
+      decode_map(p.data(), 2, o.max_contraction, m);
+      const double score = proxy.copy_outside(grid.pixel_map(m));
+      if (score < best_score) best_score = score, std::copy(p.begin(), p.end(), &x0[std::size_t(c) * kParams]);
+    }
+  }
+  evaluations += 2 * kTurns * o.maps;
+  return x0;
 }
 
 }  // namespace
@@ -126,7 +169,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     // Four kinds of start, in turn: the k-means collage as it is, the k-means parts turned one
     // at a time, and the target covered by turned copies of itself (its own structure), judged on
     // the search's grid and on the refinement's (fit_seed.h).
-    const int kind = r % 4;
+    const int kind = r % kStartKinds;
     std::vector<double> x0;
     if (kind >= 2) {
       x0 = self_similar_cover(full, target, grid, o.maps, kind == 2 ? o.raster : o.refine_raster, o.max_contraction,
@@ -153,6 +196,27 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   // The refinement's and the last search's grid: the picture's resolution, capped.
   const FitGrid fine = FitGrid::for_target(full, std::max(o.raster, std::min(o.refine_raster, int(grid.side))));
   const PixelSet fine_target = fine.downsample(full);
+  if (o.start.empty() && o.final_generations > 0 && o.restarts >= kStartKinds && best_value > 1 - kAffineBelow &&
+      !stop()) {
+    // On the attractor itself, not the collage: the proxy's overlap term pushes a filled shape's
+    // copies apart, though their overlap costs the attractor nothing. First on the search's grid,
+    // then with half the steps on one of twice its cells (the coarse grid's IoU forgives the thin
+    // gaps between squashed copies), and kept if the refinement's grid prefers it to the restarts'.
+    Rng rng(o.seed, 1000 + o.restarts);
+    const std::vector<double> x0 = ellipse_collage(target, grid, proxy, o, rng, result.evaluations);
+    std::vector<double> sigma(n);
+    for (int i = 0; i < n; ++i) sigma[i] = kAffineSigma[i % kParams / 2] * (i % kParams < 4 ? 1 : grid.extent);
+    const CmaResult coarse = minimize_cma(attractor_value, x0, sigma,
+                                          fit_cma_options(n, o.generations, o.seed * 7919 + o.restarts, threads), stop);
+    for (double& v : sigma) v *= 0.5;
+    const FitGrid twice = FitGrid::for_target(full, std::min(2 * o.raster, std::max(o.raster, o.refine_raster)));
+    const CmaResult run = minimize_cma(attractor_on(twice, twice.downsample(full)), coarse.best, sigma,
+                                       fit_cma_options(n, o.generations, o.seed * 7919 + o.restarts + 500, threads), stop);
+    result.evaluations += coarse.evaluations + run.evaluations;
+    ++result.restarts;
+    const auto judge = attractor_on(fine, fine_target);
+    if (judge(run.best, 0) < judge(best, 0)) best_value = run.value, best = run.best;
+  }
   // Local refinement on the attractor: small steps about the best collage.
   if (o.refine_generations > 0 && o.start.empty() && !stop()) {
     std::vector<double> sigma(n);

@@ -95,4 +95,21 @@ Clusters<D> cluster_boxes(const std::vector<std::array<double, D>>& pts, int n, 
   return out;
 }
 
+/// The points `pts` each with its nearest cluster's centroid (`clusters.mass`): the k-means partition.
+template <int D>
+std::vector<std::vector<std::array<double, D>>> cluster_parts(const std::vector<std::array<double, D>>& pts,
+                                                              const Clusters<D>& clusters) {
+  std::vector<std::array<double, D>> centres(clusters.mass.size());
+  for (std::size_t c = 0; c < centres.size(); ++c)
+    for (int k = 0; k < D; ++k) centres[c][k] = clusters.mass[c][k];
+  std::vector<std::vector<std::array<double, D>>> parts(centres.size());
+  for (const auto& p : pts) {
+    std::size_t nearest = 0;
+    for (std::size_t c = 1; c < centres.size(); ++c)
+      if (cluster_distance<D>(p, centres[c]) < cluster_distance<D>(p, centres[nearest])) nearest = c;
+    parts[nearest].push_back(p);
+  }
+  return parts;
+}
+
 }  // namespace ifsforge

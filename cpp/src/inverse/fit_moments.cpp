@@ -47,6 +47,34 @@ std::vector<std::array<double, 6>> moment_maps(const Moments& whole, const Momen
   return out;
 }
 
+namespace {
+
+/// The square root of a covariance {xx, xy, yy}: (M + sqrt(det M) I) / sqrt(tr M + 2 sqrt(det M)),
+/// a flat ellipse's determinant held above zero.
+std::array<double, 3> covariance_root(const Moments& m) {
+  const double r = std::sqrt(std::max(m.xx * m.yy - m.xy * m.xy, 1e-18)), t = std::sqrt(m.spread() + 2 * r);
+  return {(m.xx + r) / t, m.xy / t, (m.yy + r) / t};
+}
+
+}  // namespace
+
+std::array<double, 6> ellipse_map(const Moments& whole, const Moments& piece, double angle, bool mirror) {
+  const auto p = covariance_root(piece), w = covariance_root(whole);
+  const double det = w[0] * w[2] - w[1] * w[1];
+  const double wi[2][2] = {{w[2] / det, -w[1] / det}, {-w[1] / det, w[0] / det}};  // W^(-1/2)
+  const double f = mirror ? -1 : 1, c = std::cos(angle), s = std::sin(angle);
+  const double pq[2][2] = {{p[0] * c * f + p[1] * s * f, -p[0] * s + p[1] * c},  // P^(1/2) R(angle) F
+                           {p[1] * c * f + p[2] * s * f, -p[1] * s + p[2] * c}};
+  double a[2][2];
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) a[i][j] = pq[i][0] * wi[0][j] + pq[i][1] * wi[1][j];
+  // Eq. 5's parameters: column 0 is Mx (cos theta_x, sin theta_x), column 1 My (-sin theta_y, cos theta_y).
+  return {std::hypot(a[0][0], a[1][0]), std::hypot(a[0][1], a[1][1]), std::atan2(a[1][0], a[0][0]),
+          std::atan2(-a[0][1], a[1][1]),
+          piece.centroid[0] - (a[0][0] * whole.centroid[0] + a[0][1] * whole.centroid[1]),
+          piece.centroid[1] - (a[1][0] * whole.centroid[0] + a[1][1] * whole.centroid[1])};
+}
+
 std::vector<std::array<double, 6>> symmetric_copies(const std::vector<double>& x0, const Moments& whole) {
   const auto& c = whole.centroid;
   std::vector<std::array<double, 6>> out;

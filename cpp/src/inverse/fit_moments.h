@@ -29,6 +29,13 @@ Moments moments_of(const std::vector<std::array<double, 2>>& points);
 std::vector<std::array<double, 6>> moment_maps(const Moments& whole, const Moments& piece, double max_contraction,
                                                int turns);
 
+/// decode_map parameters of the affine map w(x) = P^(1/2) Q W^(-1/2) (x - c_W) + c_P that carries
+/// the whole's centroid and covariance ellipse exactly onto the piece's, Q the turn `angle`
+/// (radians) after a mirror in x when `mirror`: every Q does, Q picks how the whole lies in the
+/// piece. Unlike moment_maps' similarities it squashes the whole into a long, thin piece, as a
+/// drawn letter's strokes are thin copies of the letter (Eq. 5 has two scales and two turns).
+std::array<double, 6> ellipse_map(const Moments& whole, const Moments& piece, double angle, bool mirror);
+
 /// The copies of a cover (`x0`, similarities) carried by the symmetries the target may have:
 /// reflected in either principal axis of `whole` through its centroid, and turned half a turn
 /// about it. A symmetric target's copies come in such pairs (a leaf's two side branches, a

@@ -82,16 +82,7 @@ std::vector<std::array<double, 6>> moment_candidates(const PixelSet& target, con
     }
   }
   if (maps > 1) {  // each cell to its nearest cluster centroid: the k-means partition
-    const Clusters<2> clusters = cluster_boxes<2>(whole, maps, 1.0 / grid.pixels_per_unit, rng);
-    std::vector<std::vector<std::array<double, 2>>> parts(maps);
-    for (const auto& p : whole) {
-      int nearest = 0;
-      for (int c = 1; c < maps; ++c)
-        if (std::hypot(p[0] - clusters.mass[c][0], p[1] - clusters.mass[c][1]) <
-            std::hypot(p[0] - clusters.mass[nearest][0], p[1] - clusters.mass[nearest][1]))
-          nearest = c;
-      parts[nearest].push_back(p);
-    }
+    const auto parts = cluster_parts<2>(whole, cluster_boxes<2>(whole, maps, 1.0 / grid.pixels_per_unit, rng));
     pieces.insert(pieces.end(), parts.begin(), parts.end());
   }
   return piece_maps(pieces, moments_of(whole), max_contraction);
