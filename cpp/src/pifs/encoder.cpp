@@ -265,15 +265,13 @@ PifsCode pifs_encode(const Image& image, const PifsEncodeOptions& o, const Progr
   // a small image is one thread's work): a uniform quantiser of step q leaves q²/12 per sample,
   // the chroma's step is half the luma's, and R, G, B take Y's error once each and the chroma's
   // through the inverse matrix (Cb: 0.344² + 1.772², Cr: 1.402² + 0.714²).
-  const double step2 = lambda / kResidualLambda;
-  const double foreseen = o.residual ? (3.0 + (3.258 + 2.476) / 4) * step2 / 12 / 3
-                                     : squared_error(image, pifs_decode(half, decode), o.threads);
+  // Without the residual layer there is no step: the 4:2:0 code is decoded, once.
+  const auto error_of = [&](const PifsCode& code) { return squared_error(image, pifs_decode(code, decode), o.threads); };
+  const double half_error = o.residual ? -1.0 : error_of(half);
+  const double foreseen = o.residual ? (3.0 + (3.258 + 2.476) / 4) * (lambda / kResidualLambda) / 12 / 3 : half_error;
   if (halving < PifsEncodeOptions::kFullChromaShare * foreseen) return half;
   PifsCode full = encode_as(image, o, PifsColor::YCbCr444, target, progress_range(progress, 0.5, 1.0));
-  return squared_error(image, pifs_decode(full, decode), o.threads) <
-                 squared_error(image, pifs_decode(half, decode), o.threads)
-             ? full
-             : half;
+  return error_of(full) < (half_error >= 0 ? half_error : error_of(half)) ? full : half;
 }
 
 }  // namespace ifsforge

@@ -135,7 +135,7 @@ double chroma_halving_error(const Image& image, int threads, const ProgressCallb
     const int y0 = 2 * int(row), y1 = std::min(y0 + 2, h);
     double sum = 0;
     for (int x0 = 0; x0 < w; x0 += 2) {
-      const int x1 = std::min(x0 + 2, w);
+      const int x1 = std::min(x0 + 2, w), count = (y1 - y0) * (x1 - x0);
       float ycc[4][3], cb = 0, cr = 0;
       int n = 0;
       for (int y = y0; y < y1; ++y)
@@ -148,7 +148,6 @@ double chroma_halving_error(const Image& image, int threads, const ProgressCallb
       n = 0;
       for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x, ++n) {
-          const int count = (y1 - y0) * (x1 - x0);
           float v[3] = {ycc[n][0], cb / count, cr / count};
           to_rgb(v);
           for (int k = 0; k < 3; ++k) {
