@@ -11,10 +11,11 @@ files apart, the Python bindings, the C++ tests, the fuzz build, in `--fuzz-buil
 configures FOLDER (default build-times) from DIR (default this checkout; another tree, e.g.
 `git archive main | tar -x -C base`, measures that one), with this script as the compiler
 launcher, builds the targets of the groups asked for and writes FOLDER/compile_times.log (one
-line per compile: CPU s, main or fuzz build, object). `--ccache` puts ccache behind the launcher, so that the groups
-measured need not rebuild the library: a cache hit is counted as the file's own (near nothing),
-so only the groups whose files all missed are figures. `--baseline LOG` adds an earlier run's
-log as the 'before' column; `--log LOG` reports a log without building.
+line per compile: CPU s, main or fuzz build, object). `--ccache` puts ccache behind the launcher
+for the files of the groups not asked for (the library the bindings link comes from the cache),
+while the groups asked for still compile cold (CCACHE_DISABLE): one group is measured without
+rebuilding the rest. `--baseline LOG` adds an earlier run's log as the 'before' column; `--log LOG`
+reports a log without building.
 """
 import argparse
 import os
@@ -36,18 +37,26 @@ GROUPS = [("library: io/vdb_mesh.cpp", "/ifsforge.dir/src/io/vdb_mesh.cpp."),
           ("C++ tests", "/ifsforge_tests.dir/")]
 FUZZ = "fuzz build (clang, ASan + UBSan)"
 TARGETS = {"library": ["ifsforge"], "bindings": ["_core", "_vdb"], "tests": ["ifsforge_tests"]}
+# The groups of --groups by the object paths of their compiles (those of the fuzz build are 'fuzz').
+OBJECTS = {"library": "/ifsforge.dir/", "bindings": "/python/", "tests": "/ifsforge_tests.dir/"}
+COLD = "IFSFORGE_COMPILE_TIMES_COLD"  # the environment variable naming the groups compiled cold
 
 
 def launch(log, build, command):
     """Runs one compile and appends its CPU seconds (user + system, its whole process tree), its
-    build ('main' or 'fuzz') and its object to `log`; returns the compiler's exit code."""
+    build ('main' or 'fuzz') and its object to `log`, unless the compiler cache served it;
+    returns the compiler's exit code."""
+    target = os.path.abspath(command[command.index("-o") + 1] if "-o" in command else command[-1])
+    group = "fuzz" if build == "fuzz" else next((g for g, key in OBJECTS.items() if key in target), "other")
+    cold = group in os.environ.get(COLD, "").split(",")
+    env = dict(os.environ, CCACHE_DISABLE="1") if cold else os.environ
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    code = subprocess.call(command)
+    code = subprocess.call(command, env=env)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
-    target = command[command.index("-o") + 1] if "-o" in command else command[-1]
-    with open(log, "a") as f:  # one short line per write: appends from parallel compiles stay whole
-        f.write(f"{cpu:.2f}\t{build}\t{os.path.abspath(target)}\n")
+    if cold or command[0] != "ccache":  # a file the cache served is no figure
+        with open(log, "a") as f:  # one short line per write: appends from parallel compiles stay whole
+            f.write(f"{cpu:.2f}\t{build}\t{target}\n")
     return code
 
 
@@ -56,6 +65,7 @@ def build(args, folder, log):
         command = [sys.executable, str(Path(__file__).resolve()), "--launch", str(log), build]
         return "-DCMAKE_CXX_COMPILER_LAUNCHER=" + ";".join(command + (["ccache"] if args.ccache else []))
     source = Path(args.source).resolve()
+    os.environ[COLD] = ",".join(args.groups)
     main_groups = [g for g in args.groups if g != "fuzz"]
     if main_groups:  # as cpp/bootstrap.sh configures
         subprocess.run(["cmake", "-S", str(source), "-B", str(folder), "-DCMAKE_BUILD_TYPE=Release",
