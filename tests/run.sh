@@ -8,8 +8,9 @@ cd "$here/build"
 ctest --output-on-failure -j "$(nproc)"
 cd "$here"
 # Two workers (pytest-xdist), one per core of the smallest machine we test on; tests sharing a
-# module-scoped fixture stay on one worker (tests/python/conftest.py groups them).
-PYTHONPATH="$here/build/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m pytest -q -n 2 --dist loadgroup \
+# module-scoped fixture stay on one worker (tests/python/conftest.py groups them). The 25
+# slowest tests are listed at the end, so a run's log shows where the suite's time goes.
+PYTHONPATH="$here/build/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m pytest -q -n 2 --dist loadgroup --durations=25 \
   "$here/tests/python"
 # Every fuzz target 30 s (ASan + UBSan), two at a time; a crash fails the run.
 "$here/tests/fuzz/run.sh" 30 2
