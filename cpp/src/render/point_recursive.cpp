@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -53,12 +54,18 @@ struct PrrImage {
   std::uint64_t groups = 1;  // N^prefix address prefixes of the uniform plan
 
   PrrImage(const Ifs& system, const RenderOptions& options, const Renderer& renderer)
-      : ifs(system), frame(Frame::fit(system, options.width, options.height, options.window, options.view)) {
+      : ifs(system) {
+    check_image_size(options.width, options.height);
     // The address tree knows neither the transitions' forbidden words nor the set C of w_0:
     // capabilities() leaves them out, so render() refuses them before this.
     ifs.require_attractor();
-    eq59 = default_depth(ifs.size(), frame.width(), frame.height());
-    plan = plan_recursion(ifs, options.depth, eq59);
+    eq59 = default_depth(ifs.size(), options.width, options.height);
+    // The frame's samples and the plan's box are two walks of the attractor (a few ms each)
+    // that need nothing of each other: on two cores, side by side.
+    const auto launch = resolve_threads(options.threads) > 1 ? std::launch::async : std::launch::deferred;
+    auto planned = std::async(launch, [&] { return plan_recursion(ifs, options.depth, eq59); });
+    frame = Frame::fit(system, options.width, options.height, options.window, options.view);
+    plan = planned.get();
     if (options.depth <= 0) plan.max_depth = depth_for_size(ifs, plan, frame.pixel_size(), 2, eq59);
     fit_pixels = options.depth <= 0;
     binary = options.binary;
@@ -321,15 +328,21 @@ Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const 
   describe_channels(ifs, raster);
   raster.width = frame.width();
   raster.height = frame.height();
-  // Density accumulates in single precision straight into the raster; a covered pixel is
-  // kept above 0 even when its mass underflows.
-  assign_large(raster.density, pixels, 0.0f);
   raster.pixel_size = frame.pixel_size();
-  if (ifs.spatial_dims() == 3) assign_large(raster.depth, pixels, -std::numeric_limits<float>::infinity());
   std::vector<std::uint32_t> hits;
   std::vector<double> sums;
-  assign_large(hits, channels ? pixels : 0, 0u);
-  assign_large(sums, pixels * channels, 0.0);
+  // Density accumulates in single precision straight into the raster; a covered pixel is
+  // kept above 0 even when its mass underflows. The buffers are made by the first list's
+  // apply: their pages' zeroing (tens of MB at 4096^2) then overlaps the other threads' jobs.
+  bool allocated = false;
+  auto allocate = [&] {
+    if (allocated) return;
+    allocated = true;
+    assign_large(raster.density, pixels, 0.0f);
+    if (ifs.spatial_dims() == 3) assign_large(raster.depth, pixels, -std::numeric_limits<float>::infinity());
+    assign_large(hits, channels ? pixels : 0, 0u);
+    assign_large(sums, pixels * channels, 0.0);
+  };
   constexpr float kCovered = std::numeric_limits<float>::denorm_min();
 
   // Results are applied strictly in job (address) order: floating-point sums come out the
@@ -340,7 +353,9 @@ Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const 
   // every job cost more page faults and copies than the plotting itself.
   std::vector<LeafList> spare;
   std::uint64_t next_job = 0;
+  bool applying = false;  // a thread is applying lists (outside the lock), in job order
   auto apply = [&](const LeafList& list) {
+    allocate();
     for (std::size_t k = 0; k < list.pixel.size(); ++k) {
       const std::uint32_t px = list.pixel[k];
       raster.density[px] = std::max(raster.density[px] + list.mass[k], kCovered);
@@ -398,20 +413,24 @@ Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const 
               }
             }
             setup.job(job, list, pixel_sums[thread], counts);
-            std::lock_guard<std::mutex> lock(mutex);
-            if (job != next_job) {
-              waiting.emplace(job, std::move(list));
-              return;
-            }
-            apply(list);
-            spare.push_back(std::move(list));
-            ++next_job;
+            // One thread at a time applies the lists that are next in order, without the lock:
+            // held through the adding, it stopped every other thread at the end of its job
+            // (the adding is most of a sparse attractor's serial time). The applying thread
+            // takes the lists that arrive meanwhile too.
+            std::unique_lock<std::mutex> lock(mutex);
+            waiting.emplace(job, std::move(list));
+            if (applying) return;
+            applying = true;
             for (auto it = waiting.find(next_job); it != waiting.end(); it = waiting.find(next_job)) {
-              apply(it->second);
-              spare.push_back(std::move(it->second));
+              LeafList ready = std::move(it->second);
               waiting.erase(it);
+              lock.unlock();
+              apply(ready);
+              lock.lock();
+              spare.push_back(std::move(ready));
               ++next_job;
             }
+            applying = false;
           },
           options.progress);
     } catch (const OverBudget&) {
@@ -419,6 +438,7 @@ Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const 
     }
   }
 
+  allocate();
   assign_large(raster.channels, pixels * channels, 0.0f);
   for (std::size_t i = 0; channels && i < pixels; ++i)
     for (int c = 0; c < channels && hits[i]; ++c)
