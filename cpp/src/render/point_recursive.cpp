@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <future>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -54,18 +53,12 @@ struct PrrImage {
   std::uint64_t groups = 1;  // N^prefix address prefixes of the uniform plan
 
   PrrImage(const Ifs& system, const RenderOptions& options, const Renderer& renderer)
-      : ifs(system) {
-    check_image_size(options.width, options.height);
+      : ifs(system), frame(Frame::fit(system, options.width, options.height, options.window, options.view)) {
     // The address tree knows neither the transitions' forbidden words nor the set C of w_0:
     // capabilities() leaves them out, so render() refuses them before this.
     ifs.require_attractor();
-    eq59 = default_depth(ifs.size(), options.width, options.height);
-    // The frame's samples and the plan's box are two walks of the attractor (a few ms each)
-    // that need nothing of each other: on two cores, side by side.
-    const auto launch = resolve_threads(options.threads) > 1 ? std::launch::async : std::launch::deferred;
-    auto planned = std::async(launch, [&] { return plan_recursion(ifs, options.depth, eq59); });
-    frame = Frame::fit(system, options.width, options.height, options.window, options.view);
-    plan = planned.get();
+    eq59 = default_depth(ifs.size(), frame.width(), frame.height());
+    plan = plan_recursion(ifs, options.depth, eq59);
     if (options.depth <= 0) plan.max_depth = depth_for_size(ifs, plan, frame.pixel_size(), 2, eq59);
     fit_pixels = options.depth <= 0;
     binary = options.binary;
