@@ -321,15 +321,21 @@ Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const 
   describe_channels(ifs, raster);
   raster.width = frame.width();
   raster.height = frame.height();
-  // Density accumulates in single precision straight into the raster; a covered pixel is
-  // kept above 0 even when its mass underflows.
-  assign_large(raster.density, pixels, 0.0f);
   raster.pixel_size = frame.pixel_size();
-  if (ifs.spatial_dims() == 3) assign_large(raster.depth, pixels, -std::numeric_limits<float>::infinity());
   std::vector<std::uint32_t> hits;
   std::vector<double> sums;
-  assign_large(hits, channels ? pixels : 0, 0u);
-  assign_large(sums, pixels * channels, 0.0);
+  // Density accumulates in single precision straight into the raster; a covered pixel is
+  // kept above 0 even when its mass underflows. The buffers are made by the first list's
+  // apply: their pages' zeroing (tens of MB at 4096^2) then overlaps the other threads' jobs.
+  bool allocated = false;
+  auto allocate = [&] {
+    if (allocated) return;
+    allocated = true;
+    assign_large(raster.density, pixels, 0.0f);
+    if (ifs.spatial_dims() == 3) assign_large(raster.depth, pixels, -std::numeric_limits<float>::infinity());
+    assign_large(hits, channels ? pixels : 0, 0u);
+    assign_large(sums, pixels * channels, 0.0);
+  };
   constexpr float kCovered = std::numeric_limits<float>::denorm_min();
 
   // Results are applied strictly in job (address) order: floating-point sums come out the
@@ -340,7 +346,9 @@ Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const 
   // every job cost more page faults and copies than the plotting itself.
   std::vector<LeafList> spare;
   std::uint64_t next_job = 0;
+  bool applying = false;  // a thread is applying lists (outside the lock), in job order
   auto apply = [&](const LeafList& list) {
+    allocate();
     for (std::size_t k = 0; k < list.pixel.size(); ++k) {
       const std::uint32_t px = list.pixel[k];
       raster.density[px] = std::max(raster.density[px] + list.mass[k], kCovered);
@@ -398,20 +406,24 @@ Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const 
               }
             }
             setup.job(job, list, pixel_sums[thread], counts);
-            std::lock_guard<std::mutex> lock(mutex);
-            if (job != next_job) {
-              waiting.emplace(job, std::move(list));
-              return;
-            }
-            apply(list);
-            spare.push_back(std::move(list));
-            ++next_job;
+            // One thread at a time applies the lists that are next in order, without the lock:
+            // held through the adding, it stopped every other thread at the end of its job
+            // (the adding is most of a sparse attractor's serial time). The applying thread
+            // takes the lists that arrive meanwhile too.
+            std::unique_lock<std::mutex> lock(mutex);
+            waiting.emplace(job, std::move(list));
+            if (applying) return;
+            applying = true;
             for (auto it = waiting.find(next_job); it != waiting.end(); it = waiting.find(next_job)) {
-              apply(it->second);
-              spare.push_back(std::move(it->second));
+              LeafList ready = std::move(it->second);
               waiting.erase(it);
+              lock.unlock();
+              apply(ready);
+              lock.lock();
+              spare.push_back(std::move(ready));
               ++next_job;
             }
+            applying = false;
           },
           options.progress);
     } catch (const OverBudget&) {
@@ -419,6 +431,7 @@ Raster PointRecursive::draw(const Ifs& ifs, const RenderOptions& options) const 
     }
   }
 
+  allocate();
   assign_large(raster.channels, pixels * channels, 0.0f);
   for (std::size_t i = 0; channels && i < pixels; ++i)
     for (int c = 0; c < channels && hits[i]; ++c)

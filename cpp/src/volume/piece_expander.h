@@ -43,7 +43,13 @@ inline SubTree build_subtree(const Ifs& ifs, const RecursionPlan& plan, const st
   SubTree t;
   t.dim = ifs.dim();
   t.reps = static_cast<int>(reps.size());
-  std::vector<AffineMap> maps{AffineMap(ifs.dim())};
+  // Sized for the whole tree up front: growing a vector of AffineMaps (about 600 bytes each)
+  // copied them over and over, on one core before the volume's jobs.
+  std::size_t nodes = 1;
+  for (std::size_t level = 0, width = 1; level < static_cast<std::size_t>(levels); ++level) nodes += width *= ifs.size();
+  std::vector<AffineMap> maps;
+  maps.reserve(nodes);
+  maps.push_back(AffineMap(ifs.dim()));
   std::vector<double> masses{1.0};
   std::vector<int> depth{0};
   // Breadth first, so that the children of node k are contiguous.
@@ -59,8 +65,8 @@ inline SubTree build_subtree(const Ifs& ifs, const RecursionPlan& plan, const st
       depth.push_back(depth[k] + 1);
     }
   }
+  std::vector<double> c(t.dim), h(t.dim);
   for (std::size_t k = 0; k < maps.size(); ++k) {
-    std::vector<double> c(t.dim), h(t.dim);
     image_box(maps[k], plan, t.dim, c.data(), h.data());
     t.center.insert(t.center.end(), c.begin(), c.end());
     t.half.insert(t.half.end(), h.begin(), h.end());
