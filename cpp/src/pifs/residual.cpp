@@ -95,13 +95,18 @@ int magnitude_group(int band) { return band < 2 ? 0 : band < 5 ? 1 : 2; }
 
 }  // namespace
 
-PifsResidual residual_quantise(const PifsRaster& target, const PifsRaster& decoded, int width, int height,
-                               double step) {
-  PifsResidual r;
-  if (!(step * kResidualStepScale <= 65535)) return r;
-  const int q = std::max(1, int(std::lround(step * kResidualStepScale)));
-  step = double(q) / kResidualStepScale;
-  const int bx = blocks_along(width), by = blocks_along(height);
+PifsResidualRows::PifsResidualRows(int width, int height, double step) : width_(width), height_(height) {
+  if (!(step * kResidualStepScale <= 65535)) return;
+  q_ = std::max(1, int(std::lround(step * kResidualStepScale)));
+  bx_ = blocks_along(width);
+  by_ = blocks_along(height);
+  residual_.coefficients.assign(std::size_t(bx_) * by_ * kCoefficients, 0);
+  nonzero_.assign(std::size_t(by_), 0);
+}
+
+void PifsResidualRows::quantise(int j, const PifsRaster& target, const PifsRaster& decoded) {
+  const int width = width_, height = height_, bx = bx_;
+  const double step = double(q_) / kResidualStepScale;
   const Tables& t = tables();
   const std::vector<double>& b = basis();
   // The basis transposed, so both passes run along contiguous rows of 8 outputs (vector lanes);
@@ -110,59 +115,66 @@ PifsResidual residual_quantise(const PifsRaster& target, const PifsRaster& decod
   double bt[kCoefficients];
   for (int k = 0; k < kN; ++k)
     for (int u = 0; u < kN; ++u) bt[u * kN + k] = b[k * kN + u];
-  r.coefficients.assign(std::size_t(bx) * by * kCoefficients, 0);
-  bool any = false;
   double x[kCoefficients], row[kCoefficients], coef[kCoefficients];
   int magnitude[kCoefficients];
-  for (int j = 0; j < by; ++j)
-    for (int i = 0; i < bx; ++i) {
-      // Pixels past the plane's edge repeat its last row and column: no step for the DCT to code.
-      const bool inside = (i + 1) * kN <= width && (j + 1) * kN <= height;
-      for (int v = 0; v < kN; ++v) {
-        const int py = std::min(j * kN + v, height - 1);
-        const float* tr = target.row(py);
-        const float* dr = decoded.row(py);
-        if (inside) {
-          for (int u = 0; u < kN; ++u) x[v * kN + u] = double(tr[i * kN + u]) - double(dr[i * kN + u]);
-          continue;
-        }
-        for (int u = 0; u < kN; ++u) {
-          const int px = std::min(i * kN + u, width - 1);
-          x[v * kN + u] = double(tr[px]) - double(dr[px]);
-        }
+  for (int i = 0; i < bx; ++i) {
+    // Pixels past the plane's edge repeat its last row and column: no step for the DCT to code.
+    const bool inside = (i + 1) * kN <= width && (j + 1) * kN <= height;
+    for (int v = 0; v < kN; ++v) {
+      const int py = std::min(j * kN + v, height - 1);
+      const float* tr = target.row(py);
+      const float* dr = decoded.row(py);
+      if (inside) {
+        for (int u = 0; u < kN; ++u) x[v * kN + u] = double(tr[i * kN + u]) - double(dr[i * kN + u]);
+        continue;
       }
-      // Rows: row[v][k] = Σ_u b[k][u]·x[v][u]; then columns: coef[kv][ku] = Σ_v b[kv][v]·row[v][ku].
-      for (int v = 0; v < kN; ++v) {
-        double* out = row + v * kN;
-        for (int k = 0; k < kN; ++k) out[k] = 0;
-        for (int u = 0; u < kN; ++u) {
-          const double xv = x[v * kN + u];
-          for (int k = 0; k < kN; ++k) out[k] += bt[u * kN + k] * xv;
-        }
+      for (int u = 0; u < kN; ++u) {
+        const int px = std::min(i * kN + u, width - 1);
+        x[v * kN + u] = double(tr[px]) - double(dr[px]);
       }
-      for (int kv = 0; kv < kN; ++kv) {
-        double* out = coef + kv * kN;
-        for (int k = 0; k < kN; ++k) out[k] = 0;
-        for (int v = 0; v < kN; ++v) {
-          const double w = b[kv * kN + v];
-          for (int k = 0; k < kN; ++k) out[k] += w * row[v * kN + k];
-        }
-      }
-      int nonzero = 0;
-      for (int c = 0; c < kCoefficients; ++c) {
-        const double a = std::fabs(coef[c]) / step + kRounding;
-        const int m = a < kMaxMagnitude ? int(a) : kMaxMagnitude;
-        magnitude[c] = coef[c] < 0 ? -m : m;
-        nonzero |= m;
-      }
-      std::int16_t* out = r.coefficients.data() + (std::size_t(j) * bx + i) * kCoefficients;
-      if (nonzero == 0) continue;
-      any = true;
-      for (int z = 0; z < kCoefficients; ++z) out[z] = std::int16_t(magnitude[t.zigzag[z]]);
     }
-  if (!any) r.coefficients.clear();
-  else r.step = q;
-  return r;
+    // Rows: row[v][k] = Σ_u b[k][u]·x[v][u]; then columns: coef[kv][ku] = Σ_v b[kv][v]·row[v][ku].
+    for (int v = 0; v < kN; ++v) {
+      double* out = row + v * kN;
+      for (int k = 0; k < kN; ++k) out[k] = 0;
+      for (int u = 0; u < kN; ++u) {
+        const double xv = x[v * kN + u];
+        for (int k = 0; k < kN; ++k) out[k] += bt[u * kN + k] * xv;
+      }
+    }
+    for (int kv = 0; kv < kN; ++kv) {
+      double* out = coef + kv * kN;
+      for (int k = 0; k < kN; ++k) out[k] = 0;
+      for (int v = 0; v < kN; ++v) {
+        const double w = b[kv * kN + v];
+        for (int k = 0; k < kN; ++k) out[k] += w * row[v * kN + k];
+      }
+    }
+    int nonzero = 0;
+    for (int c = 0; c < kCoefficients; ++c) {
+      const double a = std::fabs(coef[c]) / step + kRounding;
+      const int m = a < kMaxMagnitude ? int(a) : kMaxMagnitude;
+      magnitude[c] = coef[c] < 0 ? -m : m;
+      nonzero |= m;
+    }
+    std::int16_t* out = residual_.coefficients.data() + (std::size_t(j) * bx + i) * kCoefficients;
+    if (nonzero == 0) continue;
+    nonzero_[std::size_t(j)] = 1;
+    for (int z = 0; z < kCoefficients; ++z) out[z] = std::int16_t(magnitude[t.zigzag[z]]);
+  }
+}
+
+PifsResidual PifsResidualRows::finish() {
+  if (std::find(nonzero_.begin(), nonzero_.end(), 1) == nonzero_.end()) return PifsResidual();
+  residual_.step = q_;
+  return std::move(residual_);
+}
+
+PifsResidual residual_quantise(const PifsRaster& target, const PifsRaster& decoded, int width, int height,
+                               double step) {
+  PifsResidualRows rows(width, height, step);
+  for (int j = 0; j < rows.rows(); ++j) rows.quantise(j, target, decoded);
+  return rows.finish();
 }
 
 std::vector<std::uint8_t> encode_residual(const PifsResidual& residual, int width, int height) {

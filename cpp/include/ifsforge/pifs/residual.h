@@ -24,6 +24,24 @@ constexpr int kResidualStepScale = 16;
 PifsResidual residual_quantise(const PifsRaster& target, const PifsRaster& decoded, int width, int height,
                                double step);
 
+/// residual_quantise cut into rows of blocks, each quantised on its own (any thread, any order,
+/// the same coefficients), so one plane's residual can keep several threads busy.
+class PifsResidualRows {
+ public:
+  PifsResidualRows(int width, int height, double step);
+  /// @brief The number of block rows: fixed by the plane, never by the thread count.
+  int rows() const { return by_; }
+  /// @brief Quantises block row `row` of `target − decoded`.
+  void quantise(int row, const PifsRaster& target, const PifsRaster& decoded);
+  /// @brief The residual once every row is quantised (empty when no coefficient is nonzero).
+  PifsResidual finish();
+
+ private:
+  int width_, height_, q_ = 0, bx_ = 0, by_ = 0;
+  PifsResidual residual_;
+  std::vector<std::uint8_t> nonzero_;  ///< per block row: any coefficient kept
+};
+
 /// @brief The range-coded bytes of a residual of a `width`×`height` plane (empty for none).
 std::vector<std::uint8_t> encode_residual(const PifsResidual& residual, int width, int height);
 
