@@ -196,8 +196,8 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
     const double at = 0.9 + 0.008 * round++;
     // A unit is one plane of one probe, the largest planes first. Its first step cuts the
     // quadtree, codes the transforms and decodes what the decoder shows at 1× (deblocked, as
-    // pifs_decode does); its middle steps quantise the residual a block row each; its last
-    // step, the residual's entropy coder, is sequential. All of a round is one job list
+    // pifs_decode does); its middle steps quantise the residual a block row each; the entropy
+    // coder, sequential, follows them row by row. All of a round is one job list
     // (staged_jobs.h), so both threads stay busy however the units' costs differ.
     std::vector<std::size_t> block_rows(units, 0);
     if (o.residual)
@@ -221,16 +221,17 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
           residuals[u] = std::make_unique<PifsResidualRows>(plane.width, plane.height, step);
         },
         [&](std::size_t u, std::size_t row) {
-          // A step too coarse for any coefficient has no rows to quantise.
+          // A step too coarse for any coefficient has no rows.
           if (int(row) < residuals[u]->rows()) residuals[u]->quantise(int(row), padded[u / count], decoded[u]);
         },
-        [&](std::size_t u) {
-          if (!o.residual) return;
+        [&](std::size_t u, std::size_t row) {
+          if (int(row) < residuals[u]->rows()) residuals[u]->code(int(row));
+          if (row + 1 < block_rows[u]) return;
           PifsPlane& plane = probes[u % count].planes[u / count];
-          plane.residual = residuals[u]->finish();
-          decoded[u] = PifsRaster();
+          plane.residual = residuals[u]->finish(&sizes[u].residual);
           sizes[u].residual_step = plane.residual.step;
-          sizes[u].residual = encode_residual(plane.residual, plane.width, plane.height).size();
+          residuals[u].reset();
+          decoded[u] = PifsRaster();
         },
         progress_range(progress, std::min(0.98, at), std::min(0.99, at + 0.008)));
     for (std::size_t p = 0; p < count; ++p) {

@@ -1,6 +1,7 @@
 #pragma once
 // The rate control's round as one job list (encoder.cpp): every unit (one plane of one probe)
-// has a first step, then many independent middle steps, then a last step, each on one thread.
+// has a first step, then many independent middle steps, each followed, in order, by a
+// sequential step (the entropy coder's share of that item).
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -10,15 +11,17 @@
 namespace ifsforge {
 
 /// @brief Runs, on `threads` threads in one parallel_jobs call, first(u) for every unit u, then
-/// middle(u, i) for i in [0, middles[u]) once first(u) has ended, then last(u) once every middle
-/// of u has ended. A thread that ends a step takes the next step whose inputs are ready,
-/// whichever unit it belongs to: no thread waits for a barrier while another unit's work is
-/// left, and a thread started late (a loaded machine) finds the work shared out anew. Each step
-/// writes its own unit's results, so the outputs never depend on the thread count; the lasts,
-/// often the longer sequential steps, run side by side at the end.
+/// middle(u, i) for i in [0, middles[u]) once first(u) has ended, and follow(u, i) for i in
+/// increasing order, each once middle(u, i) has ended. Each unit's follows run on one thread
+/// (its follower), started as soon as its first step ends while another thread is left to run
+/// middles; a follower that reaches an item nobody has started runs its middle itself, and a
+/// thread that ends a step takes whatever is ready, of any unit: no thread waits for a barrier,
+/// and the sequential follows overlap the middles instead of running alone at the end. Each
+/// step writes its own unit's results, so the outputs never depend on the thread count.
 void staged_jobs(const std::vector<std::size_t>& middles, int threads,
                  const std::function<void(std::size_t unit)>& first,
                  const std::function<void(std::size_t unit, std::size_t item)>& middle,
-                 const std::function<void(std::size_t unit)>& last, const ProgressCallback& progress = nullptr);
+                 const std::function<void(std::size_t unit, std::size_t item)>& follow,
+                 const ProgressCallback& progress = nullptr);
 
 }  // namespace ifsforge
