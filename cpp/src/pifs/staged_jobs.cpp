@@ -15,7 +15,6 @@ void staged_jobs(const std::vector<std::size_t>& middles, int threads,
                  const std::function<void(std::size_t unit, std::size_t item)>& follow,
                  const ProgressCallback& progress) {
   const std::size_t units = middles.size();
-  threads = resolve_threads(threads);
   std::size_t total = 0;
   for (std::size_t m : middles) total += m;
   enum Item : char { kWaiting, kRunning, kEnded };
@@ -23,7 +22,6 @@ void staged_jobs(const std::vector<std::size_t>& middles, int threads,
   for (std::size_t u = 0; u < units; ++u) items[u].assign(middles[u], kWaiting);
   std::vector<char> first_done(units, 0), followed(units, 0);
   std::vector<std::size_t> unstarted(middles);  // per unit: middles nobody has taken
-  int following = 0;                            // followers running
   std::mutex mutex;
   std::condition_variable changed;
   const auto wait = [&](std::unique_lock<std::mutex>& lock) {
@@ -57,8 +55,6 @@ void staged_jobs(const std::vector<std::size_t>& middles, int threads,
       lock.unlock();
       follow(u, i);
     }
-    std::lock_guard<std::mutex> lock(mutex);
-    --following;
   };
   // Jobs start in index order: the firsts, then slots that each take one task (a middle, or a
   // unit's follower), or none once every task is taken. A slot waits only for firsts or
@@ -86,13 +82,12 @@ void staged_jobs(const std::vector<std::size_t>& middles, int threads,
             if (ready == units) ready = u;
           }
           if (!left) return;
-          // A follower starts while another thread is left to run middles; otherwise middles
-          // go first, those of a unit being followed before the others.
-          const bool spare = following < threads - 1;
-          const std::size_t start = idle < units && (spare || (lead == units && ready == units)) ? idle : units;
+          // Middles a follower waits for first; then a new follower (it runs its own middles
+          // when no other thread has them, so starting it early never idles a thread); then
+          // any middle.
+          const std::size_t start = lead == units ? idle : units;
           if (start < units) {
             followed[start] = 1;
-            ++following;
             lock.unlock();
             run_follower(start);
             return;

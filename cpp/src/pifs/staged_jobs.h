@@ -13,11 +13,11 @@ namespace ifsforge {
 /// @brief Runs, on `threads` threads in one parallel_jobs call, first(u) for every unit u, then
 /// middle(u, i) for i in [0, middles[u]) once first(u) has ended, and follow(u, i) for i in
 /// increasing order, each once middle(u, i) has ended. Each unit's follows run on one thread
-/// (its follower), started as soon as its first step ends while another thread is left to run
-/// middles; a follower that reaches an item nobody has started runs its middle itself, and a
-/// thread that ends a step takes whatever is ready, of any unit: no thread waits for a barrier,
-/// and the sequential follows overlap the middles instead of running alone at the end. Each
-/// step writes its own unit's results, so the outputs never depend on the thread count.
+/// (its follower), which runs the middles no other thread has taken itself. A thread that ends
+/// a step takes the middles running followers need first, else starts the next unit's
+/// follower, else any ready middle: no thread waits for a barrier, and the sequential follows
+/// overlap the middles instead of running alone at the end. Each step writes its own unit's
+/// results, so the outputs never depend on the thread count.
 void staged_jobs(const std::vector<std::size_t>& middles, int threads,
                  const std::function<void(std::size_t unit)>& first,
                  const std::function<void(std::size_t unit, std::size_t item)>& middle,
