@@ -9,6 +9,8 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/parallel.h"
@@ -20,6 +22,7 @@
 #include "ifsforge/pifs/planes.h"
 #include "ifsforge/pifs/residual.h"
 #include "rate_search.h"
+#include "staged_jobs.h"
 
 namespace ifsforge {
 namespace {
@@ -177,8 +180,7 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
   // Chroma samples stand for 2×2 pixels, so their errors weigh 4× (and their residual step
   // halves). The residual layer's step follows λ (step² = λ / kResidualLambda), so the quadtree
   // and the residual trade error for bits at the same price. Each round tries two values of
-  // λ at once (every plane of both is one job, the largest planes first), so the rate control
-  // keeps two threads busy; the values tried never depend on the thread count.
+  // λ at once; the values tried never depend on the thread count.
   struct Probe {
     double log_lambda = 0;
     std::vector<PifsPlane> planes;
@@ -186,30 +188,50 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
   };
   int round = 0;
   auto try_probes = [&](std::vector<Probe>& probes) {
-    const std::size_t count = probes.size(), plane_count = planes.size();
-    std::vector<PifsStreamSizes> sizes(count * plane_count);
+    const std::size_t count = probes.size(), plane_count = planes.size(), units = count * plane_count;
+    std::vector<PifsStreamSizes> sizes(units);
+    std::vector<PifsRaster> decoded(units);
+    std::vector<std::unique_ptr<PifsResidualRows>> residuals(units);
     for (Probe& p : probes) p.planes.assign(plane_count, {});
     const double at = 0.9 + 0.008 * round++;
-    parallel_jobs(
-        sizes.size(), o.threads,
-        [&](std::size_t job, int) {
-          const std::size_t k = job / count, p = job % count;
+    // A unit is one plane of one probe, the largest planes first. Its first step cuts the
+    // quadtree, codes the transforms and decodes what the decoder shows at 1× (deblocked, as
+    // pifs_decode does); its middle steps quantise the residual a block row each; the entropy
+    // coder, sequential, follows them row by row. All of a round is one job list
+    // (staged_jobs.h), so both threads stay busy however the units' costs differ.
+    std::vector<std::size_t> block_rows(units, 0);
+    if (o.residual)
+      for (std::size_t u = 0; u < units; ++u)
+        block_rows[u] = std::size_t(cands[u / count].height + kResidualBlock - 1) / kResidualBlock;
+    staged_jobs(
+        block_rows, o.threads,
+        [&](std::size_t u) {
+          const std::size_t k = u / count, p = u % count;
           const bool half = code.halved(k);
           PifsPlane& plane = probes[p].planes[k];
           plane.width = cands[k].width;
           plane.height = cands[k].height;
           const double lambda = std::exp(probes[p].log_lambda);
           plane.leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
-          PifsStreamSizes& size = sizes[job];
-          size.transforms = encode_plane(code, plane).size();
+          sizes[u].transforms = encode_plane(code, plane).size();
           if (!o.residual) return;
-          // The residual of what the decoder will show at 1× (deblocked, as pifs_decode does).
-          PifsRaster decoded = decode_plane(code, plane, 0, PifsDecoder::Hierarchical, 0, 1);
-          deblock(code, plane, 0, decoded, 1);
+          decoded[u] = decode_plane(code, plane, 0, PifsDecoder::Hierarchical, 0, 1);
+          deblock(code, plane, 0, decoded[u], 1);
           const double step = std::sqrt(lambda / kResidualLambda) * (half ? 0.5 : 1.0);
-          plane.residual = residual_quantise(padded[k], decoded, plane.width, plane.height, step);
-          size.residual_step = plane.residual.step;
-          size.residual = encode_residual(plane.residual, plane.width, plane.height).size();
+          residuals[u] = std::make_unique<PifsResidualRows>(plane.width, plane.height, step);
+        },
+        [&](std::size_t u, std::size_t row) {
+          // A step too coarse for any coefficient has no rows.
+          if (int(row) < residuals[u]->rows()) residuals[u]->quantise(int(row), padded[u / count], decoded[u]);
+        },
+        [&](std::size_t u, std::size_t row) {
+          if (int(row) < residuals[u]->rows()) residuals[u]->code(int(row));
+          if (row + 1 < block_rows[u]) return;
+          PifsPlane& plane = probes[u % count].planes[u / count];
+          plane.residual = residuals[u]->finish(&sizes[u].residual);
+          sizes[u].residual_step = plane.residual.step;
+          residuals[u].reset();
+          decoded[u] = PifsRaster();
         },
         progress_range(progress, std::min(0.98, at), std::min(0.99, at + 0.008)));
     for (std::size_t p = 0; p < count; ++p) {

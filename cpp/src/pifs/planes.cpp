@@ -106,7 +106,7 @@ PifsRaster pad_plane(const PifsRaster& p, int width, int height, int threads, co
 
 int pass_threads(int threads, double pixels) {
   constexpr double kPixelsPerThread = 1 << 20;
-  return std::min(resolve_threads(threads), 1 + int(pixels / kPixelsPerThread));
+  return std::max(1, std::min(resolve_threads(threads), int(pixels / kPixelsPerThread)));
 }
 
 Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsColor color, int width,

@@ -95,13 +95,68 @@ int magnitude_group(int band) { return band < 2 ? 0 : band < 5 ? 1 : 2; }
 
 }  // namespace
 
-PifsResidual residual_quantise(const PifsRaster& target, const PifsRaster& decoded, int width, int height,
-                               double step) {
-  PifsResidual r;
-  if (!(step * kResidualStepScale <= 65535)) return r;
-  const int q = std::max(1, int(std::lround(step * kResidualStepScale)));
-  step = double(q) / kResidualStepScale;
-  const int bx = blocks_along(width), by = blocks_along(height);
+/// The residual's entropy coder, a row of blocks at a time in raster order: each block's
+/// contexts read only its left and upper neighbours, so a row can be coded as soon as it and the
+/// rows above are quantised.
+class PifsResidualRows::Coder {
+ public:
+  Coder(const std::vector<std::int16_t>& coefficients, int bx, int by)
+      : walk_{bx, by, coefficients}, models_(std::make_unique<Models>()) {}
+  void row(int y) {
+    const Tables& t = tables();
+    Models& m = *models_;
+    const int bx = walk_.bx;
+    for (int x = 0; x < bx; ++x) walk_.remember(y * bx + x);
+    auto level = [&](int band, int v) {
+      const int a = std::abs(v);
+      rc_.bit(m.above_one[band], a > 1);
+      if (a > 1) rc_.integer(m.length[magnitude_group(band)], m.tail[magnitude_group(band)], unsigned(a - 2));
+      rc_.bit(m.sign, v < 0);
+    };
+    for (int x = 0; x < bx; ++x) {
+      const std::int16_t* c = walk_.c.data() + (std::size_t(y) * bx + x) * kCoefficients;
+      const bool coded = walk_.nonzero[std::size_t(y) * bx + x] != 0;
+      rc_.bit(m.coded[walk_.coded_context(x, y)], coded);
+      if (!coded) continue;
+      int last = kCoefficients - 1;
+      while (c[last] == 0) --last;
+      int z = 0;
+      for (; z < kCoefficients - 1; ++z) {
+        const int band = t.band[z];
+        rc_.bit(m.significant[band][walk_.neighbour_context(x, y, z)], c[z] != 0);
+        if (c[z] == 0) continue;
+        level(band, c[z]);
+        rc_.bit(m.last[band], z == last);
+        if (z == last) break;
+      }
+      if (z == kCoefficients - 1) level(t.band[z], c[z]);  // reached only when it is the last nonzero
+    }
+  }
+  std::vector<std::uint8_t> finish() { return rc_.finish(); }
+
+ private:
+  BlockWalk walk_;
+  std::unique_ptr<Models> models_;
+  RangeEncoder rc_;
+};
+
+PifsResidualRows::PifsResidualRows(int width, int height, double step) : width_(width), height_(height) {
+  if (!(step * kResidualStepScale <= 65535)) return;
+  q_ = std::max(1, int(std::lround(step * kResidualStepScale)));
+  bx_ = blocks_along(width);
+  by_ = blocks_along(height);
+  residual_.coefficients.assign(std::size_t(bx_) * by_ * kCoefficients, 0);
+  nonzero_.assign(std::size_t(by_), 0);
+  coder_ = std::make_unique<Coder>(residual_.coefficients, bx_, by_);
+}
+
+PifsResidualRows::~PifsResidualRows() = default;
+
+void PifsResidualRows::code(int row) { coder_->row(row); }
+
+void PifsResidualRows::quantise(int j, const PifsRaster& target, const PifsRaster& decoded) {
+  const int width = width_, height = height_, bx = bx_;
+  const double step = double(q_) / kResidualStepScale;
   const Tables& t = tables();
   const std::vector<double>& b = basis();
   // The basis transposed, so both passes run along contiguous rows of 8 outputs (vector lanes);
@@ -110,97 +165,78 @@ PifsResidual residual_quantise(const PifsRaster& target, const PifsRaster& decod
   double bt[kCoefficients];
   for (int k = 0; k < kN; ++k)
     for (int u = 0; u < kN; ++u) bt[u * kN + k] = b[k * kN + u];
-  r.coefficients.assign(std::size_t(bx) * by * kCoefficients, 0);
-  bool any = false;
   double x[kCoefficients], row[kCoefficients], coef[kCoefficients];
   int magnitude[kCoefficients];
-  for (int j = 0; j < by; ++j)
-    for (int i = 0; i < bx; ++i) {
-      // Pixels past the plane's edge repeat its last row and column: no step for the DCT to code.
-      const bool inside = (i + 1) * kN <= width && (j + 1) * kN <= height;
-      for (int v = 0; v < kN; ++v) {
-        const int py = std::min(j * kN + v, height - 1);
-        const float* tr = target.row(py);
-        const float* dr = decoded.row(py);
-        if (inside) {
-          for (int u = 0; u < kN; ++u) x[v * kN + u] = double(tr[i * kN + u]) - double(dr[i * kN + u]);
-          continue;
-        }
-        for (int u = 0; u < kN; ++u) {
-          const int px = std::min(i * kN + u, width - 1);
-          x[v * kN + u] = double(tr[px]) - double(dr[px]);
-        }
+  for (int i = 0; i < bx; ++i) {
+    // Pixels past the plane's edge repeat its last row and column: no step for the DCT to code.
+    const bool inside = (i + 1) * kN <= width && (j + 1) * kN <= height;
+    for (int v = 0; v < kN; ++v) {
+      const int py = std::min(j * kN + v, height - 1);
+      const float* tr = target.row(py);
+      const float* dr = decoded.row(py);
+      if (inside) {
+        for (int u = 0; u < kN; ++u) x[v * kN + u] = double(tr[i * kN + u]) - double(dr[i * kN + u]);
+        continue;
       }
-      // Rows: row[v][k] = Σ_u b[k][u]·x[v][u]; then columns: coef[kv][ku] = Σ_v b[kv][v]·row[v][ku].
-      for (int v = 0; v < kN; ++v) {
-        double* out = row + v * kN;
-        for (int k = 0; k < kN; ++k) out[k] = 0;
-        for (int u = 0; u < kN; ++u) {
-          const double xv = x[v * kN + u];
-          for (int k = 0; k < kN; ++k) out[k] += bt[u * kN + k] * xv;
-        }
+      for (int u = 0; u < kN; ++u) {
+        const int px = std::min(i * kN + u, width - 1);
+        x[v * kN + u] = double(tr[px]) - double(dr[px]);
       }
-      for (int kv = 0; kv < kN; ++kv) {
-        double* out = coef + kv * kN;
-        for (int k = 0; k < kN; ++k) out[k] = 0;
-        for (int v = 0; v < kN; ++v) {
-          const double w = b[kv * kN + v];
-          for (int k = 0; k < kN; ++k) out[k] += w * row[v * kN + k];
-        }
-      }
-      int nonzero = 0;
-      for (int c = 0; c < kCoefficients; ++c) {
-        const double a = std::fabs(coef[c]) / step + kRounding;
-        const int m = a < kMaxMagnitude ? int(a) : kMaxMagnitude;
-        magnitude[c] = coef[c] < 0 ? -m : m;
-        nonzero |= m;
-      }
-      std::int16_t* out = r.coefficients.data() + (std::size_t(j) * bx + i) * kCoefficients;
-      if (nonzero == 0) continue;
-      any = true;
-      for (int z = 0; z < kCoefficients; ++z) out[z] = std::int16_t(magnitude[t.zigzag[z]]);
     }
-  if (!any) r.coefficients.clear();
-  else r.step = q;
-  return r;
+    // Rows: row[v][k] = Σ_u b[k][u]·x[v][u]; then columns: coef[kv][ku] = Σ_v b[kv][v]·row[v][ku].
+    for (int v = 0; v < kN; ++v) {
+      double* out = row + v * kN;
+      for (int k = 0; k < kN; ++k) out[k] = 0;
+      for (int u = 0; u < kN; ++u) {
+        const double xv = x[v * kN + u];
+        for (int k = 0; k < kN; ++k) out[k] += bt[u * kN + k] * xv;
+      }
+    }
+    for (int kv = 0; kv < kN; ++kv) {
+      double* out = coef + kv * kN;
+      for (int k = 0; k < kN; ++k) out[k] = 0;
+      for (int v = 0; v < kN; ++v) {
+        const double w = b[kv * kN + v];
+        for (int k = 0; k < kN; ++k) out[k] += w * row[v * kN + k];
+      }
+    }
+    int nonzero = 0;
+    for (int c = 0; c < kCoefficients; ++c) {
+      const double a = std::fabs(coef[c]) / step + kRounding;
+      const int m = a < kMaxMagnitude ? int(a) : kMaxMagnitude;
+      magnitude[c] = coef[c] < 0 ? -m : m;
+      nonzero |= m;
+    }
+    std::int16_t* out = residual_.coefficients.data() + (std::size_t(j) * bx + i) * kCoefficients;
+    if (nonzero == 0) continue;
+    nonzero_[std::size_t(j)] = 1;
+    for (int z = 0; z < kCoefficients; ++z) out[z] = std::int16_t(magnitude[t.zigzag[z]]);
+  }
+}
+
+PifsResidual PifsResidualRows::finish(std::size_t* coded_size) {
+  const bool any = std::find(nonzero_.begin(), nonzero_.end(), 1) != nonzero_.end();
+  if (coded_size) *coded_size = any ? coder_->finish().size() : 0;
+  if (!any) return PifsResidual();
+  residual_.step = q_;
+  return std::move(residual_);
+}
+
+PifsResidual residual_quantise(const PifsRaster& target, const PifsRaster& decoded, int width, int height,
+                               double step) {
+  PifsResidualRows rows(width, height, step);
+  for (int j = 0; j < rows.rows(); ++j) rows.quantise(j, target, decoded);
+  return rows.finish();
 }
 
 std::vector<std::uint8_t> encode_residual(const PifsResidual& residual, int width, int height) {
   if (residual.step == 0) return {};
-  const Tables& t = tables();
   const int bx = blocks_along(width), by = blocks_along(height);
   if (residual.coefficients.size() != std::size_t(bx) * by * kCoefficients)
     throw InputError("PIFS residual: coefficient count does not match the plane");
-  auto m = std::make_unique<Models>();
-  RangeEncoder rc;
-  BlockWalk walk{bx, by, residual.coefficients};
-  for (int b = 0; b < bx * by; ++b) walk.remember(b);
-  auto level = [&](int band, int v) {
-    const int a = std::abs(v);
-    rc.bit(m->above_one[band], a > 1);
-    if (a > 1) rc.integer(m->length[magnitude_group(band)], m->tail[magnitude_group(band)], unsigned(a - 2));
-    rc.bit(m->sign, v < 0);
-  };
-  for (int y = 0; y < by; ++y)
-    for (int x = 0; x < bx; ++x) {
-      const std::int16_t* c = residual.coefficients.data() + (std::size_t(y) * bx + x) * kCoefficients;
-      const bool coded = walk.nonzero[std::size_t(y) * bx + x] != 0;
-      rc.bit(m->coded[walk.coded_context(x, y)], coded);
-      if (!coded) continue;
-      int last = kCoefficients - 1;
-      while (c[last] == 0) --last;
-      int z = 0;
-      for (; z < kCoefficients - 1; ++z) {
-        const int band = t.band[z];
-        rc.bit(m->significant[band][walk.neighbour_context(x, y, z)], c[z] != 0);
-        if (c[z] == 0) continue;
-        level(band, c[z]);
-        rc.bit(m->last[band], z == last);
-        if (z == last) break;
-      }
-      if (z == kCoefficients - 1) level(t.band[z], c[z]);  // reached only when it is the last nonzero
-    }
-  return rc.finish();
+  PifsResidualRows::Coder coder(residual.coefficients, bx, by);
+  for (int y = 0; y < by; ++y) coder.row(y);
+  return coder.finish();
 }
 
 PifsResidual decode_residual(int step, int width, int height, const std::uint8_t* data, std::size_t size,

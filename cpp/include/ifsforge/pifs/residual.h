@@ -4,7 +4,9 @@
 /// defined on the plane's native pixel grid; at finer scales it is magnified by Catmull-Rom
 /// interpolation (smooth across the blocks' edges), at coarser ones averaged down, so the decoder
 /// keeps decoding at any resolution.
+#include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,31 @@ constexpr int kResidualStepScale = 16;
 /// one below the smallest step is raised to it.
 PifsResidual residual_quantise(const PifsRaster& target, const PifsRaster& decoded, int width, int height,
                                double step);
+
+/// residual_quantise cut into rows of blocks, each quantised on its own (any thread, any order,
+/// the same coefficients), so one plane's residual can keep several threads busy; the rows can
+/// also be entropy coded one by one as they come (encode_residual's bytes, row by row).
+class PifsResidualRows {
+ public:
+  PifsResidualRows(int width, int height, double step);
+  ~PifsResidualRows();
+  /// @brief The number of block rows: fixed by the plane, never by the thread count.
+  int rows() const { return by_; }
+  /// @brief Quantises block row `row` of `target − decoded`.
+  void quantise(int row, const PifsRaster& target, const PifsRaster& decoded);
+  /// @brief Entropy codes block row `row`, once it is quantised; rows are coded in order.
+  void code(int row);
+  /// @brief The residual once every row is quantised (empty when no coefficient is nonzero);
+  /// `coded_size`, when given, receives its encode_residual size (every row coded first).
+  PifsResidual finish(std::size_t* coded_size = nullptr);
+  class Coder;
+
+ private:
+  int width_, height_, q_ = 0, bx_ = 0, by_ = 0;
+  PifsResidual residual_;
+  std::vector<std::uint8_t> nonzero_;  ///< per block row: any coefficient kept
+  std::unique_ptr<Coder> coder_;
+};
 
 /// @brief The range-coded bytes of a residual of a `width`×`height` plane (empty for none).
 std::vector<std::uint8_t> encode_residual(const PifsResidual& residual, int width, int height);

@@ -1,0 +1,27 @@
+#pragma once
+// The rate control's round as one job list (encoder.cpp): every unit (one plane of one probe)
+// has a first step, then many independent middle steps, each followed, in order, by a
+// sequential step (the entropy coder's share of that item).
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+#include "ifsforge/core/progress.h"
+
+namespace ifsforge {
+
+/// @brief Runs, on `threads` threads in one parallel_jobs call, first(u) for every unit u, then
+/// middle(u, i) for i in [0, middles[u]) once first(u) has ended, and follow(u, i) for i in
+/// increasing order, each once middle(u, i) has ended. Each unit's follows run on one thread
+/// (its follower), which runs the middles no other thread has taken itself. A thread that ends
+/// a step takes the middles running followers need first, else starts the next unit's
+/// follower, else any ready middle: no thread waits for a barrier, and the sequential follows
+/// overlap the middles instead of running alone at the end. Each step writes its own unit's
+/// results, so the outputs never depend on the thread count.
+void staged_jobs(const std::vector<std::size_t>& middles, int threads,
+                 const std::function<void(std::size_t unit)>& first,
+                 const std::function<void(std::size_t unit, std::size_t item)>& middle,
+                 const std::function<void(std::size_t unit, std::size_t item)>& follow,
+                 const ProgressCallback& progress = nullptr);
+
+}  // namespace ifsforge
