@@ -37,15 +37,14 @@ struct Maps {
   const double* coefficients;    ///< map i at i * stride: a row by row, then b
   const std::uint64_t* choices;  ///< [row * count + column]: alias << 32 | threshold (MapSampler)
   bool shared_linear;            ///< every map's a has the same bits: only the offsets b differ
-  /// Whether the shared a's zero coefficients may be left out of b + a x: no offset is -0 and a
-  /// shrinks the max norm, so every point is finite and no partial sum is -0; adding a zero
-  /// term (0 x, a zero of either sign) to it then changes no bit.
+  /// Whether the shared a's zero terms may be left out of b + a x: no offset is -0 and a shrinks
+  /// the max norm, so every point is finite and no partial sum is -0; adding a zero term (0 x, a
+  /// zero of either sign) to it then changes no bit.
   bool sparse;
   bool diagonal;  ///< sparse, and every coefficient off a's diagonal is zero
-  /// Shared linear parts and more than kWidth maps or transitions, else null: per draw
-  /// (row * count + column) a row of draw_row(dim) doubles: the choice's bits, column's b, then
-  /// its alias's b (zero-padded), so that one row per lane gives both the map and its offsets,
-  /// without a gather (a recurrent system's choice would take one).
+  /// Shared linear parts and more than kWidth maps, else null: per draw (row * count + column) a
+  /// row of draw_row(dim) doubles: the choice's bits, column's b, then its alias's b (zero-padded),
+  /// so that one row per lane gives both the map and its offsets, without a gather.
   const double* draws;
   /// px = u0 + u . x, py = v0 + v . x over min(dim, 3) terms (zero past the spatial ones), and
   /// the depth toward . x in 3D.

@@ -23,31 +23,22 @@ template <int N>
   for (int r = 0; r < N; ++r) p[r] = next[r];
 }
 
-/// A linear part that every map shares, as constants: x' = ((b + a0 x0) + a1 x1) + ... with
-/// the terms whose coefficient is zero left out where Maps::sparse says that changes no bit (a
-/// colour map's channel block, a similitude's zeros): by a predicted branch each, or, for a
-/// diagonal a (kDiagonal), left out of the code.
+/// A linear part that every map shares, as constants: x' = ((b + a0 x0) + a1 x1) + ..., the
+/// general path's order; a diagonal one (kDiagonal: Maps::diagonal) without its zero terms.
 template <int N, bool kDiagonal>
 struct SharedA {
   __m256d a[N * N];
-  bool kept[N * N];  // whether the term of a[r * N + c] is added
 
   explicit SharedA(const Maps& m) {
-    for (int k = 0; k < N * N; ++k) {
-      a[k] = _mm256_set1_pd(m.coefficients[k]);
-      kept[k] = !(m.sparse && m.coefficients[k] == 0.0);
-    }
+    for (int k = 0; k < N * N; ++k) a[k] = _mm256_set1_pd(m.coefficients[k]);
   }
 
   [[gnu::always_inline]] void apply(const __m256d* b, __m256d* p) const {
-    __m256d next[N];
-    for (int r = 0; r < N; ++r) {
-      __m256d value = b[r];
-      for (int c = 0; c < N; ++c)
-        if (kDiagonal ? c == r : kept[r * N + c]) value = _mm256_add_pd(value, _mm256_mul_pd(a[r * N + c], p[c]));
-      next[r] = value;
+    if constexpr (kDiagonal) {
+      for (int r = 0; r < N; ++r) p[r] = _mm256_add_pd(b[r], _mm256_mul_pd(a[r * N + r], p[r]));
+    } else {
+      affine<N>(a, b, p);
     }
-    for (int r = 0; r < N; ++r) p[r] = next[r];
   }
 };
 

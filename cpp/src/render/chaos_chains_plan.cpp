@@ -44,7 +44,7 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
   bool shared = true;
   for (int i = 1; i < count; ++i)
     shared = shared && std::memcmp(&coefficients_[std::size_t(i) * stride], &coefficients_[0], n * n * sizeof(double)) == 0;
-  if (shared && (count > kWidth || rows > 1) && choices_.size() <= kMaxDraws) {
+  if (shared && count > kWidth && choices_.size() <= kMaxDraws) {
     const int row = draw_row(n);
     draws_.assign(choices_.size() * row, 0.0);
     for (std::size_t d = 0; d < choices_.size(); ++d) {
