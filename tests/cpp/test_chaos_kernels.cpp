@@ -179,7 +179,7 @@ TEST(ChaosKernels, ChannelSumsWrapIntoTheSameBytes) {
 // six dimensions, each lane's coefficients loaded and transposed); 9e6
 // points are 3 jobs (on 2 threads a task of 2 and one of 1, which takes the one-job loop),
 // 2.1e7 points 6 (on 1 thread, one register of chains and a part of another). Two more
-// triangles check the zero terms the lanes leave out (Maps::sparse): a sheared one (a shared a
+// triangles check the zero terms the lanes leave out (Maps::diagonal, planar): a sheared one (a shared a
 // off the diagonal: only the projection's zero terms go) and one whose first offset is -0
 // (its diagonal's zero terms kept).
 TEST(ChaosKernels, ChainLanesGiveTheBytesOfTheOneJobLoop) {

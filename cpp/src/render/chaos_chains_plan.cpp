@@ -57,8 +57,8 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
       }
     }
   }
-  // Zero terms may be skipped (Maps::sparse): every row of a sums to less than 1 in absolute
-  // value (the max norm shrinks, so from a finite start no point overflows) and no b is -0.
+  // Zero terms may be left out (Maps::diagonal, planar): every row of a sums to less than 1 in
+  // absolute value (the max norm shrinks, so from a finite start no point overflows) and no b is -0.
   bool sparse = shared;
   for (int r = 0; r < n; ++r) {
     double row = 0.0;
@@ -79,7 +79,6 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
   m.coefficients = coefficients_.data();
   m.choices = choices_.data();
   m.shared_linear = shared;
-  m.sparse = sparse;
   m.diagonal = sparse;
   for (int r = 0; r < n; ++r)
     for (int c = 0; c < n; ++c) m.diagonal = m.diagonal && (r == c || coefficients_[r * n + c] == 0.0);
