@@ -178,18 +178,29 @@ TEST(ChaosKernels, ChannelSumsWrapIntoTheSameBytes) {
 // a 3D system with a channel (a wide accumulator per worker) and the carpet (xy+rgba, 8 maps:
 // six dimensions, each lane's coefficients loaded and transposed); 9e6
 // points are 3 jobs (on 2 threads a task of 2 and one of 1, which takes the one-job loop),
-// 2.1e7 points 6 (on 1 thread, one register of chains and a part of another).
+// 2.1e7 points 6 (on 1 thread, one register of chains and a part of another). Two more
+// triangles check the zero terms the lanes leave out (Maps::diagonal, planar): a sheared one (a shared a
+// off the diagonal: only the projection's zero terms go) and one whose first offset is -0
+// (its diagonal's zero terms kept).
 TEST(ChaosKernels, ChainLanesGiveTheBytesOfTheOneJobLoop) {
   const Ifs triangle = sample("sierpinski_triangle");
   std::vector<AffineMap> maps;
   for (int copy = 0; copy < 3; ++copy)
     for (std::size_t i = 0; i < triangle.size(); ++i) maps.push_back(triangle.map(i));
   const Ifs nine("triangle x3", triangle.layout(), maps, std::vector<double>(maps.size(), 1.0));
+  auto halves = [&](double shear, double first_offset) {  // nine maps, as `nine`: the chain lanes
+    std::vector<AffineMap> copies;
+    for (int copy = 0; copy < 3; ++copy)
+      for (const auto& [x, y] : {std::pair{copy ? 0.0 : first_offset, 0.0}, {0.5, 0.0}, {0.25, 0.5}})
+        copies.emplace_back(2, std::vector<double>{0.5, shear, 0.0, 0.5}, std::vector<double>{x, y});
+    return Ifs("triangle of halves", triangle.layout(), copies, std::vector<double>(copies.size(), 1.0));
+  };
   const std::vector<std::pair<Ifs, std::uint64_t>> systems = {
       {sample("colour5d_sierpinski_rgb"), 9'000'000}, {nine, 21'000'000},
       {sample("recurrent_squares"), 9'000'000},       {sample("menger_sponge"), 9'000'000},
       {sample("recurrent_cubes"), 21'000'000},        {sample("volume_tetrahedron_alpha"), 9'000'000},
-      {sample("rgba_carpet"), 9'000'000}};
+      {sample("rgba_carpet"), 9'000'000},             {halves(0.25, 0.0), 9'000'000},
+      {halves(0.0, -0.0), 9'000'000}};
   for (const auto& [ifs, iterations] : systems) {
     RenderOptions o;
     o.width = 160;

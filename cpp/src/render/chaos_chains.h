@@ -37,6 +37,10 @@ struct Maps {
   const double* coefficients;    ///< map i at i * stride: a row by row, then b
   const std::uint64_t* choices;  ///< [row * count + column]: alias << 32 | threshold (MapSampler)
   bool shared_linear;            ///< every map's a has the same bits: only the offsets b differ
+  /// Every map's a is the same diagonal one and its zero terms may be left out of b + a x (Plan:
+  /// no offset is -0 and a shrinks the max norm, so every point is finite and no partial sum is
+  /// -0; adding a zero term, 0 x, a zero of either sign, to it then changes no bit).
+  bool diagonal;
   /// Shared linear parts and more than kWidth maps, else null: per draw (row * count + column) a
   /// row of draw_row(dim) doubles: the choice's bits, column's b, then its alias's b (zero-padded),
   /// so that one row per lane gives both the map and its offsets, without a gather.
@@ -44,6 +48,10 @@ struct Maps {
   /// px = u0 + u . x, py = v0 + v . x over min(dim, 3) terms (zero past the spatial ones), and
   /// the depth toward . x in 3D.
   double u[3], v[3], u0, v0, toward[3];
+  /// Zero terms may be left out (as for `diagonal`) and px = u0 + u[0] x0, py = v0 + v[1] x1 (a
+  /// plane seen straight on): they change at most the sign of a zero px or py, which neither the
+  /// bounds nor the pixel see.
+  bool planar;
   double width, height;
   std::uint32_t columns, trash;  ///< the image's width in pixels; the slot of points off it
   /// Channel c's level: (x - lo[c]) * scale[c] clamped to [0, steps], plus 0.5, truncated.

@@ -23,6 +23,25 @@ template <int N>
   for (int r = 0; r < N; ++r) p[r] = next[r];
 }
 
+/// A linear part that every map shares, as constants: x' = ((b + a0 x0) + a1 x1) + ..., the
+/// general path's order; a diagonal one (kDiagonal: Maps::diagonal) without its zero terms.
+template <int N, bool kDiagonal>
+struct SharedA {
+  __m256d a[N * N];
+
+  explicit SharedA(const Maps& m) {
+    for (int k = 0; k < N * N; ++k) a[k] = _mm256_set1_pd(m.coefficients[k]);
+  }
+
+  [[gnu::always_inline]] void apply(const __m256d* b, __m256d* p) const {
+    if constexpr (kDiagonal) {
+      for (int r = 0; r < N; ++r) p[r] = _mm256_add_pd(b[r], _mm256_mul_pd(a[r * N + r], p[r]));
+    } else {
+      affine<N>(a, b, p);
+    }
+  }
+};
+
 /// The permute that takes map i's double (floats 2i and 2i + 1 of a table) into each lane.
 [[gnu::always_inline]] inline __m256i pairs(__m256i map) {
   const __m256i twice = _mm256_slli_epi64(map, 1);
@@ -117,17 +136,16 @@ struct Coefficients : FromChoices<Coefficients<N, kFew>> {
 /// At most four maps that share their linear part (the same bits: similitudes of one ratio, the
 /// colour samples' channel rows): the a are constants and only the offsets b differ from lane to
 /// lane, each from a permute; without transitions the draw's choice is a permute too.
-template <int N>
-struct SharedLinear : FromChoices<SharedLinear<N>> {
-  __m256d a[N * N];
+template <int N, bool kDiagonal>
+struct SharedLinear : FromChoices<SharedLinear<N, kDiagonal>> {
+  SharedA<N, kDiagonal> a;
   __m256d tables[N];
   __m256i choices;  // not recurrent: column i's choice in lane i
 
-  explicit SharedLinear(const Maps& m) {
+  explicit SharedLinear(const Maps& m) : a(m) {
     alignas(32) std::uint64_t row[kWidth] = {};
     for (int i = 0; i < m.count && !m.recurrent; ++i) row[i] = m.choices[i];
     choices = _mm256_load_si256(reinterpret_cast<const __m256i*>(row));
-    for (int k = 0; k < N * N; ++k) a[k] = _mm256_set1_pd(m.coefficients[k]);
     for (int r = 0; r < N; ++r) {
       alignas(32) double across[kWidth] = {};
       for (int i = 0; i < m.count; ++i) across[i] = m.coefficients[i * m.stride + N * N + r];
@@ -147,7 +165,7 @@ struct SharedLinear : FromChoices<SharedLinear<N>> {
     const __m256i pair = pairs(map);
     __m256d b[N];
     for (int r = 0; r < N; ++r) b[r] = _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(tables[r]), pair));
-    affine<N>(a, b, p);
+    a.apply(b, p);
   }
 };
 
@@ -199,15 +217,13 @@ struct Quad {
 /// Maps::draws (transposed, four lanes at once), which gives the choice and the offsets of both
 /// maps it may pick, so the map and its offsets come without a gather (slow on some CPUs) and
 /// without waiting on each other. The offsets wait in the quad for the next step's apply.
-template <int N>
+template <int N, bool kDiagonal>
 struct SharedLinearDraws {
   static constexpr int kRow = draw_row(N);
-  __m256d a[N * N];
+  SharedA<N, kDiagonal> a;
   const double* draws;
 
-  explicit SharedLinearDraws(const Maps& m) : draws(m.draws) {
-    for (int k = 0; k < N * N; ++k) a[k] = _mm256_set1_pd(m.coefficients[k]);
-  }
+  explicit SharedLinearDraws(const Maps& m) : a(m), draws(m.draws) {}
 
   template <class Q>
   [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
@@ -223,7 +239,7 @@ struct SharedLinearDraws {
 
   template <class Q>
   void apply(Q& q) const {
-    affine<N>(a, q.b, q.p);
+    a.apply(q.b, q.p);
   }
 };
 
@@ -278,9 +294,14 @@ void run(const Maps& m, const Job& job) {
       coefficients.apply(q);
       coefficients.choose(q, m, count);
       __m256d px = _mm256_set1_pd(m.u0), py = _mm256_set1_pd(m.v0);
-      for (int t = 0; t < kTerms; ++t) {
-        px = _mm256_add_pd(px, _mm256_mul_pd(_mm256_set1_pd(m.u[t]), q.p[t]));
-        py = _mm256_add_pd(py, _mm256_mul_pd(_mm256_set1_pd(m.v[t]), q.p[t]));
+      if (m.planar) {
+        px = _mm256_add_pd(px, _mm256_mul_pd(_mm256_set1_pd(m.u[0]), q.p[0]));
+        py = _mm256_add_pd(py, _mm256_mul_pd(_mm256_set1_pd(m.v[1]), q.p[1]));
+      } else {
+        for (int t = 0; t < kTerms; ++t) {
+          px = _mm256_add_pd(px, _mm256_mul_pd(_mm256_set1_pd(m.u[t]), q.p[t]));
+          py = _mm256_add_pd(py, _mm256_mul_pd(_mm256_set1_pd(m.v[t]), q.p[t]));
+        }
       }
       // Ordered compares: a NaN is outside, as in the general path.
       const __m256d inside = _mm256_and_pd(
@@ -326,12 +347,22 @@ void run_with(const Maps& m, const Job& job) {
   (job.chains > kWidth ? run<N, 2, Coefficients> : run<N, 1, Coefficients>)(m, job);
 }
 
+/// A shared linear part's kernel: diagonal (similitudes without rotation, in 2D and 3D) or not.
+template <int N, template <int, bool> class Shared>
+void run_shared(const Maps& m, const Job& job) {
+  if constexpr (N <= 3)
+    if (m.diagonal) return run_with<N, Shared<N, true>>(m, job);
+  run_with<N, Shared<N, false>>(m, job);
+}
+
 template <int N>
 void run_dim(const Maps& m, const Job& job) {
-  if (m.count <= kWidth)
-    (m.shared_linear ? run_with<N, SharedLinear<N>> : run_with<N, Coefficients<N, true>>)(m, job);
+  if (m.draws)
+    run_shared<N, SharedLinearDraws>(m, job);
+  else if (m.count <= kWidth)
+    m.shared_linear ? run_shared<N, SharedLinear>(m, job) : run_with<N, Coefficients<N, true>>(m, job);
   else
-    (m.draws ? run_with<N, SharedLinearDraws<N>> : run_with<N, Coefficients<N, false>>)(m, job);
+    run_with<N, Coefficients<N, false>>(m, job);
 }
 
 }  // namespace

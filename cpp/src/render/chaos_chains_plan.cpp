@@ -1,5 +1,6 @@
 #include "chaos_chains_plan.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
@@ -56,6 +57,19 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
       }
     }
   }
+  // Zero terms may be left out (Maps::diagonal, planar): every row of a sums to less than 1 in
+  // absolute value (the max norm shrinks, so from a finite start no point overflows) and no b is -0.
+  bool sparse = shared;
+  for (int r = 0; r < n; ++r) {
+    double row = 0.0;
+    for (int c = 0; c < n; ++c) row += std::fabs(coefficients_[r * n + c]);
+    sparse = sparse && row < 1.0;
+  }
+  for (int i = 0; i < count; ++i)
+    for (int r = 0; r < n; ++r) {
+      const double b = coefficients_[std::size_t(i) * stride + n * n + r];
+      sparse = sparse && !(b == 0.0 && std::signbit(b));
+    }
   Maps& m = maps_;
   m.dim = n;
   m.spatial = spatial;
@@ -65,6 +79,9 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
   m.coefficients = coefficients_.data();
   m.choices = choices_.data();
   m.shared_linear = shared;
+  m.diagonal = sparse;
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) m.diagonal = m.diagonal && (r == c || coefficients_[r * n + c] == 0.0);
   m.draws = draws_.empty() ? nullptr : draws_.data();
   // The general path's projection (chaos_game.cpp): the same doubles, the same zeros.
   const auto& proj = frame.projection();
@@ -73,6 +90,7 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
     m.u[k] = proj[0][k] * s;
     m.v[k] = -proj[1][k] * s;
   }
+  m.planar = sparse && spatial == 2 && m.u[1] == 0.0 && m.v[0] == 0.0;
   m.u0 = -frame.window().xmin * s;
   m.v0 = frame.window().ymax * s;
   for (int k = 0; k < 3; ++k) m.toward[k] = frame.toward_viewer()[k];
