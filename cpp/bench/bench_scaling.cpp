@@ -105,6 +105,13 @@ double serial_fraction(const std::vector<int>& threads, const std::vector<double
   return a / (a + b);
 }
 
+/// A run on n threads that took `wall` seconds and `cpu` CPU seconds in all: were its serial part
+/// s of the work, wall = s cpu + (1 - s) cpu / n, so s = (n wall - cpu) / ((n - 1) cpu). Idle
+/// waits and imbalance count as serial, as they cost the same on more cores.
+double serial_from_cpu(int n, double wall, double cpu) {
+  return n < 2 || cpu <= 0 ? NAN : (n * wall - cpu) / ((n - 1) * cpu);
+}
+
 std::string seconds_cell(double s) {
   char text[32];
   std::snprintf(text, sizeof text, s < 1 ? "%.3f" : "%.2f", s);
@@ -127,11 +134,13 @@ int main(int argc, char** argv) {
   const std::vector<int> counts = sweep(cores);
 
   std::printf("Seconds (wall, best of %d) per thread count; CPU s: the process's CPU seconds of the run on %d "
-              "threads; serial: the serial fraction of Amdahl's law fitted to the row.\n\n| path |",
+              "threads; serial: the serial fraction of Amdahl's law fitted to the row; serial (CPU): the same "
+              "fraction from that one run's CPU and wall time, (N wall - CPU) / ((N - 1) CPU) on N threads, which "
+              "a slow one-thread run cannot skew.\n\n| path |",
               repeat, counts.back());
   for (int n : counts) std::printf(" %d |", n);
-  std::printf(" %d vs 1 | 1→2 | serial | CPU s at %d |\n| --- |", counts.back(), counts.back());
-  for (std::size_t i = 0; i < counts.size() + 4; ++i) std::printf(" ---: |");
+  std::printf(" %d vs 1 | 1→2 | serial | serial (CPU) | CPU s at %d |\n| --- |", counts.back(), counts.back());
+  for (std::size_t i = 0; i < counts.size() + 5; ++i) std::printf(" ---: |");
   std::printf("\n");
   for (const Path& path : paths(points)) {
     if (!only.empty() && ("," + only + ",").find("," + path.key + ",") == std::string::npos) continue;
@@ -145,8 +154,9 @@ int main(int argc, char** argv) {
     std::printf("| %s |", path.label.c_str());
     for (double s : wall) std::printf(" %s |", seconds_cell(s).c_str());
     const double two = counts.size() > 1 ? wall[0] / wall[1] : NAN;
-    std::printf(" %.1f× | %.2f× | %.1f%% | %s |\n", wall[0] / wall.back(), two,
-                100.0 * serial_fraction(counts, wall), seconds_cell(cpu).c_str());
+    std::printf(" %.1f× | %.2f× | %.1f%% | %.1f%% | %s |\n", wall[0] / wall.back(), two,
+                100.0 * serial_fraction(counts, wall), 100.0 * serial_from_cpu(counts.back(), wall.back(), cpu),
+                seconds_cell(cpu).c_str());
     std::fflush(stdout);
   }
   return 0;
