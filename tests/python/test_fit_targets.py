@@ -77,7 +77,10 @@ def test_fit_recovers_a_sierpinski_tetrahedron_from_a_vdb(cli, tmp_path):
     target = ifsforge.read_voxel_target(str(tmp_path / "t.vdb"))
     assert target["mask"].shape == (64, 64, 64) and target["voxel_size"] == pytest.approx(1 / 64)
     assert (target["mask"] == tetrahedron_mask()).all()  # exactly its 4^6 cells
-    summary = json.loads(cli("fit", "t.vdb", "-o", "fit.json", "--threads", "2", "--json", check=True).stdout)
+    # One CMA-ES run recovers it exactly (IoU 1.0, corners on the lattice); the default four cost 1.7
+    # times more (tests/cpp Fit3d.RecoversATetrahedronAndIsIndependentOfThreads runs two).
+    summary = json.loads(cli("fit", "t.vdb", "-o", "fit.json", "--threads", "2", "--restarts", "1", "--json",
+                             check=True).stdout)
     assert summary["maps"] == 4 and summary["iou"] >= 0.8 and summary["bounds"] == pytest.approx([0, 0, 0, 1, 1, 1])
     system = ifsforge.read_json(str(tmp_path / "fit.json"))
     assert system.layout == "xyz" and max(system.contraction_factors()) <= 0.9 + 1e-9
