@@ -61,7 +61,7 @@ def xvfb_run(screen):
 
 
 def pytest_configure(config):
-    config.addinivalue_line("markers", "long: a test of a minute or more, started first (see below)")
+    config.addinivalue_line("markers", "long: a test of a minute or more (or a case of one split up), started first (see below)")
 
 
 @pytest.hookimpl(tryfirst=True)

@@ -1,5 +1,6 @@
 """The renderers' fidelity: colour stealing on any map count, default PRR on every sample,
 pixel-grid agreement with PRR, PRR's measure against the chaos game."""
+import functools
 import glob
 import os
 
@@ -49,22 +50,25 @@ def accepted_by_prr(system):
     return not system.recurrent and system.condensation is None
 
 
+def test_prr_accepts_at_least_20_samples():
+    assert sum(accepted_by_prr(ifsforge.load(path)) for path in SAMPLES) >= 20
+
+
+# One case per sample: the renders take 0.01 to 16 CPU seconds each, and one test for all of them
+# kept one of the suite's two workers busy for two minutes at its end.
 @pytest.mark.long
-def test_default_prr_renders_every_sample_at_1024():
+@pytest.mark.parametrize("path", SAMPLES, ids=os.path.basename)
+def test_default_prr_renders_every_sample_at_1024(path):
     # Systems whose pieces shrink too slowly for the pixel-size stop (the superfractal pair's
     # overlapping union) fall back to Eq. 59's depth or deeper, never to an error.
-    rendered = 0
-    for path in SAMPLES:
-        system = ifsforge.load(path)
-        if not accepted_by_prr(system):
-            with pytest.raises(ifsforge.InputError):
-                ifsforge.render(system, "prr", 16)
-            continue
-        raster = ifsforge.render(system, "prr", 1024, binary=True,
-                                 view=system.render_defaults.get("view"), window=system.render_defaults.get("window"))
-        assert raster.covered() > 1000, path
-        rendered += 1
-    assert rendered >= 20
+    system = ifsforge.load(path)
+    if not accepted_by_prr(system):
+        with pytest.raises(ifsforge.InputError):
+            ifsforge.render(system, "prr", 16)
+        return
+    raster = ifsforge.render(system, "prr", 1024, binary=True,
+                             view=system.render_defaults.get("view"), window=system.render_defaults.get("window"))
+    assert raster.covered() > 1000, path
 
 
 # The pixel-grid algorithms and IBR against the PRR reference at 512^2, every planar sample in
@@ -81,29 +85,30 @@ PLANAR = [os.path.basename(p) for p in SAMPLES if p.endswith(".json")
 CHAOS_REFERENCE = {"superfractal_pair.json"}
 
 
-def reference_mask(system, sample, window):
+@functools.lru_cache(maxsize=None)  # a worker renders each sample's reference once for its algorithms
+def reference_mask(sample):
+    system = ifsforge.load(os.path.join(HERE, "..", "..", "samples", "systems", sample))
+    window = system.render_defaults.get("window")
     if sample in CHAOS_REFERENCE:
         return ifsforge.render(system, "chaos", 512, binary=True, window=window, iterations=30_000_000, seed=3).mask
     return ifsforge.render(system, "prr", 512, binary=True, window=window).mask
 
 
+# One case per sample and algorithm: a sample's seven renders take up to 35 CPU seconds.
 @pytest.mark.long
-@pytest.mark.parametrize("sample", PLANAR)
-def test_pixel_grid_algorithms_agree_with_prr(sample):
+@pytest.mark.parametrize("sample, name", [(sample, name) for sample in PLANAR for name in PIXEL_GRID
+                                          if not (sample in CHAOS_REFERENCE and name == "dia-s")])
+def test_pixel_grid_algorithms_agree_with_prr(sample, name):
     system = ifsforge.load(os.path.join(HERE, "..", "..", "samples", "systems", sample))
     window = system.render_defaults.get("window")
-    reference = reference_mask(system, sample, window)
-    for name in PIXEL_GRID:
-        if sample in CHAOS_REFERENCE and name == "dia-s":
-            continue
-        agreement = iou(ifsforge.render(system, name, 512, binary=True, window=window).mask, reference)
-        assert agreement >= 0.9, f"{name} on {sample}: IoU {agreement:.3f}"
+    agreement = iou(ifsforge.render(system, name, 512, binary=True, window=window).mask, reference_mask(sample))
+    assert agreement >= 0.9, f"{name} on {sample}: IoU {agreement:.3f}"
 
 
 def test_prr_falls_back_and_still_covers_the_superfractal_union():
     system = ifsforge.load(os.path.join(HERE, "..", "..", "samples", "systems", "superfractal_pair.json"))
     window = system.render_defaults.get("window")
-    reference = reference_mask(system, "superfractal_pair.json", window)
+    reference = reference_mask("superfractal_pair.json")
     prr = ifsforge.render(system, "prr", 512, binary=True, window=window).mask
     # The fallback's leaves plot points of their pieces (their fixed points' images), not the
     # centres of their boxes, which may lie in holes of the attractor.
@@ -120,26 +125,25 @@ def test_ibr_keeps_the_cantor_dust_on_its_tight_frame():
     assert iou(ifsforge.render(system, "ibr", 512, binary=True).mask, reference) == 1.0
 
 
-def test_every_algorithm_renders_every_2d_sample_it_accepts():
+# One case per sample: the superfractal pair's address trees alone take 17 of the 22 CPU seconds.
+@pytest.mark.parametrize("path", [p for p in SAMPLES if ifsforge.load(p).spatial_dims == 2], ids=os.path.basename)
+def test_every_algorithm_renders_every_2d_sample_it_accepts(path):
     # An algorithm refuses a system only for a stated reason (recurrent, condensation, 3D,
     # maps with rotation for afra, polar maps for all but chaos and prr); colour stealing and
     # tops colour by a picture, given here.
     names = [n for n, _ in ifsforge.renderers()]
     picture = np.random.default_rng(1).random((32, 32, 3)).astype(np.float32)
-    for path in SAMPLES:
-        system = ifsforge.load(path)
-        if system.spatial_dims != 2:
+    system = ifsforge.load(path)
+    for name in names:
+        extra = {"reference_image": picture} if name in ("color-stealing", "tops") else {}
+        try:
+            raster = ifsforge.render(system, name, 64, binary=True, **extra)
+        except ifsforge.InputError as error:
+            polar = system.polar and name not in ("chaos", "prr")
+            assert system.recurrent or system.condensation is not None or name == "afra" or polar, \
+                f"{name} refused {os.path.basename(path)}: {error}"
             continue
-        for name in names:
-            extra = {"reference_image": picture} if name in ("color-stealing", "tops") else {}
-            try:
-                raster = ifsforge.render(system, name, 64, binary=True, **extra)
-            except ifsforge.InputError as error:
-                polar = system.polar and name not in ("chaos", "prr")
-                assert system.recurrent or system.condensation is not None or name == "afra" or polar, \
-                    f"{name} refused {os.path.basename(path)}: {error}"
-                continue
-            assert raster.covered() > 0, (name, path)
+        assert raster.covered() > 0, (name, path)
 
 
 def chaos_l1_noise(counts):
