@@ -1,5 +1,6 @@
 // The rate control's job list (cpp/src/pifs/staged_jobs.h): on any number of threads every step
-// runs once, each middle after its unit's first, each follow after its middle and in order.
+// runs once, each middle after its unit's first, each follow after its middle, in order and
+// never beside another follow of its unit.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -18,8 +19,10 @@ TEST(PifsStagedJobs, EveryStepOnceAndInOrderOnAnyThreadCount) {
     std::vector<std::vector<std::atomic<int>>> done(middles.size());
     for (std::size_t u = 0; u < middles.size(); ++u) done[u] = std::vector<std::atomic<int>>(middles[u]);
     std::vector<std::vector<std::size_t>> followed(middles.size());
+    std::vector<std::atomic<int>> following(middles.size());
     std::mutex mutex;
     bool ordered = true;
+    std::atomic<bool> beside{false};
     staged_jobs(
         middles, threads, [&](std::size_t u) { ++firsts[u]; },
         [&](std::size_t u, std::size_t i) {
@@ -28,11 +31,16 @@ TEST(PifsStagedJobs, EveryStepOnceAndInOrderOnAnyThreadCount) {
           ++done[u][i];
         },
         [&](std::size_t u, std::size_t i) {
-          std::lock_guard<std::mutex> lock(mutex);
-          ordered = ordered && done[u][i] == 1;
-          followed[u].push_back(i);
+          if (following[u]++ != 0) beside = true;
+          {
+            std::lock_guard<std::mutex> lock(mutex);
+            ordered = ordered && done[u][i] == 1;
+            followed[u].push_back(i);
+          }
+          --following[u];
         });
     EXPECT_TRUE(ordered) << threads << " threads";
+    EXPECT_FALSE(beside) << threads << " threads";
     for (std::size_t u = 0; u < middles.size(); ++u) {
       EXPECT_EQ(firsts[u], 1) << threads << " threads, unit " << u;
       for (std::size_t i = 0; i < middles[u]; ++i) EXPECT_EQ(done[u][i], 1) << threads << " threads, unit " << u;

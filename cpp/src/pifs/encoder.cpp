@@ -194,17 +194,20 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
     std::vector<std::unique_ptr<PifsResidualRows>> residuals(units);
     for (Probe& p : probes) p.planes.assign(plane_count, {});
     const double at = 0.9 + 0.008 * round++;
-    // A unit is one plane of one probe, the largest planes first. Its first step cuts the
-    // quadtree, codes the transforms and decodes what the decoder shows at 1× (deblocked, as
-    // pifs_decode does); its middle steps quantise the residual a block row each; the entropy
-    // coder, sequential, follows them row by row. All of a round is one job list
+    // A unit is one plane of one probe, the largest planes and lowest λ (the costliest) first.
+    // Its first step cuts the quadtree and decodes what the decoder shows at 1× (deblocked, as
+    // pifs_decode does); its middle steps quantise the residual a block row each, then code the
+    // transforms (only their size is needed, so off the path to the residual); the entropy
+    // coder, sequential, follows the rows one by one. All of a round is one job list
     // (staged_jobs.h), so both threads stay busy however the units' costs differ.
     std::vector<std::size_t> block_rows(units, 0);
     if (o.residual)
       for (std::size_t u = 0; u < units; ++u)
         block_rows[u] = std::size_t(cands[u / count].height + kResidualBlock - 1) / kResidualBlock;
+    std::vector<std::size_t> middles(block_rows);
+    for (std::size_t& m : middles) ++m;  // the transforms' code
     staged_jobs(
-        block_rows, o.threads,
+        middles, o.threads,
         [&](std::size_t u) {
           const std::size_t k = u / count, p = u % count;
           const bool half = code.halved(k);
@@ -213,7 +216,6 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
           plane.height = cands[k].height;
           const double lambda = std::exp(probes[p].log_lambda);
           plane.leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
-          sizes[u].transforms = encode_plane(code, plane).size();
           if (!o.residual) return;
           decoded[u] = decode_plane(code, plane, 0, PifsDecoder::Hierarchical, 0, 1);
           deblock(code, plane, 0, decoded[u], 1);
@@ -221,10 +223,15 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
           residuals[u] = std::make_unique<PifsResidualRows>(plane.width, plane.height, step);
         },
         [&](std::size_t u, std::size_t row) {
+          if (row == block_rows[u]) {
+            sizes[u].transforms = encode_plane(code, probes[u % count].planes[u / count]).size();
+            return;
+          }
           // A step too coarse for any coefficient has no rows.
           if (int(row) < residuals[u]->rows()) residuals[u]->quantise(int(row), padded[u / count], decoded[u]);
         },
         [&](std::size_t u, std::size_t row) {
+          if (row == block_rows[u]) return;
           if (int(row) < residuals[u]->rows()) residuals[u]->code(int(row));
           if (row + 1 < block_rows[u]) return;
           PifsPlane& plane = probes[u % count].planes[u / count];

@@ -12,12 +12,13 @@ namespace ifsforge {
 
 /// @brief Runs, on `threads` threads in one parallel_jobs call, first(u) for every unit u, then
 /// middle(u, i) for i in [0, middles[u]) once first(u) has ended, and follow(u, i) for i in
-/// increasing order, each once middle(u, i) has ended. Each unit's follows run on one thread
-/// (its follower), which runs the middles no other thread has taken itself. A thread that ends
-/// a step takes the middles running followers need first, else starts the next unit's
-/// follower, else any ready middle: no thread waits for a barrier, and the sequential follows
-/// overlap the middles instead of running alone at the end. Each step writes its own unit's
-/// results, so the outputs never depend on the thread count.
+/// increasing order, each once middle(u, i) has ended, one follow of a unit at a time. Units are
+/// listed costliest first and served in that order: a thread that ends a step takes the
+/// first unit's next follow when it is ready and no thread runs one, else that unit's lowest
+/// middle not yet taken (one a running follow will need), else the next unit's. So the costliest
+/// unit's sequential follows start as soon as they can and the other threads quantise ahead of
+/// them; no thread waits for a barrier, and a follow never waits while other work is ready.
+/// Each step writes its own unit's results, so the outputs never depend on the thread count.
 void staged_jobs(const std::vector<std::size_t>& middles, int threads,
                  const std::function<void(std::size_t unit)>& first,
                  const std::function<void(std::size_t unit, std::size_t item)>& middle,
