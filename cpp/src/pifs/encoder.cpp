@@ -186,84 +186,90 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
     std::vector<PifsPlane> planes;
     std::size_t size = 0;
   };
-  int round = 0;
-  auto try_probes = [&](std::vector<Probe>& probes) {
-    const std::size_t count = probes.size(), plane_count = planes.size(), units = count * plane_count;
-    std::vector<PifsStreamSizes> sizes(units);
-    std::vector<PifsRaster> decoded(units);
-    std::vector<std::unique_ptr<PifsResidualRows>> residuals(units);
-    for (Probe& p : probes) p.planes.assign(plane_count, {});
-    const double at = 0.9 + 0.008 * round++;
-    // A unit is one plane of one probe, the largest planes and lowest λ (the costliest) first.
-    // Its first step cuts the quadtree and decodes what the decoder shows at 1× (deblocked, as
-    // pifs_decode does); its middle steps quantise the residual a block row each, then code the
-    // transforms (only their size is needed, so off the path to the residual); the entropy
-    // coder, sequential, follows the rows one by one. All of a round is one job list
-    // (staged_jobs.h), so both threads stay busy however the units' costs differ.
-    std::vector<std::size_t> block_rows(units, 0);
-    if (o.residual)
-      for (std::size_t u = 0; u < units; ++u)
-        block_rows[u] = std::size_t(cands[u / count].height + kResidualBlock - 1) / kResidualBlock;
-    std::vector<std::size_t> middles(block_rows);
-    for (std::size_t& m : middles) ++m;  // the transforms' code
-    staged_jobs(
-        middles, o.threads,
-        [&](std::size_t u) {
-          const std::size_t k = u / count, p = u % count;
-          const bool half = code.halved(k);
-          PifsPlane& plane = probes[p].planes[k];
-          plane.width = cands[k].width;
-          plane.height = cands[k].height;
-          const double lambda = std::exp(probes[p].log_lambda);
-          plane.leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
-          if (!o.residual) return;
-          decoded[u] = decode_plane(code, plane, 0, PifsDecoder::Hierarchical, 0, 1);
-          deblock(code, plane, 0, decoded[u], 1);
-          const double step = std::sqrt(lambda / kResidualLambda) * (half ? 0.5 : 1.0);
-          residuals[u] = std::make_unique<PifsResidualRows>(plane.width, plane.height, step);
-        },
-        [&](std::size_t u, std::size_t row) {
-          if (row == block_rows[u]) {
-            sizes[u].transforms = encode_plane(code, probes[u % count].planes[u / count]).size();
-            return;
-          }
-          // A step too coarse for any coefficient has no rows.
-          if (int(row) < residuals[u]->rows()) residuals[u]->quantise(int(row), padded[u / count], decoded[u]);
-        },
-        [&](std::size_t u, std::size_t row) {
-          if (row == block_rows[u]) return;
-          if (int(row) < residuals[u]->rows()) residuals[u]->code(int(row));
-          if (row + 1 < block_rows[u]) return;
-          PifsPlane& plane = probes[u % count].planes[u / count];
-          plane.residual = residuals[u]->finish(&sizes[u].residual);
-          sizes[u].residual_step = plane.residual.step;
-          residuals[u].reset();
-          decoded[u] = PifsRaster();
-        },
-        progress_range(progress, std::min(0.98, at), std::min(0.99, at + 0.008)));
-    for (std::size_t p = 0; p < count; ++p) {
-      std::vector<PifsStreamSizes> stream_sizes(plane_count);
-      for (std::size_t k = 0; k < plane_count; ++k) stream_sizes[k] = sizes[k * count + p];
-      probes[p].size = pifs_file_size(code, stream_sizes);
-    }
-  };
   // The search (rate_search.h): a bracket of log λ narrowed by interpolation, two values a
   // round, starting near the λ the target's bits per sample suggest.
   LambdaBracket bracket(target, lambda_guess(image, target));
   std::vector<Probe> probes(2);
   Probe best;  // done() holds only once a value has fitted
-  while (!bracket.done()) {
+  // A unit is one plane of one probe, the largest planes and lowest λ (the costliest) first.
+  // Its first step cuts the quadtree and decodes what the decoder shows at 1× (deblocked, as
+  // pifs_decode does); its middle steps quantise the residual a block row each, then code the
+  // transforms (only their size is needed, so off the path to the residual); the entropy
+  // coder, sequential, follows the rows one by one. All rounds are job lists on the same
+  // threads (staged_jobs.h), so both threads stay busy however the units' costs differ.
+  const std::size_t count = probes.size(), plane_count = planes.size(), units = count * plane_count;
+  std::vector<PifsStreamSizes> sizes(units);
+  std::vector<PifsRaster> decoded(units);
+  std::vector<std::unique_ptr<PifsResidualRows>> residuals(units);
+  std::vector<std::size_t> block_rows(units, 0);
+  if (o.residual)
+    for (std::size_t u = 0; u < units; ++u)
+      block_rows[u] = std::size_t(cands[u / count].height + kResidualBlock - 1) / kResidualBlock;
+  bool tried = false;
+  // Between rounds, on one thread: the sizes of the round that ended narrow the bracket, which
+  // gives the next two values of λ.
+  const auto next_round = [&](std::vector<std::size_t>& middles) {
+    if (tried) {
+      for (std::size_t p = 0; p < count; ++p) {
+        std::vector<PifsStreamSizes> stream_sizes(plane_count);
+        for (std::size_t k = 0; k < plane_count; ++k) stream_sizes[k] = sizes[k * count + p];
+        probes[p].size = pifs_file_size(code, stream_sizes);
+      }
+      for (const Probe& p : probes)
+        if (p.log_lambda >= LambdaBracket::kHighest && p.size > target)
+          throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
+                           std::to_string(p.size) + " bytes; use a larger max_block)");
+      const int fit = bracket.update({{{probes[0].log_lambda, probes[0].size}, {probes[1].log_lambda, probes[1].size}}});
+      if (fit >= 0) best = std::move(probes[std::size_t(fit)]);
+    }
+    if (bracket.done()) return false;
+    tried = true;
     const std::array<double, 2> next = bracket.next();
     probes[0].log_lambda = next[0];
     probes[1].log_lambda = next[1];
-    try_probes(probes);
-    for (const Probe& p : probes)
-      if (p.log_lambda >= LambdaBracket::kHighest && p.size > target)
-        throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
-                         std::to_string(p.size) + " bytes; use a larger max_block)");
-    const int fit = bracket.update({{{probes[0].log_lambda, probes[0].size}, {probes[1].log_lambda, probes[1].size}}});
-    if (fit >= 0) best = std::move(probes[std::size_t(fit)]);
-  }
+    for (Probe& p : probes) p.planes.assign(plane_count, {});
+    sizes.assign(units, {});
+    middles = block_rows;
+    for (std::size_t& m : middles) ++m;  // the transforms' code
+    return true;
+  };
+  ProgressCallback rounds_progress;
+  if (progress) rounds_progress = [&](double rounds) { return progress(std::min(0.99, 0.9 + 0.008 * rounds)); };
+  staged_rounds(
+      next_round, o.threads,
+      [&](std::size_t u) {
+        const std::size_t k = u / count, p = u % count;
+        const bool half = code.halved(k);
+        PifsPlane& plane = probes[p].planes[k];
+        plane.width = cands[k].width;
+        plane.height = cands[k].height;
+        const double lambda = std::exp(probes[p].log_lambda);
+        plane.leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
+        if (!o.residual) return;
+        decoded[u] = decode_plane(code, plane, 0, PifsDecoder::Hierarchical, 0, 1);
+        deblock(code, plane, 0, decoded[u], 1);
+        const double step = std::sqrt(lambda / kResidualLambda) * (half ? 0.5 : 1.0);
+        residuals[u] = std::make_unique<PifsResidualRows>(plane.width, plane.height, step);
+      },
+      [&](std::size_t u, std::size_t row) {
+        if (row == block_rows[u]) {
+          sizes[u].transforms = encode_plane(code, probes[u % count].planes[u / count]).size();
+          return;
+        }
+        // A step too coarse for any coefficient has no rows.
+        if (int(row) < residuals[u]->rows()) residuals[u]->quantise(int(row), padded[u / count], decoded[u]);
+      },
+      [&](std::size_t u, std::size_t row) {
+        if (row == block_rows[u]) return;
+        if (int(row) < residuals[u]->rows()) residuals[u]->code(int(row));
+        if (row + 1 < block_rows[u]) return;
+        PifsPlane& plane = probes[u % count].planes[u / count];
+        plane.residual = residuals[u]->finish(&sizes[u].residual);
+        sizes[u].residual_step = plane.residual.step;
+        residuals[u].reset();
+        decoded[u] = PifsRaster();
+      },
+      rounds_progress);
   code.planes = std::move(best.planes);
   if (lambda) *lambda = std::exp(best.log_lambda);
   return code;

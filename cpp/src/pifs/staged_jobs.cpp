@@ -10,23 +10,38 @@
 
 namespace ifsforge {
 
-void staged_jobs(const std::vector<std::size_t>& middles, int threads,
-                 const std::function<void(std::size_t unit)>& first,
-                 const std::function<void(std::size_t unit, std::size_t item)>& middle,
-                 const std::function<void(std::size_t unit, std::size_t item)>& follow,
-                 const ProgressCallback& progress) {
-  const std::size_t units = middles.size();
-  std::size_t tasks = units;
-  for (std::size_t m : middles) tasks += 2 * m;
-  std::vector<std::vector<char>> ended(units);
-  for (std::size_t u = 0; u < units; ++u) ended[u].assign(middles[u], 0);
-  // Per unit: its first has ended; a thread runs its follow; follows run so far; middles taken.
-  std::vector<char> first_done(units, 0), following(units, 0);
-  std::vector<std::size_t> followed(units, 0), taken(units, 0);
-  std::size_t firsts_taken = 0, finished = 0;
-  std::atomic<std::size_t> done{0};
+void staged_rounds(const std::function<bool(std::vector<std::size_t>& middles)>& next_round, int threads,
+                   const std::function<void(std::size_t unit)>& first,
+                   const std::function<void(std::size_t unit, std::size_t item)>& middle,
+                   const std::function<void(std::size_t unit, std::size_t item)>& follow,
+                   const ProgressCallback& progress) {
+  // The round's units: middles, middles ended, whether the first has ended and a thread runs a
+  // follow, follows run so far, middles taken.
+  std::vector<std::size_t> middles;
+  std::vector<std::vector<char>> ended;
+  std::vector<char> first_done, following;
+  std::vector<std::size_t> followed, taken;
+  std::size_t units = 0, firsts_taken = 0, finished = 0;
+  bool between = false, over = false;  // a thread runs next_round; no round is left
+  std::atomic<std::size_t> done{0}, tasks{1}, rounds{0};  // read by the progress report
   std::mutex mutex;
   std::condition_variable changed;
+  const auto start_round = [&] {
+    units = middles.size();
+    ended.assign(units, {});
+    std::size_t count = units;
+    for (std::size_t u = 0; u < units; ++u) {
+      ended[u].assign(middles[u], 0);
+      count += 2 * middles[u];
+    }
+    first_done.assign(units, 0);
+    following.assign(units, 0);
+    followed.assign(units, 0);
+    taken.assign(units, 0);
+    firsts_taken = finished = 0;
+    done = 0;
+    tasks = count;
+  };
   enum Kind { kNone, kFirst, kMiddle, kFollow };
   struct Task {
     Kind kind;
@@ -49,9 +64,28 @@ void staged_jobs(const std::vector<std::size_t>& middles, int threads,
   };
   const auto worker = [&](std::size_t, int) {
     std::unique_lock<std::mutex> lock(mutex);
-    while (finished < units) {
+    for (;;) {
       if (stop_requested()) throw Cancelled();
-      const Task t = choose();
+      if (over) return;
+      if (!between && finished == units) {
+        // The round has ended: this thread starts the next while the others wait (its steps
+        // need every result of this one).
+        between = true;
+        lock.unlock();
+        std::vector<std::size_t> next;
+        const bool more = next_round(next);
+        lock.lock();
+        between = false;
+        over = !more;
+        if (more) {
+          middles = std::move(next);
+          ++rounds;
+          start_round();
+        }
+        changed.notify_all();
+        continue;
+      }
+      const Task t = between ? Task{kNone, 0, 0} : choose();
       if (t.kind == kNone) {
         changed.wait_for(lock, std::chrono::milliseconds(10));
         continue;
@@ -73,11 +107,17 @@ void staged_jobs(const std::vector<std::size_t>& middles, int threads,
       changed.notify_all();
     }
   };
-  // One job per thread, each taking tasks until every unit is finished; progress counts tasks.
+  // One job per thread, each taking tasks until no round is left: the threads outlive the
+  // rounds, so none is started (a new thread waits for a time slice on a busy machine) between
+  // them.
   const int workers = resolve_threads(threads);
   ProgressCallback report;
   if (progress)
-    report = [&](double fraction) { return progress(fraction >= 1.0 ? 1.0 : double(done.load()) / double(tasks)); };
+    report = [&](double fraction) {
+      if (fraction >= 1.0) return progress(double(rounds.load()));
+      const double round = double(rounds.load()) - 1.0;
+      return progress(round < 0 ? 0.0 : round + double(done.load()) / double(tasks.load()));
+    };
   parallel_jobs(std::size_t(workers), workers, worker, report);
 }
 
