@@ -220,14 +220,15 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
           throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
                            std::to_string(p.size) + " bytes; use a larger max_block)");
       const int fit = bracket.update({{{probes[0].log_lambda, probes[0].size}, {probes[1].log_lambda, probes[1].size}}});
-      if (fit >= 0) best = std::move(probes[std::size_t(fit)]);
+      if (fit >= 0) std::swap(best, probes[std::size_t(fit)]);  // the old best's planes are freed below
     }
     if (bracket.done()) return false;
     tried = true;
     const std::array<double, 2> next = bracket.next();
     probes[0].log_lambda = next[0];
     probes[1].log_lambda = next[1];
-    for (Probe& p : probes) p.planes.assign(plane_count, {});
+    // The planes of the probes no longer needed are freed by the first steps (on every thread).
+    for (Probe& p : probes) p.planes.resize(plane_count);
     sizes.assign(units, {});
     middles = block_rows;
     for (std::size_t& m : middles) ++m;  // the transforms' code
@@ -241,6 +242,7 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
         const std::size_t k = u / count, p = u % count;
         const bool half = code.halved(k);
         PifsPlane& plane = probes[p].planes[k];
+        plane = PifsPlane();
         plane.width = cands[k].width;
         plane.height = cands[k].height;
         const double lambda = std::exp(probes[p].log_lambda);
