@@ -1,7 +1,8 @@
 #pragma once
-// The rate control's rounds as job lists (encoder.cpp): every unit (one plane of one probe)
-// has a first step, then many independent middle steps, each followed, in order, by a
-// sequential step (the entropy coder's share of that item).
+// The encoder's rounds as job lists (encoder.cpp): the domain search (a unit is a domain pool:
+// built, then its block rows searched), then the rate control's (a unit is one plane of one
+// probe: cut and decoded, then its residual's rows quantised, each followed, in order, by the
+// entropy coder's share of that row).
 #include <cstddef>
 #include <functional>
 #include <vector>
