@@ -1,5 +1,7 @@
-// The rate control's job list (cpp/src/pifs/staged_jobs.h): on any number of threads every step
-// runs once, each middle after its unit's first, each follow after its middle and in order.
+// The rate control's job lists (cpp/src/pifs/staged_jobs.h): on any number of threads every step
+// of every round runs once, each middle after its unit's first, each follow after its middle, in
+// order and never beside another follow of its unit; a round starts only once the one before
+// has ended, and no step runs beside next_round.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -12,33 +14,61 @@
 using namespace ifsforge;
 
 TEST(PifsStagedJobs, EveryStepOnceAndInOrderOnAnyThreadCount) {
-  const std::vector<std::size_t> middles = {40, 0, 7, 25, 1};
+  const std::vector<std::vector<std::size_t>> rounds = {{40, 0, 7, 25, 1}, {}, {3}, {0, 0}, {12, 30}};
   for (int threads : {1, 2, 3, 7}) {
-    std::vector<std::atomic<int>> firsts(middles.size());
-    std::vector<std::vector<std::atomic<int>>> done(middles.size());
-    for (std::size_t u = 0; u < middles.size(); ++u) done[u] = std::vector<std::atomic<int>>(middles[u]);
-    std::vector<std::vector<std::size_t>> followed(middles.size());
+    std::size_t round = 0;
+    std::vector<std::size_t> middles;
+    std::vector<std::atomic<int>> firsts, following;
+    std::vector<std::vector<std::atomic<int>>> done;
+    std::vector<std::vector<std::size_t>> followed;
     std::mutex mutex;
     bool ordered = true;
-    staged_jobs(
-        middles, threads, [&](std::size_t u) { ++firsts[u]; },
-        [&](std::size_t u, std::size_t i) {
-          std::lock_guard<std::mutex> lock(mutex);
-          ordered = ordered && firsts[u] == 1;
-          ++done[u][i];
+    std::atomic<bool> beside{false}, between{false};
+    // Checks the round that ended; then starts the next.
+    const auto check_round = [&] {
+      for (std::size_t u = 0; u < middles.size(); ++u) {
+        EXPECT_EQ(firsts[u], 1) << threads << " threads, round " << round << ", unit " << u;
+        for (std::size_t i = 0; i < middles[u]; ++i) EXPECT_EQ(done[u][i], 1) << threads << " threads, unit " << u;
+        std::vector<std::size_t> in_order(middles[u]);
+        for (std::size_t i = 0; i < middles[u]; ++i) in_order[i] = i;
+        EXPECT_EQ(followed[u], in_order) << threads << " threads, round " << round << ", unit " << u;
+      }
+    };
+    staged_rounds(
+        [&](std::vector<std::size_t>& next) {
+          between = true;
+          if (round > 0) check_round();
+          if (round == rounds.size()) return false;
+          middles = next = rounds[round++];
+          firsts = std::vector<std::atomic<int>>(middles.size());
+          following = std::vector<std::atomic<int>>(middles.size());
+          done = std::vector<std::vector<std::atomic<int>>>(middles.size());
+          for (std::size_t u = 0; u < middles.size(); ++u) done[u] = std::vector<std::atomic<int>>(middles[u]);
+          followed.assign(middles.size(), {});
+          between = false;
+          return true;
+        },
+        threads,
+        [&](std::size_t u) {
+          if (between) beside = true;
+          ++firsts[u];
         },
         [&](std::size_t u, std::size_t i) {
           std::lock_guard<std::mutex> lock(mutex);
-          ordered = ordered && done[u][i] == 1;
-          followed[u].push_back(i);
+          ordered = ordered && firsts[u] == 1 && !between;
+          ++done[u][i];
+        },
+        [&](std::size_t u, std::size_t i) {
+          if (following[u]++ != 0 || between) beside = true;
+          {
+            std::lock_guard<std::mutex> lock(mutex);
+            ordered = ordered && done[u][i] == 1;
+            followed[u].push_back(i);
+          }
+          --following[u];
         });
+    EXPECT_EQ(round, rounds.size()) << threads << " threads";
     EXPECT_TRUE(ordered) << threads << " threads";
-    for (std::size_t u = 0; u < middles.size(); ++u) {
-      EXPECT_EQ(firsts[u], 1) << threads << " threads, unit " << u;
-      for (std::size_t i = 0; i < middles[u]; ++i) EXPECT_EQ(done[u][i], 1) << threads << " threads, unit " << u;
-      std::vector<std::size_t> in_order(middles[u]);
-      for (std::size_t i = 0; i < middles[u]; ++i) in_order[i] = i;
-      EXPECT_EQ(followed[u], in_order) << threads << " threads, unit " << u;
-    }
+    EXPECT_FALSE(beside) << threads << " threads";
   }
 }

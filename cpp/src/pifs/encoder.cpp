@@ -2,18 +2,13 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
-#include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "ifsforge/core/error.h"
-#include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/code_bytes.h"
 #include "ifsforge/pifs/deblock.h"
 #include "ifsforge/pifs/decoder.h"
@@ -88,8 +83,9 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
   code.dc_step = o.dc_step;
 
   // Steps 1-4: planes, then every quadtree level's candidates. The domain pools of every
-  // (plane, level) are built first, then all block rows of all of them are one job list, so every
-  // thread is busy from the first range block; each candidate depends on its block alone.
+  // (plane, level) are built first, then all block rows of all of them are searched in one job
+  // list, so every thread is busy from the first range block; each candidate depends on its
+  // block alone.
   // Every step on the workers (with a progress callback the calling thread only reports), so
   // the serial part of an encode stays small.
   const ProgressCallback start = progress_range(progress, 0.0, 0.0);
@@ -112,9 +108,10 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
     for (int log = code.min_log; log <= code.max_log; ++log)
       c.levels.emplace_back(std::size_t(c.padded_width >> log) * (c.padded_height >> log));
   }
-  // One job list: the domain pools, largest first, then the block rows, those of the smallest
-  // pools first, so a thread that finds the largest pool's tree still being built works on the
-  // other pools' rows meanwhile (a row waits only for its own pool).
+  // The search is the first round of the job lists below (staged_jobs.h, on the same threads as
+  // the rate control's rounds): a unit is one domain pool, largest first; its first step builds
+  // the pool, its middle steps search its block rows. A thread that finds the largest pool's
+  // tree still being built works on the other pools' rows meanwhile.
   std::vector<PifsDomains> pools(planes.size() * levels);
   std::vector<std::size_t> pool_order(pools.size());
   for (std::size_t p = 0; p < pools.size(); ++p) pool_order[p] = p;
@@ -124,58 +121,15 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
   };
   std::stable_sort(pool_order.begin(), pool_order.end(),
                    [&](std::size_t a, std::size_t b) { return pool_area(a) > pool_area(b); });
-  struct Row {
-    std::size_t pool;
-    int row;
-  };
-  std::vector<Row> rows;
-  for (auto p = pool_order.rbegin(); p != pool_order.rend(); ++p)
-    for (int row = 0; row < (cands[*p / levels].padded_height >> (code.min_log + int(*p % levels))); ++row)
-      rows.push_back({*p, row});
-  std::unique_ptr<std::atomic<bool>[]> ready(new std::atomic<bool>[pools.size()]);
-  for (std::size_t p = 0; p < pools.size(); ++p) ready[p] = false;
-  std::mutex mutex;
-  std::condition_variable built;
-  parallel_jobs(
-      pools.size() + rows.size(), o.threads,
-      [&](std::size_t job, int) {
-        if (job < pools.size()) {
-          const std::size_t p = pool_order[job], k = p / levels;
-          pools[p] = domain_pool(halves[k], cands[k].padded_width, cands[k].padded_height,
-                                 code.min_log + int(p % levels), o.search.mode == PifsDomainSearch::Tree);
-          std::lock_guard<std::mutex> lock(mutex);
-          ready[p] = true;
-          built.notify_all();
-          return;
-        }
-        const Row& r = rows[job - pools.size()];
-        if (!ready[r.pool]) {
-          // Pools are the first jobs: this one is being built; a failed build stops the wait.
-          std::unique_lock<std::mutex> lock(mutex);
-          while (!ready[r.pool]) {
-            if (stop_requested()) throw Cancelled();
-            built.wait_for(lock, std::chrono::milliseconds(10));
-          }
-        }
-        const std::size_t k = r.pool / levels;
-        const PifsDomains& pool = pools[r.pool];
-        PifsPlaneCandidates& c = cands[k];
-        const std::size_t bx = std::size_t(c.padded_width >> pool.log_size);
-        search_row(code, padded[k], halves[k], pool, o.search, r.row,
-                   c.levels[pool.log_size - code.min_log].data() + r.row * bx);
-      },
-      progress_range(progress, 0.0, 0.9));
-  pools.clear();
+  std::vector<std::size_t> pool_rows(pools.size());
+  for (std::size_t u = 0; u < pools.size(); ++u)
+    pool_rows[u] = std::size_t(cands[pool_order[u] / levels].padded_height >> (code.min_log + int(pool_order[u] % levels)));
   code.planes.resize(planes.size());
   for (std::size_t k = 0; k < planes.size(); ++k) {
     code.planes[k].width = cands[k].width;
     code.planes[k].height = cands[k].height;
   }
 
-  if (target == 0) {
-    for (std::size_t k = 0; k < planes.size(); ++k) code.planes[k].leaves = partition_threshold(code, cands[k], o.quality);
-    return code;
-  }
   // Rate control: the file size falls as λ rises; search log λ for the largest file ≤ target.
   // Chroma samples stand for 2×2 pixels, so their errors weigh 4× (and their residual step
   // halves). The residual layer's step follows λ (step² = λ / kResidualLambda), so the quadtree
@@ -186,76 +140,125 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
     std::vector<PifsPlane> planes;
     std::size_t size = 0;
   };
-  int round = 0;
-  auto try_probes = [&](std::vector<Probe>& probes) {
-    const std::size_t count = probes.size(), plane_count = planes.size(), units = count * plane_count;
-    std::vector<PifsStreamSizes> sizes(units);
-    std::vector<PifsRaster> decoded(units);
-    std::vector<std::unique_ptr<PifsResidualRows>> residuals(units);
-    for (Probe& p : probes) p.planes.assign(plane_count, {});
-    const double at = 0.9 + 0.008 * round++;
-    // A unit is one plane of one probe, the largest planes first. Its first step cuts the
-    // quadtree, codes the transforms and decodes what the decoder shows at 1× (deblocked, as
-    // pifs_decode does); its middle steps quantise the residual a block row each; the entropy
-    // coder, sequential, follows them row by row. All of a round is one job list
-    // (staged_jobs.h), so both threads stay busy however the units' costs differ.
-    std::vector<std::size_t> block_rows(units, 0);
-    if (o.residual)
-      for (std::size_t u = 0; u < units; ++u)
-        block_rows[u] = std::size_t(cands[u / count].height + kResidualBlock - 1) / kResidualBlock;
-    staged_jobs(
-        block_rows, o.threads,
-        [&](std::size_t u) {
-          const std::size_t k = u / count, p = u % count;
-          const bool half = code.halved(k);
-          PifsPlane& plane = probes[p].planes[k];
-          plane.width = cands[k].width;
-          plane.height = cands[k].height;
-          const double lambda = std::exp(probes[p].log_lambda);
-          plane.leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
-          sizes[u].transforms = encode_plane(code, plane).size();
-          if (!o.residual) return;
-          decoded[u] = decode_plane(code, plane, 0, PifsDecoder::Hierarchical, 0, 1);
-          deblock(code, plane, 0, decoded[u], 1);
-          const double step = std::sqrt(lambda / kResidualLambda) * (half ? 0.5 : 1.0);
-          residuals[u] = std::make_unique<PifsResidualRows>(plane.width, plane.height, step);
-        },
-        [&](std::size_t u, std::size_t row) {
-          // A step too coarse for any coefficient has no rows.
-          if (int(row) < residuals[u]->rows()) residuals[u]->quantise(int(row), padded[u / count], decoded[u]);
-        },
-        [&](std::size_t u, std::size_t row) {
-          if (int(row) < residuals[u]->rows()) residuals[u]->code(int(row));
-          if (row + 1 < block_rows[u]) return;
-          PifsPlane& plane = probes[u % count].planes[u / count];
-          plane.residual = residuals[u]->finish(&sizes[u].residual);
-          sizes[u].residual_step = plane.residual.step;
-          residuals[u].reset();
-          decoded[u] = PifsRaster();
-        },
-        progress_range(progress, std::min(0.98, at), std::min(0.99, at + 0.008)));
-    for (std::size_t p = 0; p < count; ++p) {
-      std::vector<PifsStreamSizes> stream_sizes(plane_count);
-      for (std::size_t k = 0; k < plane_count; ++k) stream_sizes[k] = sizes[k * count + p];
-      probes[p].size = pifs_file_size(code, stream_sizes);
-    }
-  };
   // The search (rate_search.h): a bracket of log λ narrowed by interpolation, two values a
   // round, starting near the λ the target's bits per sample suggest.
   LambdaBracket bracket(target, lambda_guess(image, target));
   std::vector<Probe> probes(2);
   Probe best;  // done() holds only once a value has fitted
-  while (!bracket.done()) {
+  // A unit is one plane of one probe, the largest planes and lowest λ (the costliest) first.
+  // Its first step cuts the quadtree and decodes what the decoder shows at 1× (deblocked, as
+  // pifs_decode does); its middle steps quantise the residual a block row each, then code the
+  // transforms (only their size is needed, so off the path to the residual); the entropy
+  // coder, sequential, follows the rows one by one. All rounds are job lists on the same
+  // threads, so both threads stay busy however the units' costs differ.
+  const std::size_t count = probes.size(), plane_count = planes.size(), units = count * plane_count;
+  std::vector<PifsStreamSizes> sizes(units);
+  std::vector<PifsRaster> decoded(units);
+  std::vector<std::unique_ptr<PifsResidualRows>> residuals(units);
+  std::vector<std::size_t> block_rows(units, 0);
+  if (o.residual)
+    for (std::size_t u = 0; u < units; ++u)
+      block_rows[u] = std::size_t(cands[u / count].height + kResidualBlock - 1) / kResidualBlock;
+  int rounds = 0;  // started: the search, then the rate control's
+  bool searching = false;
+  // Between rounds, on one thread: first the search; then the sizes of the round that ended
+  // narrow the bracket, which gives the next two values of λ.
+  const auto next_round = [&](std::vector<std::size_t>& middles) {
+    if (rounds++ == 0) {
+      searching = true;
+      middles = pool_rows;
+      return true;
+    }
+    searching = false;
+    if (target == 0) return false;
+    if (rounds > 2) {
+      for (std::size_t p = 0; p < count; ++p) {
+        std::vector<PifsStreamSizes> stream_sizes(plane_count);
+        for (std::size_t k = 0; k < plane_count; ++k) stream_sizes[k] = sizes[k * count + p];
+        probes[p].size = pifs_file_size(code, stream_sizes);
+      }
+      for (const Probe& p : probes)
+        if (p.log_lambda >= LambdaBracket::kHighest && p.size > target)
+          throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
+                           std::to_string(p.size) + " bytes; use a larger max_block)");
+      const int fit = bracket.update({{{probes[0].log_lambda, probes[0].size}, {probes[1].log_lambda, probes[1].size}}});
+      if (fit >= 0) std::swap(best, probes[std::size_t(fit)]);  // the old best's planes are freed below
+    }
+    if (bracket.done()) return false;
     const std::array<double, 2> next = bracket.next();
     probes[0].log_lambda = next[0];
     probes[1].log_lambda = next[1];
-    try_probes(probes);
-    for (const Probe& p : probes)
-      if (p.log_lambda >= LambdaBracket::kHighest && p.size > target)
-        throw InputError("PIFS encode: cannot reach " + std::to_string(target) + " bytes (the smallest code is " +
-                         std::to_string(p.size) + " bytes; use a larger max_block)");
-    const int fit = bracket.update({{{probes[0].log_lambda, probes[0].size}, {probes[1].log_lambda, probes[1].size}}});
-    if (fit >= 0) best = std::move(probes[std::size_t(fit)]);
+    // The planes of the probes no longer needed are freed by the first steps (on every thread).
+    for (Probe& p : probes) p.planes.resize(plane_count);
+    sizes.assign(units, {});
+    middles = block_rows;
+    for (std::size_t& m : middles) ++m;  // the transforms' code
+    return true;
+  };
+  // The search's share of the progress, then the rate control's rounds.
+  ProgressCallback rounds_progress;
+  if (progress)
+    rounds_progress = [&](double rounds) {
+      return progress(rounds <= 1 ? 0.9 * rounds : std::min(0.99, 0.9 + 0.008 * (rounds - 1)));
+    };
+  staged_rounds(
+      next_round, o.threads,
+      [&](std::size_t u) {
+        if (searching) {
+          const std::size_t p = pool_order[u], k = p / levels;
+          pools[p] = domain_pool(halves[k], cands[k].padded_width, cands[k].padded_height,
+                                 code.min_log + int(p % levels), o.search.mode == PifsDomainSearch::Tree);
+          return;
+        }
+        const std::size_t k = u / count, p = u % count;
+        const bool half = code.halved(k);
+        PifsPlane& plane = probes[p].planes[k];
+        plane = PifsPlane();
+        plane.width = cands[k].width;
+        plane.height = cands[k].height;
+        const double lambda = std::exp(probes[p].log_lambda);
+        plane.leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
+        if (!o.residual) return;
+        decoded[u] = decode_plane(code, plane, 0, PifsDecoder::Hierarchical, 0, 1);
+        deblock(code, plane, 0, decoded[u], 1);
+        const double step = std::sqrt(lambda / kResidualLambda) * (half ? 0.5 : 1.0);
+        residuals[u] = std::make_unique<PifsResidualRows>(plane.width, plane.height, step);
+      },
+      [&](std::size_t u, std::size_t row) {
+        if (searching) {
+          const std::size_t k = pool_order[u] / levels;
+          const PifsDomains& pool = pools[pool_order[u]];
+          PifsPlaneCandidates& c = cands[k];
+          const std::size_t bx = std::size_t(c.padded_width >> pool.log_size);
+          search_row(code, padded[k], halves[k], pool, o.search, int(row),
+                     c.levels[pool.log_size - code.min_log].data() + row * bx);
+          return;
+        }
+        if (row == block_rows[u]) {
+          sizes[u].transforms = encode_plane(code, probes[u % count].planes[u / count]).size();
+          return;
+        }
+        // A step too coarse for any coefficient has no rows.
+        if (int(row) < residuals[u]->rows()) residuals[u]->quantise(int(row), padded[u / count], decoded[u]);
+      },
+      [&](std::size_t u, std::size_t row) {
+        if (searching) {
+          if (row + 1 == pool_rows[u]) pools[pool_order[u]] = PifsDomains();  // its rows are searched
+          return;
+        }
+        if (row == block_rows[u]) return;
+        if (int(row) < residuals[u]->rows()) residuals[u]->code(int(row));
+        if (row + 1 < block_rows[u]) return;
+        PifsPlane& plane = probes[u % count].planes[u / count];
+        plane.residual = residuals[u]->finish(&sizes[u].residual);
+        sizes[u].residual_step = plane.residual.step;
+        residuals[u].reset();
+        decoded[u] = PifsRaster();
+      },
+      rounds_progress);
+  if (target == 0) {
+    for (std::size_t k = 0; k < planes.size(); ++k) code.planes[k].leaves = partition_threshold(code, cands[k], o.quality);
+    return code;
   }
   code.planes = std::move(best.planes);
   if (lambda) *lambda = std::exp(best.log_lambda);

@@ -1,7 +1,8 @@
 #pragma once
-// The rate control's round as one job list (encoder.cpp): every unit (one plane of one probe)
-// has a first step, then many independent middle steps, each followed, in order, by a
-// sequential step (the entropy coder's share of that item).
+// The encoder's rounds as job lists (encoder.cpp): the domain search (a unit is a domain pool:
+// built, then its block rows searched), then the rate control's (a unit is one plane of one
+// probe: cut and decoded, then its residual's rows quantised, each followed, in order, by the
+// entropy coder's share of that row).
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -10,18 +11,23 @@
 
 namespace ifsforge {
 
-/// @brief Runs, on `threads` threads in one parallel_jobs call, first(u) for every unit u, then
+/// @brief Runs round after round on `threads` threads in one parallel_jobs call (the threads
+/// outlive the rounds). Before each round one thread calls next_round, which gives the round's
+/// middles per unit (from the results of the rounds before it) or returns false when none is
+/// left, while the other threads wait. In a round, first(u) runs for every unit u, then
 /// middle(u, i) for i in [0, middles[u]) once first(u) has ended, and follow(u, i) for i in
-/// increasing order, each once middle(u, i) has ended. Each unit's follows run on one thread
-/// (its follower), which runs the middles no other thread has taken itself. A thread that ends
-/// a step takes the middles running followers need first, else starts the next unit's
-/// follower, else any ready middle: no thread waits for a barrier, and the sequential follows
-/// overlap the middles instead of running alone at the end. Each step writes its own unit's
-/// results, so the outputs never depend on the thread count.
-void staged_jobs(const std::vector<std::size_t>& middles, int threads,
-                 const std::function<void(std::size_t unit)>& first,
-                 const std::function<void(std::size_t unit, std::size_t item)>& middle,
-                 const std::function<void(std::size_t unit, std::size_t item)>& follow,
-                 const ProgressCallback& progress = nullptr);
+/// increasing order, each once middle(u, i) has ended, one follow of a unit at a time. Units are
+/// listed costliest first and served in that order: a thread that ends a step takes the
+/// first unit's next follow when it is ready and no thread runs one, else that unit's lowest
+/// middle not yet taken (one a running follow will need), else the next unit's. So the costliest
+/// unit's sequential follows start as soon as they can and the other threads quantise ahead of
+/// them; no thread waits for a barrier within a round, and a follow never waits while other work
+/// is ready. Each step writes its own unit's results, so the outputs never depend on the thread
+/// count. `progress` hears the rounds ended plus the running round's share of steps ended.
+void staged_rounds(const std::function<bool(std::vector<std::size_t>& middles)>& next_round, int threads,
+                   const std::function<void(std::size_t unit)>& first,
+                   const std::function<void(std::size_t unit, std::size_t item)>& middle,
+                   const std::function<void(std::size_t unit, std::size_t item)>& follow,
+                   const ProgressCallback& progress = nullptr);
 
 }  // namespace ifsforge
