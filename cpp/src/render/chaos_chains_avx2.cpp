@@ -230,7 +230,7 @@ struct Quad {
     return result;
   }
 
-  __m256d b[N];  // SharedLinearDraws: the offsets of the map drawn for the next step
+  __m256d b[N];  // SharedDraws: the offsets of the map drawn for the next step
 
   /// MapSampler's draw from the row of the current map (row 0 unless recurrent): the random
   /// number, its column, and the draw's index in Maps::choices.
@@ -259,14 +259,16 @@ struct Quad {
 /// More than four maps that share their linear part: each lane's draw loads its row of
 /// Maps::draws (transposed, four lanes at once), which gives the choice and the offsets of both
 /// maps it may pick, so the map and its offsets come without a gather (slow on some CPUs) and
-/// without waiting on each other. The offsets wait in the quad for the next step's apply.
-template <int N, Shape kShape>
-struct SharedLinearDraws {
-  static constexpr int kRow = draw_row(N);
+/// without waiting on each other. The offsets wait in the quad for the next step's apply. Where
+/// every draw keeps its column (kDirect: Maps::direct) the column is the map and the row holds
+/// only its offsets, two rows of 2D ones to a register.
+template <int N, Shape kShape, bool kDirect>
+struct SharedDraws {
+  static constexpr int kRow = kDirect ? offsets_row(N) : draw_row(N);
   SharedA<N, kShape> a;
   const double* draws;
 
-  explicit SharedLinearDraws(const Maps& m) : a(m), draws(m.draws) {}
+  explicit SharedDraws(const Maps& m) : a(m), draws(m.draws) {}
 
   template <class Q>
   [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
@@ -274,47 +276,25 @@ struct SharedLinearDraws {
     alignas(32) std::uint64_t at[kWidth];
     _mm256_store_si256(reinterpret_cast<__m256i*>(at),
                        _mm256_mul_epu32(q.draw(m, count, random, column), _mm256_set1_epi64x(kRow)));
-    __m256d row[kRow];
-    for (int j = 0; j < kRow; j += 4) transposed(draws + j, at, row + j);
-    const __m256d keep = _mm256_castsi256_pd(q.pick(_mm256_castpd_si256(row[0]), random, column));
-    for (int r = 0; r < N; ++r) q.b[r] = _mm256_blendv_pd(row[1 + N + r], row[1 + r], keep);
-  }
-
-  template <class Q>
-  void apply(Q& q) const {
-    a.apply(q.b, q.p);
-  }
-};
-
-/// As SharedLinearDraws where every draw keeps its column (Maps::direct): the column is the map
-/// and each lane's row holds only its offsets, two rows of 2D ones to a register.
-template <int N, Shape kShape>
-struct SharedLinearOffsets {
-  static constexpr int kRow = offsets_row(N);
-  SharedA<N, kShape> a;
-  const double* draws;
-
-  explicit SharedLinearOffsets(const Maps& m) : a(m), draws(m.draws) {}
-
-  template <class Q>
-  [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
-    __m256i random, column;
-    alignas(32) std::uint64_t at[kWidth];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(at),
-                       _mm256_mul_epu32(q.draw(m, count, random, column), _mm256_set1_epi64x(kRow)));
-    q.map = column;
-    if constexpr (kRow == 2) {
+    if constexpr (kDirect && kRow == 2) {
       // Lanes 0 and 2, 1 and 3 side by side: their low and high halves are x's and y's offsets.
       const __m256d even = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(draws + at[0])),
                                                 _mm_loadu_pd(draws + at[2]), 1);
       const __m256d odd = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(draws + at[1])),
                                                _mm_loadu_pd(draws + at[3]), 1);
+      q.map = column;
       q.b[0] = _mm256_unpacklo_pd(even, odd);
       q.b[1] = _mm256_unpackhi_pd(even, odd);
-    } else {
-      __m256d row[kRow];
-      for (int j = 0; j < kRow; j += 4) transposed(draws + j, at, row + j);
+      return;
+    }
+    __m256d row[kRow];
+    for (int j = 0; j < kRow; j += 4) transposed(draws + j, at, row + j);
+    if constexpr (kDirect) {
+      q.map = column;
       for (int r = 0; r < N; ++r) q.b[r] = row[r];
+    } else {
+      const __m256d keep = _mm256_castsi256_pd(q.pick(_mm256_castpd_si256(row[0]), random, column));
+      for (int r = 0; r < N; ++r) q.b[r] = _mm256_blendv_pd(row[1 + N + r], row[1 + r], keep);
     }
   }
 
@@ -323,6 +303,11 @@ struct SharedLinearOffsets {
     a.apply(q.b, q.p);
   }
 };
+
+template <int N, Shape kShape>
+using SharedLinearDraws = SharedDraws<N, kShape, false>;
+template <int N, Shape kShape>
+using SharedLinearOffsets = SharedDraws<N, kShape, true>;
 
 template <int N, int G, class Coefficients>
 void run(const Maps& m, const Job& job) {
