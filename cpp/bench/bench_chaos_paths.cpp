@@ -5,7 +5,8 @@
 // shown). A plain program, run from the repository's root: it reads the systems from
 // samples/systems.
 //
-//   build/cpp/bench/bench_chaos_paths [--points 3e7] [--repeat 3] [--samples DIR] [--only TEXT]
+//   build/cpp/bench/bench_chaos_paths [--points 3e7] [--repeat 3] [--samples DIR] [--only TEXT] [--size 1024]
+// (--size 128: the counters stay in the core's caches, leaving the cost of the arithmetic)
 //   /usr/bin/python3 cpp/bench/results.py bench_chaos_paths --plain   # written to RESULTS.md
 #include <algorithm>
 #include <cstdio>
@@ -39,13 +40,14 @@ struct Case {
 
 int main(int argc, char** argv) {
   if (bench::flag(argc, argv, "help")) {
-    std::puts("bench_chaos_paths [--points P (3e7)] [--repeat R (3)] [--samples DIR] [--only TEXT]");
+    std::puts("bench_chaos_paths [--points P (3e7)] [--repeat R (3)] [--samples DIR] [--only TEXT] [--size S (1024)]");
     return 0;
   }
   const auto points = static_cast<std::uint64_t>(std::stod(bench::option(argc, argv, "points", "3e7")));
   const int repeat = std::stoi(bench::option(argc, argv, "repeat", "3"));
   const std::string dir = bench::option(argc, argv, "samples", "samples/systems");
-  const std::string only = bench::option(argc, argv, "only", "");  // the rows whose label has it, and their references
+  const std::string only = bench::option(argc, argv, "only", "");
+  const int size = std::stoi(bench::option(argc, argv, "size", "1024"));  // the rows whose label has it, and their references
   auto sample = [&](const char* name) { return read_ifs_json(dir + "/" + name + ".json"); };
   const Ifs triangle = sample("sierpinski_triangle");
   const std::vector<Case> cases = {
@@ -58,9 +60,9 @@ int main(int argc, char** argv) {
       {"recurrent cubes, 3D view (recurrent_cubes)", sample("recurrent_cubes"), false},
   };
 
-  std::printf("CPU nanoseconds per point, one thread, a 1024² image, %.3g points per render less the "
+  std::printf("CPU nanoseconds per point, one thread, a %d² image, %.3g points per render less the "
               "render's fixed cost (a 1,024-point render's), best of %d rounds that take every row in turn; the ratio is to the reference row above it (target: at most 2×).\n\n",
-              double(points), repeat);
+              size, double(points), repeat);
   std::printf("| system | maps | fixed CPU ms | CPU ns per point | × reference |\n| --- | ---: | ---: | ---: | ---: |\n");
   // Rounds interleave the rows (every row once a round, best of the rounds per row), so a slow
   // spell of a shared machine falls on rows alike instead of on one row and its ratio.
@@ -72,7 +74,7 @@ int main(int argc, char** argv) {
     for (std::size_t i = 0; i < rows.size(); ++i) {
       auto cpu_seconds = [&](std::uint64_t n) {
         RenderOptions o;
-        o.width = o.height = 1024;
+        o.width = o.height = size;
         o.iterations = n;
         o.threads = 1;
         if (rows[i]->ifs.spatial_dims() == 3) o.view = View{30, 20};

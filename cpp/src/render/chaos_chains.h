@@ -25,6 +25,9 @@ constexpr std::size_t kBatch = 32;
 constexpr std::size_t kStride = kBatch + kMaxChains;
 /// Doubles per row of Maps::draws: the choice, two offsets of `dim`, in whole registers of four.
 constexpr int draw_row(int dim) { return (1 + 2 * dim + 3) / 4 * 4; }
+/// Doubles per row of Maps::draws where Maps::direct: the column's b (2D: as one 128-bit half of
+/// a register), else in whole registers of four.
+constexpr int offsets_row(int dim) { return dim == 2 ? 2 : (dim + 3) / 4 * 4; }
 /// Draws (rows times columns) up to which Plan builds Maps::draws (a recurrent system's table
 /// grows with the square of its maps).
 constexpr std::size_t kMaxDraws = std::size_t(1) << 16;
@@ -41,10 +44,19 @@ struct Maps {
   /// no offset is -0 and a shrinks the max norm, so every point is finite and no partial sum is
   /// -0; adding a zero term, 0 x, a zero of either sign, to it then changes no bit).
   bool diagonal;
+  /// Every map's a is the same one, its zero terms may be left out (as for `diagonal`), and its
+  /// other terms lie in blocks: a spatial row's over the spatial columns, a channel row's over
+  /// the spatial columns and its own (a colour system's channels: their own scale plus a
+  /// geometric term), so that b + a x takes those terms only, in the general path's order.
+  bool blocked;
   /// Shared linear parts and more than kWidth maps, else null: per draw (row * count + column) a
   /// row of draw_row(dim) doubles: the choice's bits, column's b, then its alias's b (zero-padded),
   /// so that one row per lane gives both the map and its offsets, without a gather.
   const double* draws;
+  /// 2D and 3D systems whose draws all keep their column (every alias is its own column: equal
+  /// probabilities): the column is the map, and a row of `draws` is offsets_row(dim) doubles, the
+  /// column's b only (no choice, no alias, no blend).
+  bool direct;
   /// px = u0 + u . x, py = v0 + v . x over min(dim, 3) terms (zero past the spatial ones), and
   /// the depth toward . x in 3D.
   double u[3], v[3], u0, v0, toward[3];

@@ -23,9 +23,13 @@ template <int N>
   for (int r = 0; r < N; ++r) p[r] = next[r];
 }
 
+/// Which terms of a linear part that every map shares are taken: all of them, the diagonal's
+/// (Maps::diagonal), or a blocked one's with 2 or 3 spatial coordinates (Maps::blocked).
+enum Shape { kDense, kDiagonal, kBlocked2, kBlocked3 };
+
 /// A linear part that every map shares, as constants: x' = ((b + a0 x0) + a1 x1) + ..., the
-/// general path's order; a diagonal one (kDiagonal: Maps::diagonal) without its zero terms.
-template <int N, bool kDiagonal>
+/// general path's order, without the zero terms that its shape leaves out.
+template <int N, Shape kShape>
 struct SharedA {
   __m256d a[N * N];
 
@@ -34,10 +38,21 @@ struct SharedA {
   }
 
   [[gnu::always_inline]] void apply(const __m256d* b, __m256d* p) const {
-    if constexpr (kDiagonal) {
+    if constexpr (kShape == kDiagonal) {
       for (int r = 0; r < N; ++r) p[r] = _mm256_add_pd(b[r], _mm256_mul_pd(a[r * N + r], p[r]));
-    } else {
+    } else if constexpr (kShape == kDense) {
       affine<N>(a, b, p);
+    } else {
+      // A row's spatial terms, then a channel row's own term: the columns in order.
+      constexpr int kSpatial = kShape == kBlocked2 ? 2 : 3;
+      __m256d next[N];
+      for (int r = 0; r < N; ++r) {
+        __m256d value = b[r];
+        for (int c = 0; c < kSpatial; ++c) value = _mm256_add_pd(value, _mm256_mul_pd(a[r * N + c], p[c]));
+        if (r >= kSpatial) value = _mm256_add_pd(value, _mm256_mul_pd(a[r * N + r], p[r]));
+        next[r] = value;
+      }
+      for (int r = 0; r < N; ++r) p[r] = next[r];
     }
   }
 };
@@ -61,12 +76,51 @@ struct SharedA {
   out[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
 }
 
-/// The draw of Coefficients and SharedLinear: Quad::choose's, and their map applied to the quad.
-template <class Self>
-struct FromChoices {
+/// At most four maps' choices (Maps::choices), a register per row (one unless recurrent) with
+/// column i's in lane i: a draw's choice by permutes and blends instead of a gather (slow, and on
+/// a recurrent chain's path from one map to the next).
+struct FewChoices {
+  __m256i rows[kWidth];
+
+  explicit FewChoices(const Maps& m) {
+    const int count = m.count < kWidth ? m.count : kWidth, rows_used = m.recurrent ? count : 1;
+    for (int r = 0; r < kWidth; ++r) {
+      alignas(32) std::uint64_t row[kWidth] = {};
+      for (int i = 0; i < count && r < rows_used; ++i) row[i] = m.choices[r * m.count + i];
+      rows[r] = _mm256_load_si256(reinterpret_cast<const __m256i*>(row));
+    }
+  }
+
   template <class Q>
   [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
-    q.choose(m, count);
+    __m256i random, column;
+    q.draw(m, count, random, column);
+    const __m256i pair = pairs(column);
+    auto in = [&](int r) { return _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castsi256_ps(rows[r]), pair)); };
+    __m256d choice = in(0);
+    if (m.recurrent) {  // the previous map's row: its bit 0, then its bit 1, as each lane's sign
+      const __m256d bit0 = _mm256_castsi256_pd(_mm256_slli_epi64(q.map, 63));
+      const __m256d bit1 = _mm256_castsi256_pd(_mm256_slli_epi64(q.map, 62));
+      choice = _mm256_blendv_pd(_mm256_blendv_pd(choice, in(1), bit0), _mm256_blendv_pd(in(2), in(3), bit0), bit1);
+    }
+    q.pick(_mm256_castpd_si256(choice), random, column);
+  }
+};
+
+/// The draw of Coefficients and SharedLinear: FewChoices' with at most four maps, else
+/// Quad::choose's; and their map applied to the quad.
+template <class Self, bool kFew>
+struct FromChoices {
+  FewChoices few;
+
+  explicit FromChoices(const Maps& m) : few(m) {}
+
+  template <class Q>
+  [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
+    if constexpr (kFew)
+      few.choose(q, m, count);
+    else
+      q.choose(m, count);
   }
   template <class Q>
   void apply(Q& q) const {
@@ -80,7 +134,7 @@ struct FromChoices {
 /// each), else from each lane's row, loaded, the four rows transposed a register at a time
 /// (loads and shuffles cost less than gathers).
 template <int N, bool kFew>
-struct Coefficients : FromChoices<Coefficients<N, kFew>> {
+struct Coefficients : FromChoices<Coefficients<N, kFew>, kFew> {
   static constexpr int kCount = N * N + N;
   static constexpr int kPadded = (kCount + 3) / 4 * 4;  // whole registers
   __m256d shared[kPadded];  // map 0's, broadcast
@@ -89,7 +143,8 @@ struct Coefficients : FromChoices<Coefficients<N, kFew>> {
   const double* rows;
   long long stride;  // kPadded, as Plan lays the rows out
 
-  explicit Coefficients(const Maps& m) : rows(m.coefficients), stride(m.stride) {
+  explicit Coefficients(const Maps& m)
+      : FromChoices<Coefficients<N, kFew>, kFew>(m), rows(m.coefficients), stride(m.stride) {
     for (int k = 0; k < kPadded; ++k) {
       shared[k] = _mm256_set1_pd(rows[k]);
       varies[k] = false;
@@ -135,30 +190,18 @@ struct Coefficients : FromChoices<Coefficients<N, kFew>> {
 
 /// At most four maps that share their linear part (the same bits: similitudes of one ratio, the
 /// colour samples' channel rows): the a are constants and only the offsets b differ from lane to
-/// lane, each from a permute; without transitions the draw's choice is a permute too.
-template <int N, bool kDiagonal>
-struct SharedLinear : FromChoices<SharedLinear<N, kDiagonal>> {
-  SharedA<N, kDiagonal> a;
+/// lane, each from a permute.
+template <int N, Shape kShape>
+struct SharedLinear : FromChoices<SharedLinear<N, kShape>, true> {
+  SharedA<N, kShape> a;
   __m256d tables[N];
-  __m256i choices;  // not recurrent: column i's choice in lane i
 
-  explicit SharedLinear(const Maps& m) : a(m) {
-    alignas(32) std::uint64_t row[kWidth] = {};
-    for (int i = 0; i < m.count && !m.recurrent; ++i) row[i] = m.choices[i];
-    choices = _mm256_load_si256(reinterpret_cast<const __m256i*>(row));
+  explicit SharedLinear(const Maps& m) : FromChoices<SharedLinear<N, kShape>, true>(m), a(m) {
     for (int r = 0; r < N; ++r) {
       alignas(32) double across[kWidth] = {};
       for (int i = 0; i < m.count; ++i) across[i] = m.coefficients[i * m.stride + N * N + r];
       tables[r] = _mm256_load_pd(across);
     }
-  }
-
-  template <class Q>
-  [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
-    if (m.recurrent) return q.choose(m, count);
-    __m256i random, column;
-    q.draw(m, count, random, column);
-    q.pick(_mm256_castps_si256(_mm256_permutevar8x32_ps(_mm256_castsi256_ps(choices), pairs(column))), random, column);
   }
 
   void apply_to(__m256i map, __m256d* p) const {
@@ -187,7 +230,7 @@ struct Quad {
     return result;
   }
 
-  __m256d b[N];  // SharedLinearDraws: the offsets of the map drawn for the next step
+  __m256d b[N];  // SharedDraws: the offsets of the map drawn for the next step
 
   /// MapSampler's draw from the row of the current map (row 0 unless recurrent): the random
   /// number, its column, and the draw's index in Maps::choices.
@@ -216,14 +259,16 @@ struct Quad {
 /// More than four maps that share their linear part: each lane's draw loads its row of
 /// Maps::draws (transposed, four lanes at once), which gives the choice and the offsets of both
 /// maps it may pick, so the map and its offsets come without a gather (slow on some CPUs) and
-/// without waiting on each other. The offsets wait in the quad for the next step's apply.
-template <int N, bool kDiagonal>
-struct SharedLinearDraws {
-  static constexpr int kRow = draw_row(N);
-  SharedA<N, kDiagonal> a;
+/// without waiting on each other. The offsets wait in the quad for the next step's apply. Where
+/// every draw keeps its column (kDirect: Maps::direct) the column is the map and the row holds
+/// only its offsets, two rows of 2D ones to a register.
+template <int N, Shape kShape, bool kDirect>
+struct SharedDraws {
+  static constexpr int kRow = kDirect ? offsets_row(N) : draw_row(N);
+  SharedA<N, kShape> a;
   const double* draws;
 
-  explicit SharedLinearDraws(const Maps& m) : a(m), draws(m.draws) {}
+  explicit SharedDraws(const Maps& m) : a(m), draws(m.draws) {}
 
   template <class Q>
   [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
@@ -231,10 +276,26 @@ struct SharedLinearDraws {
     alignas(32) std::uint64_t at[kWidth];
     _mm256_store_si256(reinterpret_cast<__m256i*>(at),
                        _mm256_mul_epu32(q.draw(m, count, random, column), _mm256_set1_epi64x(kRow)));
+    if constexpr (kDirect && kRow == 2) {
+      // Lanes 0 and 2, 1 and 3 side by side: their low and high halves are x's and y's offsets.
+      const __m256d even = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(draws + at[0])),
+                                                _mm_loadu_pd(draws + at[2]), 1);
+      const __m256d odd = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(draws + at[1])),
+                                               _mm_loadu_pd(draws + at[3]), 1);
+      q.map = column;
+      q.b[0] = _mm256_unpacklo_pd(even, odd);
+      q.b[1] = _mm256_unpackhi_pd(even, odd);
+      return;
+    }
     __m256d row[kRow];
     for (int j = 0; j < kRow; j += 4) transposed(draws + j, at, row + j);
-    const __m256d keep = _mm256_castsi256_pd(q.pick(_mm256_castpd_si256(row[0]), random, column));
-    for (int r = 0; r < N; ++r) q.b[r] = _mm256_blendv_pd(row[1 + N + r], row[1 + r], keep);
+    if constexpr (kDirect) {
+      q.map = column;
+      for (int r = 0; r < N; ++r) q.b[r] = row[r];
+    } else {
+      const __m256d keep = _mm256_castsi256_pd(q.pick(_mm256_castpd_si256(row[0]), random, column));
+      for (int r = 0; r < N; ++r) q.b[r] = _mm256_blendv_pd(row[1 + N + r], row[1 + r], keep);
+    }
   }
 
   template <class Q>
@@ -242,6 +303,11 @@ struct SharedLinearDraws {
     a.apply(q.b, q.p);
   }
 };
+
+template <int N, Shape kShape>
+using SharedLinearDraws = SharedDraws<N, kShape, false>;
+template <int N, Shape kShape>
+using SharedLinearOffsets = SharedDraws<N, kShape, true>;
 
 template <int N, int G, class Coefficients>
 void run(const Maps& m, const Job& job) {
@@ -347,16 +413,23 @@ void run_with(const Maps& m, const Job& job) {
   (job.chains > kWidth ? run<N, 2, Coefficients> : run<N, 1, Coefficients>)(m, job);
 }
 
-/// A shared linear part's kernel: diagonal (similitudes without rotation, in 2D and 3D) or not.
-template <int N, template <int, bool> class Shared>
+/// A shared linear part's kernel: diagonal (similitudes without rotation, in 2D and 3D),
+/// blocked (a colour system's channels), or dense.
+template <int N, template <int, Shape> class Shared>
 void run_shared(const Maps& m, const Job& job) {
   if constexpr (N <= 3)
-    if (m.diagonal) return run_with<N, Shared<N, true>>(m, job);
-  run_with<N, Shared<N, false>>(m, job);
+    if (m.diagonal) return run_with<N, Shared<N, kDiagonal>>(m, job);
+  if constexpr (N >= 3)
+    if (m.blocked && m.spatial == 2) return run_with<N, Shared<N, kBlocked2>>(m, job);
+  if constexpr (N >= 4)
+    if (m.blocked && m.spatial == 3) return run_with<N, Shared<N, kBlocked3>>(m, job);
+  run_with<N, Shared<N, kDense>>(m, job);
 }
 
 template <int N>
 void run_dim(const Maps& m, const Job& job) {
+  if constexpr (N <= 3)
+    if (m.direct && m.draws) return run_shared<N, SharedLinearOffsets>(m, job);
   if (m.draws)
     run_shared<N, SharedLinearDraws>(m, job);
   else if (m.count <= kWidth)

@@ -44,13 +44,19 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
   bool shared = true;
   for (int i = 1; i < count; ++i)
     shared = shared && std::memcmp(&coefficients_[std::size_t(i) * stride], &coefficients_[0], n * n * sizeof(double)) == 0;
+  bool direct = n <= 3;  // the kernels' direct draws are 2D and 3D ones
+  for (std::size_t d = 0; d < choices_.size(); ++d) direct = direct && choices_[d] >> 32 == d % count;
   if (shared && count > kWidth && choices_.size() <= kMaxDraws) {
-    const int row = draw_row(n);
+    const int row = direct ? offsets_row(n) : draw_row(n);
     draws_.assign(choices_.size() * row, 0.0);
     for (std::size_t d = 0; d < choices_.size(); ++d) {
       double* entry = &draws_[d * row];
-      std::memcpy(entry, &choices_[d], sizeof(double));
       const std::size_t column = d % count, alias = choices_[d] >> 32;
+      if (direct) {
+        for (int r = 0; r < n; ++r) entry[r] = coefficients_[column * stride + n * n + r];
+        continue;
+      }
+      std::memcpy(entry, &choices_[d], sizeof(double));
       for (int r = 0; r < n; ++r) {
         entry[1 + r] = coefficients_[column * stride + n * n + r];
         entry[1 + n + r] = coefficients_[alias * stride + n * n + r];
@@ -82,7 +88,11 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
   m.diagonal = sparse;
   for (int r = 0; r < n; ++r)
     for (int c = 0; c < n; ++c) m.diagonal = m.diagonal && (r == c || coefficients_[r * n + c] == 0.0);
+  m.blocked = sparse && spatial < n;
+  for (int r = 0; r < n; ++r)
+    for (int c = spatial; c < n; ++c) m.blocked = m.blocked && (r == c || coefficients_[r * n + c] == 0.0);
   m.draws = draws_.empty() ? nullptr : draws_.data();
+  m.direct = direct;
   // The general path's projection (chaos_game.cpp): the same doubles, the same zeros.
   const auto& proj = frame.projection();
   const double s = 1.0 / frame.pixel_size();
