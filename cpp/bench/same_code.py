@@ -38,6 +38,7 @@ def functions(path):
         line = re.sub(r"\b[0-9a-f]+ <", "<", line)  # a branch target's address
         # A target in another function (a .cold part, a local helper) moves with the layout.
         line = re.sub(r"<([^>+]+)(\+0x[0-9a-f]+)?>", lambda m: m.group(0) if m.group(1) == name else "<T>", line)
+        line = re.sub(r"^(call\s+)<.*>", r"\1<T>", line)  # an unlinked call: its relocation names the callee
         line = re.sub(r"(\.text[.\w]*)\+0x[0-9a-f]+", r"\1+X", line)
         line = re.sub(r"-?0x[0-9a-f]+\(%rip\)", "X(%rip)", line)
         out[name].append(CLONE.sub("", line))
