@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """The cold build's CPU time, group by group: the build CI makes from a clean clone (what
 cpp/bootstrap.sh builds, then the fuzz targets as tests/fuzz/run.sh builds them), with no compiler
-cache, each compile's user + system CPU seconds summed by group (the library, its three OpenVDB
-files apart, the Python bindings, the C++ tests, the fuzz build, in `--fuzz-build FOLDER` if given). CPU seconds, not wall time: the
+cache, each compile's user + system CPU seconds summed by group (the library, its OpenVDB files
+apart, the Python bindings, the C++ tests, the fuzz build, in `--fuzz-build FOLDER` if given); a
+precompiled header's compile counts in its target's group. CPU seconds, not wall time: the
 2-core build machine is shared, and the load is reported beside them.
 
     nice -n 10 cpp/bench/compile_times.py [--source DIR] [--build FOLDER] [--jobs 2]
@@ -19,6 +20,7 @@ reports a log without building.
 """
 import argparse
 import os
+import re
 import resource
 import subprocess
 import sys
@@ -27,18 +29,21 @@ from pathlib import Path
 import results
 
 ROOT = Path(__file__).resolve().parents[2]
-# Group of each compile, from its object's path (the first match); the three OpenVDB files are the
-# library's heaviest, each instantiating OpenVDB's trees.
-GROUPS = [("library: io/vdb_mesh.cpp", "/ifsforge.dir/src/io/vdb_mesh.cpp."),
-          ("library: io/vdb.cpp", "/ifsforge.dir/src/io/vdb.cpp."),
-          ("library: io/vdb_voxels.cpp", "/ifsforge.dir/src/io/vdb_voxels.cpp."),
-          ("library: the other files", "/ifsforge.dir/"),
-          ("Python bindings", "/python/"),
-          ("C++ tests", "/ifsforge_tests.dir/")]
+# Group of each compile, from its object's path (the first pattern that matches); the OpenVDB files
+# are the library's heaviest, each parsing OpenVDB's headers and instantiating its trees (since
+# they are built apart, as ifsforge_vdb, with a precompiled header of their own).
+GROUPS = [("library: io/vdb_mesh.cpp", r"/src/io/vdb_mesh\.cpp\."),
+          ("library: io/vdb.cpp", r"/src/io/vdb\.cpp\."),
+          ("library: io/vdb_voxels.cpp", r"/src/io/vdb_voxels\.cpp\."),
+          ("library: the other OpenVDB files", r"/src/io/vdb|/ifsforge_vdb\.dir/"),
+          ("library: the other files", r"/ifsforge\.dir/"),
+          ("Python bindings", r"/python/"),
+          ("C++ tests", r"/ifsforge_tests\.dir/")]
 FUZZ = "fuzz build (clang, ASan + UBSan)"
 TARGETS = {"library": ["ifsforge"], "bindings": ["_core", "_vdb"], "tests": ["ifsforge_tests"]}
 # The groups of --groups by the object paths of their compiles (those of the fuzz build are 'fuzz').
-OBJECTS = {"library": "/ifsforge.dir/", "bindings": "/python/", "tests": "/ifsforge_tests.dir/"}
+OBJECTS = {"library": ("/ifsforge.dir/", "/ifsforge_vdb.dir/"), "bindings": ("/python/",),
+           "tests": ("/ifsforge_tests.dir/",)}
 COLD = "IFSFORGE_COMPILE_TIMES_COLD"  # the environment variable naming the groups compiled cold
 
 
@@ -47,7 +52,8 @@ def launch(log, build, command):
     build ('main' or 'fuzz') and its object to `log`, unless the compiler cache served it;
     returns the compiler's exit code."""
     target = os.path.abspath(command[command.index("-o") + 1] if "-o" in command else command[-1])
-    group = "fuzz" if build == "fuzz" else next((g for g, key in OBJECTS.items() if key in target), "other")
+    group = "fuzz" if build == "fuzz" else next(
+        (g for g, keys in OBJECTS.items() if any(key in target for key in keys)), "other")
     cold = group in os.environ.get(COLD, "").split(",")
     env = dict(os.environ, CCACHE_DISABLE="1") if cold else os.environ
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -88,7 +94,7 @@ def sums(log):
     out = {}
     for line in Path(log).read_text().splitlines():
         cpu, build, target = line.split("\t")
-        group = FUZZ if build == "fuzz" else next((name for name, key in GROUPS if key in target), "other")
+        group = FUZZ if build == "fuzz" else next((name for name, key in GROUPS if re.search(key, target)), "other")
         n, s = out.get(group, (0, 0.0))
         out[group] = (n + 1, s + float(cpu))
     return out
