@@ -9,6 +9,7 @@ with it (docs/developer.md, "Compile time").
 
     cpp/bench/same_code.py BEFORE_BUILD AFTER_BUILD   # exit status 1 when a function differs
 """
+import argparse
 import re
 import subprocess
 import sys
@@ -46,7 +47,11 @@ def functions(path):
 
 
 def main():
-    before, after = Path(sys.argv[1]), Path(sys.argv[2])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("before", type=Path, help="a build folder, e.g. one configured with -DCMAKE_DISABLE_PRECOMPILE_HEADERS=ON")
+    parser.add_argument("after", type=Path, help="the build folder to compare with it")
+    args = parser.parse_args()
+    before, after = args.before, args.after
     same, differ = 0, 0
     for folder in LIBRARY:
         for obj in sorted((after / folder).glob("src/**/*.o")):
