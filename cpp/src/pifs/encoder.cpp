@@ -17,7 +17,7 @@
 #include "ifsforge/pifs/planes.h"
 #include "ifsforge/pifs/residual.h"
 #include "rate_search.h"
-#include "staged_jobs.h"
+#include "staged_rounds.h"
 
 namespace ifsforge {
 namespace {
@@ -108,7 +108,7 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
     for (int log = code.min_log; log <= code.max_log; ++log)
       c.levels.emplace_back(std::size_t(c.padded_width >> log) * (c.padded_height >> log));
   }
-  // The search is the first round of the job lists below (staged_jobs.h, on the same threads as
+  // The search is the first round of the job lists below (staged_rounds.h, on the same threads as
   // the rate control's rounds): a unit is one domain pool, largest first; its first step builds
   // the pool, its middle steps search its block rows. A thread that finds the largest pool's
   // tree still being built works on the other pools' rows meanwhile.

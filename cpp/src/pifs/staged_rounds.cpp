@@ -1,4 +1,4 @@
-#include "staged_jobs.h"
+#include "staged_rounds.h"
 
 #include <atomic>
 #include <chrono>

@@ -1,4 +1,4 @@
-// The rate control's job lists (cpp/src/pifs/staged_jobs.h): on any number of threads every step
+// The rate control's job lists (cpp/src/pifs/staged_rounds.h): on any number of threads every step
 // of every round runs once, each middle after its unit's first, each follow after its middle, in
 // order and never beside another follow of its unit; a round starts only once the one before
 // has ended, and no step runs beside next_round.
@@ -9,7 +9,7 @@
 #include <mutex>
 #include <vector>
 
-#include "../../cpp/src/pifs/staged_jobs.h"
+#include "../../cpp/src/pifs/staged_rounds.h"
 
 using namespace ifsforge;
 
