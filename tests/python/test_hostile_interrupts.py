@@ -20,8 +20,6 @@ def temporary_holds(tmp_path, size):
 
 # Each phase is recognised by the temporary file itself, not by a delay: how long the write
 # takes depends on the machine, and a signal after the rename would find the file complete.
-# The sponge's 3.2 million depth-5 pieces at 1458^3, one voxel each, scattered over the VDB's
-# leaves: a 238 MB file, written for longer than 729^3's 180 MB at a third of its voxelising.
 @pytest.mark.parametrize("signum, code, size, extra", [
     (signal.SIGINT, 130, 0, []),                    # the bands' topology and values, before a byte
     (signal.SIGTERM, 143, 16 << 20, []),            # later: the values, the hash or the sync to disk
@@ -29,7 +27,7 @@ def temporary_holds(tmp_path, size):
 ])
 def test_a_signal_in_the_vdb_write_stops_within_a_second(tmp_path, signum, code, size, extra):
     returned, err, stop = signal_after(tmp_path, signum, 0.0, "volume", SAMPLES / "menger_sponge.json",
-                                       "--res", "1458", "--depth", "5", "-o", "v.vdb", *extra,
+                                       "--res", "729", "-o", "v.vdb", *extra,
                                        ready=temporary_holds(tmp_path, size))
     assert returned == code and "Traceback" not in err, err
     assert stop < patience(1.0), f"{stop:.2f} s to stop"
