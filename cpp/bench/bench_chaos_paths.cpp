@@ -1,5 +1,6 @@
 // The chaos game's cost per point for each kind of system, against the gray 3-map triangle (2D)
-// or the tetrahedron (3D): a colour system (channels carried), more than 8 maps (the triangle's
+// or the tetrahedron (3D): colour systems (channels carried; the fern's maps differ in their
+// linear parts, the triangle's share theirs), more than 8 maps (the triangle's
 // maps three times over: the same attractor), the 20-map Menger sponge and recurrent systems.
 // CPU nanoseconds per point of one thread at 1024² (the render's fixed cost taken out, and
 // shown). A plain program, run from the repository's root: it reads the systems from
@@ -53,6 +54,7 @@ int main(int argc, char** argv) {
   const std::vector<Case> cases = {
       {"gray triangle, 3 maps (2D reference)", triangle, true},
       {"colour triangle, xy+rgb (colour5d_sierpinski_rgb)", sample("colour5d_sierpinski_rgb"), false},
+      {"colour fern, xy+hsi, 4 maps of their own linear parts (colour5d_fern_hsi)", sample("colour5d_fern_hsi"), false},
       {"triangle, 9 maps (its maps three times)", repeated(triangle, 3), false},
       {"recurrent squares, 4 maps (recurrent_squares)", sample("recurrent_squares"), false},
       {"tetrahedron, 4 maps, 3D view (3D reference)", sample("sierpinski_tetrahedron"), true},

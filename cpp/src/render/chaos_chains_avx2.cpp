@@ -76,51 +76,14 @@ struct SharedA {
   out[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
 }
 
-/// At most four maps' choices (Maps::choices), a register per row (one unless recurrent) with
-/// column i's in lane i: a draw's choice by permutes and blends instead of a gather (slow, and on
-/// a recurrent chain's path from one map to the next).
-struct FewChoices {
-  __m256i rows[kWidth];
-
-  explicit FewChoices(const Maps& m) {
-    const int count = m.count < kWidth ? m.count : kWidth, rows_used = m.recurrent ? count : 1;
-    for (int r = 0; r < kWidth; ++r) {
-      alignas(32) std::uint64_t row[kWidth] = {};
-      for (int i = 0; i < count && r < rows_used; ++i) row[i] = m.choices[r * m.count + i];
-      rows[r] = _mm256_load_si256(reinterpret_cast<const __m256i*>(row));
-    }
-  }
-
-  template <class Q>
-  [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
-    __m256i random, column;
-    q.draw(m, count, random, column);
-    const __m256i pair = pairs(column);
-    auto in = [&](int r) { return _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castsi256_ps(rows[r]), pair)); };
-    __m256d choice = in(0);
-    if (m.recurrent) {  // the previous map's row: its bit 0, then its bit 1, as each lane's sign
-      const __m256d bit0 = _mm256_castsi256_pd(_mm256_slli_epi64(q.map, 63));
-      const __m256d bit1 = _mm256_castsi256_pd(_mm256_slli_epi64(q.map, 62));
-      choice = _mm256_blendv_pd(_mm256_blendv_pd(choice, in(1), bit0), _mm256_blendv_pd(in(2), in(3), bit0), bit1);
-    }
-    q.pick(_mm256_castpd_si256(choice), random, column);
-  }
-};
-
-/// The draw of Coefficients and SharedLinear: FewChoices' with at most four maps, else
-/// Quad::choose's; and their map applied to the quad.
-template <class Self, bool kFew>
+/// The draw of Coefficients and SharedLinear (Quad::choose: a gather of each lane's choice; with
+/// at most four maps, permutes and blends of the choices held in registers gained at most 2% and
+/// cost a recurrent system 8%), and their map applied to the quad.
+template <class Self>
 struct FromChoices {
-  FewChoices few;
-
-  explicit FromChoices(const Maps& m) : few(m) {}
-
   template <class Q>
   [[gnu::always_inline]] void choose(Q& q, const Maps& m, __m256i count) const {
-    if constexpr (kFew)
-      few.choose(q, m, count);
-    else
-      q.choose(m, count);
+    q.choose(m, count);
   }
   template <class Q>
   void apply(Q& q) const {
@@ -134,7 +97,7 @@ struct FromChoices {
 /// each), else from each lane's row, loaded, the four rows transposed a register at a time
 /// (loads and shuffles cost less than gathers).
 template <int N, bool kFew>
-struct Coefficients : FromChoices<Coefficients<N, kFew>, kFew> {
+struct Coefficients : FromChoices<Coefficients<N, kFew>> {
   static constexpr int kCount = N * N + N;
   static constexpr int kPadded = (kCount + 3) / 4 * 4;  // whole registers
   __m256d shared[kPadded];  // map 0's, broadcast
@@ -143,8 +106,7 @@ struct Coefficients : FromChoices<Coefficients<N, kFew>, kFew> {
   const double* rows;
   long long stride;  // kPadded, as Plan lays the rows out
 
-  explicit Coefficients(const Maps& m)
-      : FromChoices<Coefficients<N, kFew>, kFew>(m), rows(m.coefficients), stride(m.stride) {
+  explicit Coefficients(const Maps& m) : rows(m.coefficients), stride(m.stride) {
     for (int k = 0; k < kPadded; ++k) {
       shared[k] = _mm256_set1_pd(rows[k]);
       varies[k] = false;
@@ -192,11 +154,11 @@ struct Coefficients : FromChoices<Coefficients<N, kFew>, kFew> {
 /// colour samples' channel rows): the a are constants and only the offsets b differ from lane to
 /// lane, each from a permute.
 template <int N, Shape kShape>
-struct SharedLinear : FromChoices<SharedLinear<N, kShape>, true> {
+struct SharedLinear : FromChoices<SharedLinear<N, kShape>> {
   SharedA<N, kShape> a;
   __m256d tables[N];
 
-  explicit SharedLinear(const Maps& m) : FromChoices<SharedLinear<N, kShape>, true>(m), a(m) {
+  explicit SharedLinear(const Maps& m) : a(m) {
     for (int r = 0; r < N; ++r) {
       alignas(32) double across[kWidth] = {};
       for (int i = 0; i < m.count; ++i) across[i] = m.coefficients[i * m.stride + N * N + r];
