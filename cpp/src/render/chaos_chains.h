@@ -40,21 +40,23 @@ struct Maps {
   const double* coefficients;    ///< map i at i * stride: a row by row, then b
   const std::uint64_t* choices;  ///< [row * count + column]: alias << 32 | threshold (MapSampler)
   bool shared_linear;            ///< every map's a has the same bits: only the offsets b differ
-  /// Every map's a is the same diagonal one and its zero terms may be left out of b + a x (Plan:
-  /// no offset is -0 and a shrinks the max norm, so every point is finite and no partial sum is
+  /// Every map's a is diagonal and its zero terms may be left out of b + a x (Plan: no offset is
+  /// -0 and every map's a shrinks the max norm, so every point is finite and no partial sum is
   /// -0; adding a zero term, 0 x, a zero of either sign, to it then changes no bit).
   bool diagonal;
-  /// Every map's a is the same one, its zero terms may be left out (as for `diagonal`), and its
-  /// other terms lie in blocks: a spatial row's over the spatial columns, a channel row's over
-  /// the spatial columns and its own (a colour system's channels: their own scale plus a
-  /// geometric term), so that b + a x takes those terms only, in the general path's order.
+  /// Every map's zero terms may be left out (as for `diagonal`), and its other terms lie in
+  /// blocks: a spatial row's over the spatial columns, a channel row's over the spatial columns
+  /// and its own (a colour system's channels: their own scale plus a geometric term), so that
+  /// b + a x takes those terms only, in the general path's order.
   bool blocked;
   /// Shared linear parts and more than kWidth maps, else null: per draw (row * count + column) a
   /// row of draw_row(dim) doubles: the choice's bits, column's b, then its alias's b (zero-padded),
   /// so that one row per lane gives both the map and its offsets, without a gather.
   const double* draws;
-  /// 2D and 3D systems whose draws all keep their column (every alias is its own column: equal
-  /// probabilities): the column is the map, and a row of `draws` is offsets_row(dim) doubles, the
+  /// Every draw keeps its column (every alias is its own column: equal probabilities): the
+  /// column is the map, whichever side of the threshold the draw falls (no choice is read).
+  bool own_columns;
+  /// 2D and 3D systems with own_columns: a row of `draws` is offsets_row(dim) doubles, the
   /// column's b only (no choice, no alias, no blend).
   bool direct;
   /// px = u0 + u . x, py = v0 + v . x over min(dim, 3) terms (zero past the spatial ones), and

@@ -11,24 +11,34 @@
 namespace ifsforge::chains {
 namespace {
 
-/// x' = ((b + a0 x0) + a1 x1) + ...: the general path's order (a row by row).
-template <int N>
+/// Which terms of the maps' linear parts are taken: all of them, the diagonal's
+/// (Maps::diagonal), or a blocked one's with 2 or 3 spatial coordinates (Maps::blocked).
+enum Shape { kDense, kDiagonal, kBlocked2, kBlocked3 };
+
+/// Whether a linear part of shape kShape takes the term of row r, column c: a blocked row takes
+/// the spatial columns, and a channel row its own too.
+template <Shape kShape>
+constexpr bool takes(int r, int c) {
+  if constexpr (kShape == kDense) return true;
+  if constexpr (kShape == kDiagonal) return r == c;
+  return c < (kShape == kBlocked2 ? 2 : 3) || c == r;
+}
+
+/// x' = ((b + a0 x0) + a1 x1) + ...: the general path's order (a row by row), without the zero
+/// terms that the shape leaves out.
+template <int N, Shape kShape>
 [[gnu::always_inline]] inline void affine(const __m256d* a, const __m256d* b, __m256d* p) {
   __m256d next[N];
   for (int r = 0; r < N; ++r) {
     __m256d value = b[r];
-    for (int c = 0; c < N; ++c) value = _mm256_add_pd(value, _mm256_mul_pd(a[r * N + c], p[c]));
+    for (int c = 0; c < N; ++c)
+      if (takes<kShape>(r, c)) value = _mm256_add_pd(value, _mm256_mul_pd(a[r * N + c], p[c]));
     next[r] = value;
   }
   for (int r = 0; r < N; ++r) p[r] = next[r];
 }
 
-/// Which terms of a linear part that every map shares are taken: all of them, the diagonal's
-/// (Maps::diagonal), or a blocked one's with 2 or 3 spatial coordinates (Maps::blocked).
-enum Shape { kDense, kDiagonal, kBlocked2, kBlocked3 };
-
-/// A linear part that every map shares, as constants: x' = ((b + a0 x0) + a1 x1) + ..., the
-/// general path's order, without the zero terms that its shape leaves out.
+/// A linear part that every map shares, as constants.
 template <int N, Shape kShape>
 struct SharedA {
   __m256d a[N * N];
@@ -37,24 +47,7 @@ struct SharedA {
     for (int k = 0; k < N * N; ++k) a[k] = _mm256_set1_pd(m.coefficients[k]);
   }
 
-  [[gnu::always_inline]] void apply(const __m256d* b, __m256d* p) const {
-    if constexpr (kShape == kDiagonal) {
-      for (int r = 0; r < N; ++r) p[r] = _mm256_add_pd(b[r], _mm256_mul_pd(a[r * N + r], p[r]));
-    } else if constexpr (kShape == kDense) {
-      affine<N>(a, b, p);
-    } else {
-      // A row's spatial terms, then a channel row's own term: the columns in order.
-      constexpr int kSpatial = kShape == kBlocked2 ? 2 : 3;
-      __m256d next[N];
-      for (int r = 0; r < N; ++r) {
-        __m256d value = b[r];
-        for (int c = 0; c < kSpatial; ++c) value = _mm256_add_pd(value, _mm256_mul_pd(a[r * N + c], p[c]));
-        if (r >= kSpatial) value = _mm256_add_pd(value, _mm256_mul_pd(a[r * N + r], p[r]));
-        next[r] = value;
-      }
-      for (int r = 0; r < N; ++r) p[r] = next[r];
-    }
-  }
+  [[gnu::always_inline]] void apply(const __m256d* b, __m256d* p) const { affine<N, kShape>(a, b, p); }
 };
 
 /// The permute that takes map i's double (floats 2i and 2i + 1 of a table) into each lane.
@@ -96,8 +89,8 @@ struct FromChoices {
 /// the others, with at most four maps, come from registers that hold every map's (a permute
 /// each), else from each lane's row, loaded, the four rows transposed a register at a time
 /// (loads and shuffles cost less than gathers).
-template <int N, bool kFew>
-struct Coefficients : FromChoices<Coefficients<N, kFew>> {
+template <int N, bool kFew, Shape kShape>
+struct Coefficients : FromChoices<Coefficients<N, kFew, kShape>> {
   static constexpr int kCount = N * N + N;
   static constexpr int kPadded = (kCount + 3) / 4 * 4;  // whole registers
   __m256d shared[kPadded];  // map 0's, broadcast
@@ -126,15 +119,16 @@ struct Coefficients : FromChoices<Coefficients<N, kFew>> {
   void apply_to(__m256i map, __m256d* p) const {
     __m256d k[kPadded];
     fetch(map, k);
-    affine<N>(k, k + N * N, p);
+    affine<N, kShape>(k, k + N * N, p);
   }
 
   void fetch(__m256i map, __m256d* out) const {
     if constexpr (kFew) {
       const __m256i pair = pairs(map);
 #pragma GCC unroll 80
-      for (int k = 0; k < kCount; ++k)
-        out[k] = varies[k] ? _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(tables[k]), pair)) : shared[k];
+      for (int k = 0; k < kCount; ++k)  // only the terms the shape takes, and the offsets
+        if (k >= N * N || takes<kShape>(k / N, k % N))
+          out[k] = varies[k] ? _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(tables[k]), pair)) : shared[k];
     } else {
       alignas(32) std::uint64_t at[kWidth];
       _mm256_store_si256(reinterpret_cast<__m256i*>(at), _mm256_mul_epu32(map, _mm256_set1_epi64x(stride)));
@@ -149,6 +143,11 @@ struct Coefficients : FromChoices<Coefficients<N, kFew>> {
     }
   }
 };
+
+template <int N, Shape kShape>
+using FewCoefficients = Coefficients<N, true, kShape>;
+template <int N, Shape kShape>
+using ManyCoefficients = Coefficients<N, false, kShape>;
 
 /// At most four maps that share their linear part (the same bits: similitudes of one ratio, the
 /// colour samples' channel rows): the a are constants and only the offsets b differ from lane to
@@ -214,6 +213,10 @@ struct Quad {
   [[gnu::always_inline]] void choose(const Maps& m, __m256i count) {
     __m256i random, column;
     const __m256i at = draw(m, count, random, column);
+    if (m.own_columns) {  // the pick takes the column or its alias: the column either way
+      map = column;
+      return;
+    }
     pick(_mm256_i64gather_epi64(reinterpret_cast<const long long*>(m.choices), at, 8), random, column);
   }
 };
@@ -343,10 +346,8 @@ void run(const Maps& m, const Job& job) {
       const std::size_t at = filled + g * kWidth;
       const __m128i slot4 = _mm_blendv_epi8(trash, slot, in32);
       _mm_storeu_si128(reinterpret_cast<__m128i*>(slots + at), slot4);
-      _mm_prefetch(job.counters + std::uint32_t(_mm_cvtsi128_si32(slot4)) * job.counter_bytes, _MM_HINT_T0);
-      _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 1)) * job.counter_bytes, _MM_HINT_T0);
-      _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 2)) * job.counter_bytes, _MM_HINT_T0);
-      _mm_prefetch(job.counters + std::uint32_t(_mm_extract_epi32(slot4, 3)) * job.counter_bytes, _MM_HINT_T0);
+      // The slots read back from the batch (loads cost less than extracting each lane).
+      for (int k = 0; k < kWidth; ++k) _mm_prefetch(job.counters + slots[at + k] * job.counter_bytes, _MM_HINT_T0);
       // Accumulator::quantised: q < 0 ? 0 : min(q, steps) is max(q, 0) then the min (a zero of
       // either sign gives level 0 both ways), and the levels are below 2^31: truncation to 32 bits
       // is the conversion to 64.
@@ -375,29 +376,29 @@ void run_with(const Maps& m, const Job& job) {
   (job.chains > kWidth ? run<N, 2, Coefficients> : run<N, 1, Coefficients>)(m, job);
 }
 
-/// A shared linear part's kernel: diagonal (similitudes without rotation, in 2D and 3D),
-/// blocked (a colour system's channels), or dense.
-template <int N, template <int, Shape> class Shared>
-void run_shared(const Maps& m, const Job& job) {
+/// The kernel for the maps' linear parts' shape: diagonal (similitudes without rotation, in 2D
+/// and 3D), blocked (a colour system's channels), or dense.
+template <int N, template <int, Shape> class Kind>
+void run_shaped(const Maps& m, const Job& job) {
   if constexpr (N <= 3)
-    if (m.diagonal) return run_with<N, Shared<N, kDiagonal>>(m, job);
+    if (m.diagonal) return run_with<N, Kind<N, kDiagonal>>(m, job);
   if constexpr (N >= 3)
-    if (m.blocked && m.spatial == 2) return run_with<N, Shared<N, kBlocked2>>(m, job);
+    if (m.blocked && m.spatial == 2) return run_with<N, Kind<N, kBlocked2>>(m, job);
   if constexpr (N >= 4)
-    if (m.blocked && m.spatial == 3) return run_with<N, Shared<N, kBlocked3>>(m, job);
-  run_with<N, Shared<N, kDense>>(m, job);
+    if (m.blocked && m.spatial == 3) return run_with<N, Kind<N, kBlocked3>>(m, job);
+  run_with<N, Kind<N, kDense>>(m, job);
 }
 
 template <int N>
 void run_dim(const Maps& m, const Job& job) {
   if constexpr (N <= 3)
-    if (m.direct && m.draws) return run_shared<N, SharedLinearOffsets>(m, job);
+    if (m.direct && m.draws) return run_shaped<N, SharedLinearOffsets>(m, job);
   if (m.draws)
-    run_shared<N, SharedLinearDraws>(m, job);
+    run_shaped<N, SharedLinearDraws>(m, job);
   else if (m.count <= kWidth)
-    m.shared_linear ? run_shared<N, SharedLinear>(m, job) : run_with<N, Coefficients<N, true>>(m, job);
+    m.shared_linear ? run_shaped<N, SharedLinear>(m, job) : run_shaped<N, FewCoefficients>(m, job);
   else
-    run_with<N, Coefficients<N, false>>(m, job);
+    run_shaped<N, ManyCoefficients>(m, job);
 }
 
 }  // namespace

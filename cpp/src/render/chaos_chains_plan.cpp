@@ -44,8 +44,9 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
   bool shared = true;
   for (int i = 1; i < count; ++i)
     shared = shared && std::memcmp(&coefficients_[std::size_t(i) * stride], &coefficients_[0], n * n * sizeof(double)) == 0;
-  bool direct = n <= 3;  // the kernels' direct draws are 2D and 3D ones
-  for (std::size_t d = 0; d < choices_.size(); ++d) direct = direct && choices_[d] >> 32 == d % count;
+  bool own_columns = true;
+  for (std::size_t d = 0; d < choices_.size(); ++d) own_columns = own_columns && choices_[d] >> 32 == d % count;
+  const bool direct = own_columns && n <= 3;  // the kernels' direct draws are 2D and 3D ones
   if (shared && count > kWidth && choices_.size() <= kMaxDraws) {
     const int row = direct ? offsets_row(n) : draw_row(n);
     draws_.assign(choices_.size() * row, 0.0);
@@ -63,19 +64,23 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
       }
     }
   }
-  // Zero terms may be left out (Maps::diagonal, planar): every row of a sums to less than 1 in
-  // absolute value (the max norm shrinks, so from a finite start no point overflows) and no b is -0.
-  bool sparse = shared;
-  for (int r = 0; r < n; ++r) {
-    double row = 0.0;
-    for (int c = 0; c < n; ++c) row += std::fabs(coefficients_[r * n + c]);
-    sparse = sparse && row < 1.0;
-  }
+  // Zero terms may be left out (Maps::diagonal, blocked, planar): every row of every map's a
+  // sums to less than 1 in absolute value (each map shrinks the max norm, so from a finite start
+  // no point overflows) and no b is -0.
+  bool sparse = true;
   for (int i = 0; i < count; ++i)
     for (int r = 0; r < n; ++r) {
-      const double b = coefficients_[std::size_t(i) * stride + n * n + r];
-      sparse = sparse && !(b == 0.0 && std::signbit(b));
+      const double* row = &coefficients_[std::size_t(i) * stride];
+      double sum = 0.0;
+      for (int c = 0; c < n; ++c) sum += std::fabs(row[r * n + c]);
+      sparse = sparse && sum < 1.0 && !(row[n * n + r] == 0.0 && std::signbit(row[n * n + r]));
     }
+  // A term is left out only where it is zero in every map's a.
+  auto zero = [&](int r, int c) {
+    for (int i = 0; i < count; ++i)
+      if (coefficients_[std::size_t(i) * stride + r * n + c] != 0.0) return false;
+    return true;
+  };
   Maps& m = maps_;
   m.dim = n;
   m.spatial = spatial;
@@ -87,11 +92,12 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
   m.shared_linear = shared;
   m.diagonal = sparse;
   for (int r = 0; r < n; ++r)
-    for (int c = 0; c < n; ++c) m.diagonal = m.diagonal && (r == c || coefficients_[r * n + c] == 0.0);
+    for (int c = 0; c < n; ++c) m.diagonal = m.diagonal && (r == c || zero(r, c));
   m.blocked = sparse && spatial < n;
   for (int r = 0; r < n; ++r)
-    for (int c = spatial; c < n; ++c) m.blocked = m.blocked && (r == c || coefficients_[r * n + c] == 0.0);
+    for (int c = spatial; c < n; ++c) m.blocked = m.blocked && (r == c || zero(r, c));
   m.draws = draws_.empty() ? nullptr : draws_.data();
+  m.own_columns = own_columns;
   m.direct = direct;
   // The general path's projection (chaos_game.cpp): the same doubles, the same zeros.
   const auto& proj = frame.projection();
