@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -175,13 +176,15 @@ TEST(ChaosKernels, ChannelSumsWrapIntoTheSameBytes) {
 // that job's one-job loop (IFSFORGE_CHAOS_CHAINS=0), operation for operation, on both
 // instruction sets and any thread count, so the image is the same bytes. The systems are the
 // benchmark's (bench_chaos_paths: 2D with channels, more than 8 maps, recurrent in 2D and 3D),
-// a 3D system with a channel (a wide accumulator per worker) and the carpet (xy+rgba, 8 maps:
-// six dimensions, each lane's coefficients loaded and transposed); 9e6
+// a 3D system with a channel (a wide accumulator per worker), the carpet (xy+rgba, 8 maps:
+// six dimensions, each lane's coefficients loaded and transposed) and the colour fern (maps of
+// their own linear parts, whose zero terms, left out, are zeros in every map, not only the
+// first: its first map's a21 is 0, its second's 0.006); 9e6
 // points are 3 jobs (on 2 threads a task of 2 and one of 1, which takes the one-job loop),
-// 2.1e7 points 6 (on 1 thread, one register of chains and a part of another). Two more
-// triangles check the zero terms the lanes leave out (Maps::diagonal, planar): a sheared one (a shared a
-// off the diagonal: only the projection's zero terms go) and one whose first offset is -0
-// (its diagonal's zero terms kept).
+// 2.1e7 points 6 (on 1 thread, one register of chains and a part of another). Three more
+// triangles check the zero terms the lanes leave out (Maps::diagonal, blocked, planar): a sheared one (a shared a
+// off the diagonal: only the projection's zero terms go), one whose first offset is -0
+// (its diagonal's zero terms kept) and one whose channel enters x in one map only.
 TEST(ChaosKernels, ChainLanesGiveTheBytesOfTheOneJobLoop) {
   const Ifs triangle = sample("sierpinski_triangle");
   std::vector<AffineMap> maps;
@@ -195,12 +198,22 @@ TEST(ChaosKernels, ChainLanesGiveTheBytesOfTheOneJobLoop) {
         copies.emplace_back(2, std::vector<double>{0.5, shear, 0.0, 0.5}, std::vector<double>{x, y});
     return Ifs("triangle of halves", triangle.layout(), copies, std::vector<double>(copies.size(), 1.0));
   };
+  // Three halves with a gray channel (xy+k) whose first map's x takes no channel term and the
+  // second's does: the zero terms the lanes leave out must be zeros in every map (here none go).
+  auto channel_in_x = [&] {
+    std::vector<AffineMap> copies;
+    for (const auto& [x, y, k] : {std::tuple{0.0, 0.0, 0.0}, {0.5, 0.0, 0.1}, {0.25, 0.5, 0.0}})
+      copies.emplace_back(3, std::vector<double>{0.5, 0.0, k, 0.0, 0.5, 0.0, 0.0, 0.0, 0.5},
+                          std::vector<double>{x, y, 0.25 + x});
+    return Ifs("channel in x", ChannelLayout("xy+k"), copies, std::vector<double>(copies.size(), 1.0));
+  };
   const std::vector<std::pair<Ifs, std::uint64_t>> systems = {
       {sample("colour5d_sierpinski_rgb"), 9'000'000}, {nine, 21'000'000},
       {sample("recurrent_squares"), 9'000'000},       {sample("menger_sponge"), 9'000'000},
       {sample("recurrent_cubes"), 21'000'000},        {sample("volume_tetrahedron_alpha"), 9'000'000},
-      {sample("rgba_carpet"), 9'000'000},             {halves(0.25, 0.0), 9'000'000},
-      {halves(0.0, -0.0), 9'000'000}};
+      {sample("rgba_carpet"), 9'000'000},             {sample("colour5d_fern_hsi"), 9'000'000},
+      {halves(0.25, 0.0), 9'000'000},
+      {halves(0.0, -0.0), 9'000'000},                {channel_in_x(), 9'000'000}};
   for (const auto& [ifs, iterations] : systems) {
     RenderOptions o;
     o.width = 160;
