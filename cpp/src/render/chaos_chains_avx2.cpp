@@ -88,7 +88,8 @@ struct FromChoices {
 /// that every map shares (the same bits: similitudes of one ratio share their a) is a constant;
 /// the others, with at most four maps, come from registers that hold every map's (a permute
 /// each), else from each lane's row, loaded, the four rows transposed a register at a time
-/// (loads and shuffles cost less than gathers).
+/// (loads and shuffles cost less than gathers). Only the terms of the maps' shape are applied
+/// (and, from registers, fetched): a colour fern's channels are blocked in every map.
 template <int N, bool kFew, Shape kShape>
 struct Coefficients : FromChoices<Coefficients<N, kFew, kShape>> {
   static constexpr int kCount = N * N + N;
