@@ -4,7 +4,12 @@
 // Benchmark) whose systems are built in code, so it runs on another x86-64 machine with only the
 // shared libraries libifsforge needs.
 //
+// Then the PIFS encoder's serial share, steadily: each of three encodes run --serial-runs times
+// on 2 threads alternating with 1-thread runs, the median and spread of the share from each
+// 2-thread run's own CPU and wall time (single runs drift with the machine's speed).
+//
 //   build/cpp/bench/bench_scaling [--threads 16] [--repeat 3] [--points 1000000000] [--only chaos,prr]
+//                                 [--serial-runs 10]
 //   /usr/bin/python3 cpp/bench/results.py bench_scaling --plain   # the same, written to RESULTS.md
 #include <algorithm>
 #include <cmath>
@@ -31,19 +36,29 @@ struct Path {
   std::function<void(int threads)> run;
 };
 
-/// A photograph-like 8-bit gray texture (octaves of sines plus hashed noise) for the encoder.
-Image texture(int size) {
-  Image im(size, size, 1);
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      std::uint32_t h = std::uint32_t(x) * 73856093u ^ std::uint32_t(y) * 19349663u;
-      h = (h ^ (h >> 13)) * 0x5bd1e995u;
-      double v = 0.5 + 0.06 * (double(h >> 8 & 0xFFFF) / 65535.0 - 0.5);
-      for (int o = 0; o < 5; ++o)
-        v += 0.18 / (o + 1) * std::sin(x * 0.0065 * (1 << o) + o) * std::cos(y * 0.0055 * (1 << o) - o);
-      im.at(x, y, 0) = float(std::round(std::clamp(v, 0.0, 1.0) * 255.0) / 255.0);
-    }
+/// A photograph-like 8-bit texture (octaves of sines plus hashed noise, each channel's phase
+/// shifted) for the encoder.
+Image texture(int size, int channels = 1) {
+  Image im(size, size, channels);
+  for (int c = 0; c < channels; ++c)
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        std::uint32_t h = std::uint32_t(x) * 73856093u ^ std::uint32_t(y) * 19349663u ^ std::uint32_t(c) * 83492791u;
+        h = (h ^ (h >> 13)) * 0x5bd1e995u;
+        double v = 0.5 + 0.06 * (double(h >> 8 & 0xFFFF) / 65535.0 - 0.5);
+        for (int o = 0; o < 5; ++o)
+          v += 0.18 / (o + 1) * std::sin(x * 0.0065 * (1 << o) + o + c) * std::cos(y * 0.0055 * (1 << o) - o);
+        im.at(x, y, c) = float(std::round(std::clamp(v, 0.0, 1.0) * 255.0) / 255.0);
+      }
   return im;
+}
+
+/// The encode every PIFS row times: 50:1 on `threads` threads.
+void encode(const Image& image, int threads) {
+  PifsEncodeOptions o;
+  o.ratio = 50;
+  o.threads = threads;
+  (void)pifs_encode(image, o);
 }
 
 std::vector<Path> paths(std::uint64_t points) {
@@ -68,13 +83,7 @@ std::vector<Path> paths(std::uint64_t points) {
          o.threads = threads;
          (void)render_volume(bench::sierpinski(3), "prr", o);
        }},
-      {"pifs", "PIFS encode 1024² gray",
-       [im = texture(1024)](int threads) {
-         PifsEncodeOptions o;
-         o.ratio = 50;
-         o.threads = threads;
-         (void)pifs_encode(im, o);
-       }},
+      {"pifs", "PIFS encode 1024² gray", [im = texture(1024)](int threads) { encode(im, threads); }},
   };
 }
 
@@ -118,12 +127,58 @@ std::string seconds_cell(double s) {
   return text;
 }
 
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/// The PIFS encoder's serial share on 2 threads, `runs` runs of each encode (the 2048² colour
+/// one, about 70× the 512² one's CPU, half as many, at least 3), each run on 2 threads after one
+/// on 1 (so both see the same drift of the machine's speed): the median, quartiles and range of
+/// the share serial_from_cpu gives each 2-thread run, the median idle thread time (2 wall − CPU:
+/// a core waiting, for work or for the machine) of those runs and the median CPU of both counts.
+void pifs_serial_table(int runs) {
+  struct Encode {
+    const char* label;
+    Image image;
+    int runs;
+  };
+  const Encode encodes[] = {{"512² gray", texture(512), runs},
+                            {"1024² gray", texture(1024), runs},
+                            {"2048² colour", texture(2048, 3), std::max(3, runs / 2)}};
+  std::printf("\nPIFS encode (50:1) serial share on 2 threads, each run after a 1-thread run: median, "
+              "quartiles and range of (2 wall - CPU) / CPU per run; idle: 2 wall - CPU (thread-ms a core waited), "
+              "median; CPU: median per encode on 1 and 2 threads.\n\n"
+              "| encode | runs | serial median | quartiles | range | idle ms | CPU s, 1 thread | CPU s, 2 threads |\n"
+              "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+  for (const Encode& e : encodes) {
+    std::vector<double> share, idle, cpu1, cpu2;
+    for (int r = 0; r < e.runs; ++r) {
+      cpu1.push_back(bench::best_of(1, [&] { encode(e.image, 1); }).cpu);
+      const bench::Timing t = bench::best_of(1, [&] { encode(e.image, 2); });
+      share.push_back(serial_from_cpu(2, t.wall, t.cpu));
+      idle.push_back(2 * t.wall - t.cpu);
+      cpu2.push_back(t.cpu);
+    }
+    std::vector<double> sorted = share;
+    std::sort(sorted.begin(), sorted.end());
+    const auto quantile = [&](double q) { return sorted[std::size_t(std::lround(q * double(sorted.size() - 1)))]; };
+    std::printf("| %s | %d | %.1f%% | %.1f–%.1f%% | %.1f–%.1f%% | %.1f | %s | %s |\n", e.label, e.runs,
+                100 * median(share), 100 * quantile(0.25), 100 * quantile(0.75), 100 * sorted.front(),
+                100 * sorted.back(), 1e3 * median(idle), seconds_cell(median(cpu1)).c_str(),
+                seconds_cell(median(cpu2)).c_str());
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (bench::flag(argc, argv, "help")) {
     std::puts("bench_scaling [--threads N (default: the machine's cores)] [--repeat R (3)] "
-              "[--points P (chaos game points, 1e9)] [--only key,key (chaos, prr-fern, prr-sierpinski, volume, pifs)]");
+              "[--points P (chaos game points, 1e9)] [--only key,key (chaos, prr-fern, prr-sierpinski, volume, pifs)] "
+              "[--serial-runs N (10; the PIFS serial share's runs, 0: none)]");
     return 0;
   }
   const int cores = std::stoi(bench::option(argc, argv, "threads",
@@ -131,6 +186,7 @@ int main(int argc, char** argv) {
   const int repeat = std::stoi(bench::option(argc, argv, "repeat", "3"));
   const auto points = static_cast<std::uint64_t>(std::stod(bench::option(argc, argv, "points", "1e9")));
   const std::string only = bench::option(argc, argv, "only", "");
+  const int serial_runs = std::stoi(bench::option(argc, argv, "serial-runs", "10"));
   const std::vector<int> counts = sweep(cores);
 
   std::printf("Seconds (wall, best of %d) per thread count; CPU s: the process's CPU seconds of the run on %d "
@@ -159,5 +215,7 @@ int main(int argc, char** argv) {
                 seconds_cell(cpu).c_str());
     std::fflush(stdout);
   }
+  if (serial_runs > 0 && (only.empty() || ("," + only + ",").find(",pifs,") != std::string::npos))
+    pifs_serial_table(serial_runs);
   return 0;
 }

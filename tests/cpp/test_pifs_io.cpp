@@ -67,6 +67,53 @@ TEST(RangeCoder, RoundTripsRandomSymbols) {
   EXPECT_EQ(dec.consumed(), bytes.size());
 }
 
+TEST(RangeCoder, SizerCountsTheEncodersBytes) {
+  // Streams from nearly certain to even bits (long runs of shifts, carries through 0xFF bytes),
+  // every length up to 3000 symbols, and nothing coded at all.
+  for (const int percent : {0, 1, 20, 50, 97}) {
+    std::mt19937 rng(unsigned(percent) + 11);
+    BitModel b, t[32], length[32], tail[25][24];
+    BitModel sb, st[32], slength[32], stail[25][24];
+    RangeEncoder enc;
+    RangeSizer sizer;
+    for (int i = 0; i <= 3000; ++i) {
+      RangeEncoder copy = enc;
+      ASSERT_EQ(sizer.size(), copy.finish().size()) << percent << "% ones, " << i << " symbols";
+      const int bit = int(rng() % 100) < percent;
+      const unsigned tree = rng() % 32, value = rng() % (1u << (rng() % 20));
+      enc.bit(b, bit);
+      sizer.bit(sb, bit);
+      enc.tree(t, 5, tree);
+      sizer.tree(st, 5, tree);
+      enc.integer(length, tail, value);
+      sizer.integer(slength, stail, value);
+    }
+  }
+}
+
+TEST(PifsResidual, RowsCodedSizeIsTheEncodedSize) {
+  // The rate control's size of a residual coded row by row is that of its bytes in the file.
+  PifsRaster target, decoded;
+  target.width = decoded.width = 77;
+  target.height = decoded.height = 45;
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0.f, 9.f);
+  for (int y = 0; y < 45; ++y)
+    for (int x = 0; x < 77; ++x) {
+      decoded.values.push_back(float(128 + 50 * std::sin(x * 0.2) * std::cos(y * 0.15)));
+      target.values.push_back(decoded.values.back() + noise(rng) * float(x % 20 < 12));
+    }
+  for (const double step : {0.5, 2.0, 6.0, 20.0}) {
+    PifsResidualRows rows(77, 45, step);
+    for (int j = 0; j < rows.rows(); ++j) rows.quantise(j, target, decoded);
+    for (int j = 0; j < rows.rows(); ++j) rows.code(j);
+    std::size_t size = 0;
+    const PifsResidual residual = rows.finish(&size);
+    ASSERT_NE(residual.step, 0) << "step " << step;
+    EXPECT_EQ(size, encode_residual(residual, 77, 45).size()) << "step " << step;
+  }
+}
+
 TEST(PifsFile, RoundTripsBytesAndFiles) {
   for (bool residual : {false, true}) {
   const PifsCode code = sample_code(residual);

@@ -7,13 +7,7 @@ namespace {
 using range_coding::kAdapt;
 using range_coding::kProbBits;
 using range_coding::kTop;
-constexpr unsigned kMaxLength = 24;
-
-unsigned bit_length(unsigned v) {
-  unsigned n = 0;
-  while (v) { ++n; v >>= 1; }
-  return n;
-}
+using range_coding::kMaxLength;
 }  // namespace
 
 void RangeEncoder::shift_low() {
@@ -28,22 +22,6 @@ void RangeEncoder::shift_low() {
   }
   ++cache_size_;
   low_ = (low_ & 0x00FFFFFFu) << 8;
-}
-
-void RangeEncoder::tree(BitModel* t, int bits, unsigned value) {
-  unsigned node = 1;
-  for (int i = bits - 1; i >= 0; --i) {
-    const int b = (value >> i) & 1;
-    bit(t[node], b);
-    node = node * 2 + b;
-  }
-}
-
-void RangeEncoder::integer(BitModel* length, BitModel (*tail)[24], unsigned value) {
-  const unsigned n = bit_length(value);  // 0 for value 0
-  for (unsigned i = 0; i < n; ++i) bit(length[i], 1);
-  if (n < kMaxLength) bit(length[n], 0);
-  for (int i = int(n) - 2; i >= 0; --i) bit(tail[n][i], (value >> i) & 1);
 }
 
 std::vector<std::uint8_t> RangeEncoder::finish() {

@@ -93,14 +93,14 @@ struct BlockWalk {
 
 int magnitude_group(int band) { return band < 2 ? 0 : band < 5 ? 1 : 2; }
 
-}  // namespace
-
 /// The residual's entropy coder, a row of blocks at a time in raster order: each block's
 /// contexts read only its left and upper neighbours, so a row can be coded as soon as it and the
-/// rows above are quantised.
-class PifsResidualRows::Coder {
+/// rows above are quantised. `Sink` is RangeEncoder for the file's bytes, RangeSizer where only
+/// their count is needed (the rate control).
+template <class Sink>
+class BlockRowCoder {
  public:
-  Coder(const std::vector<std::int16_t>& coefficients, int bx, int by)
+  BlockRowCoder(const std::vector<std::int16_t>& coefficients, int bx, int by)
       : walk_{bx, by, coefficients}, models_(std::make_unique<Models>()) {}
   void row(int y) {
     const Tables& t = tables();
@@ -132,12 +132,19 @@ class PifsResidualRows::Coder {
       if (z == kCoefficients - 1) level(t.band[z], c[z]);  // reached only when it is the last nonzero
     }
   }
-  std::vector<std::uint8_t> finish() { return rc_.finish(); }
+  Sink& sink() { return rc_; }
 
  private:
   BlockWalk walk_;
   std::unique_ptr<Models> models_;
-  RangeEncoder rc_;
+  Sink rc_;
+};
+
+}  // namespace
+
+class PifsResidualRows::Coder : public BlockRowCoder<RangeSizer> {
+ public:
+  using BlockRowCoder<RangeSizer>::BlockRowCoder;
 };
 
 PifsResidualRows::PifsResidualRows(int width, int height, double step) : width_(width), height_(height) {
@@ -216,7 +223,7 @@ void PifsResidualRows::quantise(int j, const PifsRaster& target, const PifsRaste
 
 PifsResidual PifsResidualRows::finish(std::size_t* coded_size) {
   const bool any = std::find(nonzero_.begin(), nonzero_.end(), 1) != nonzero_.end();
-  if (coded_size) *coded_size = any ? coder_->finish().size() : 0;
+  if (coded_size) *coded_size = any ? coder_->sink().size() : 0;
   if (!any) return PifsResidual();
   residual_.step = q_;
   return std::move(residual_);
@@ -234,9 +241,9 @@ std::vector<std::uint8_t> encode_residual(const PifsResidual& residual, int widt
   const int bx = blocks_along(width), by = blocks_along(height);
   if (residual.coefficients.size() != std::size_t(bx) * by * kCoefficients)
     throw InputError("PIFS residual: coefficient count does not match the plane");
-  PifsResidualRows::Coder coder(residual.coefficients, bx, by);
+  BlockRowCoder<RangeEncoder> coder(residual.coefficients, bx, by);
   for (int y = 0; y < by; ++y) coder.row(y);
-  return coder.finish();
+  return coder.sink().finish();
 }
 
 PifsResidual decode_residual(int step, int width, int height, const std::uint8_t* data, std::size_t size,

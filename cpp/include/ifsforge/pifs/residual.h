@@ -37,7 +37,8 @@ class PifsResidualRows {
   int rows() const { return by_; }
   /// @brief Quantises block row `row` of `target − decoded`.
   void quantise(int row, const PifsRaster& target, const PifsRaster& decoded);
-  /// @brief Entropy codes block row `row`, once it is quantised; rows are coded in order.
+  /// @brief Entropy codes block row `row`, once it is quantised; rows are coded in order (only
+  /// the coded size is kept: encode_residual writes the bytes).
   void code(int row);
   /// @brief The residual once every row is quantised (empty when no coefficient is nonzero);
   /// `coded_size`, when given, receives its encode_residual size (every row coded first).
