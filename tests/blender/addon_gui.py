@@ -1,6 +1,6 @@
 """Blender with a window (under xvfb-run): the viewport draw handler really draws the preview
 with the gpu module, a value change reaches the screen through it, and the sidebar panels draw.
-    xvfb-run -a -s "-screen 0 1024x800x24" blender --factory-startup --enable-event-simulate \
+    xvfb-run -a -s "-screen 0 960x600x24" blender --factory-startup --enable-event-simulate \
         --python tests/blender/addon_gui.py -- --python-path BUILD/python --out DIR
 The checks run from a timer once the window is up; the script quits Blender at the end."""
 import statistics
