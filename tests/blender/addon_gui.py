@@ -109,7 +109,9 @@ def pixels_show_the_pieces():
     bright = np.array(ifsforge.piece_color(1)[:3])
     near = np.abs(rgb - bright).max(axis=2) < 0.06
     checks.values["highlighted_pixels"] = int(near.sum())
-    assert near.sum() > 500, near.sum()
+    # The highlighted leaf's points cover ~29500 pixels of the 960x600 window; the maps' frame
+    # outlines, drawn in the same colour, ~1700 without a single point.
+    assert near.sum() > 10000, near.sum()
 
 
 def draws_the_target():
