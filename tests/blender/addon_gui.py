@@ -1,6 +1,6 @@
 """Blender with a window (under xvfb-run): the viewport draw handler really draws the preview
 with the gpu module, a value change reaches the screen through it, and the sidebar panels draw.
-    xvfb-run -a -s "-screen 0 1024x800x24" blender --factory-startup --enable-event-simulate \
+    xvfb-run -a -s "-screen 0 960x600x24" blender --factory-startup --enable-event-simulate \
         --python tests/blender/addon_gui.py -- --python-path BUILD/python --out DIR
 The checks run from a timer once the window is up; the script quits Blender at the end."""
 import statistics
@@ -109,7 +109,9 @@ def pixels_show_the_pieces():
     bright = np.array(ifsforge.piece_color(1)[:3])
     near = np.abs(rgb - bright).max(axis=2) < 0.06
     checks.values["highlighted_pixels"] = int(near.sum())
-    assert near.sum() > 500, near.sum()
+    # The highlighted leaf's points cover ~29500 pixels of the 960x600 window; the maps' frame
+    # outlines, drawn in the same colour, ~1700 without a single point.
+    assert near.sum() > 10000, near.sum()
 
 
 def draws_the_target():
