@@ -11,6 +11,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -115,8 +116,9 @@ class HelperPool {
     return *pool;
   }
 
-  /// Runs task.help(worker) for worker in [first, last) on idle or new threads.
-  void dispatch(const std::shared_ptr<Task>& task, int first, int last) {
+  /// Runs task.help(worker) for worker in [first, last) on idle or new threads; returns how
+  /// many took it (fewer when the system refuses another thread: the caller's work goes on).
+  int dispatch(const std::shared_ptr<Task>& task, int first, int last) {
     std::lock_guard<std::mutex> lock(mutex_);
     for (int worker = first; worker < last; ++worker) {
       Helper* helper;
@@ -124,13 +126,19 @@ class HelperPool {
         helper = idle_.back();
         idle_.pop_back();
       } else {
-        helper = new Helper();
-        std::thread(&HelperPool::serve, this, helper).detach();
+        auto fresh = std::make_unique<Helper>();
+        try {
+          std::thread(&HelperPool::serve, this, fresh.get()).detach();
+        } catch (const std::system_error&) {
+          return worker - first;
+        }
+        helper = fresh.release();
       }
       helper->task = task;
       helper->worker = worker;
       helper->wake.notify_one();
     }
+    return last - first;
   }
 
  private:
@@ -174,8 +182,13 @@ void parallel_jobs(std::size_t jobs, int threads,
   // With a callback the calling thread does no job: it reports every 0.1 s and cancels, so a
   // single long job (the fern's densest address prefix at 6000^2 runs for half a minute) does
   // not hold Ctrl-C; jobs see the stop through stop_requested().
-  const bool supervise = static_cast<bool>(progress);
-  if (threads > 1 || supervise) HelperPool::instance().dispatch(task, supervise ? 0 : 1, threads);
+  bool supervise = static_cast<bool>(progress);
+  if (threads > 1 || supervise) {
+    // No helper at all for a supervising caller: it runs the jobs itself.
+    if (HelperPool::instance().dispatch(task, supervise ? 0 : 1, threads) == 0 && supervise) {
+      supervise = false;
+    }
+  }
   if (supervise) {
     // The predicate is checked before waiting: work that ended before this line costs no wait.
     auto over = [&] { return task->stop.load() || task->done.load() >= jobs; };
