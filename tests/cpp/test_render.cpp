@@ -1,9 +1,11 @@
 // The 2D renderers: dimensions of known attractors, determinism across threads, bad input.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <thread>
+#include <vector>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/parallel.h"
@@ -265,6 +267,32 @@ TEST(Parallel, CancellingReachesInsideALongJob) {
   EXPECT_TRUE(saw_stop);
   EXPECT_EQ(calls, 3);
   EXPECT_FALSE(stop_requested());  // outside a job, nothing is stopping
+}
+
+TEST(Parallel, KeptThreadsRunEveryJobOnceAcrossCallsNestedCallsAndFailures) {
+  // The helper threads live on between calls: each call still runs each job exactly once on
+  // workers in [0, threads), a job's own parallel call finishes (no helper waits for a busy one),
+  // and a failed call leaves the next one whole.
+  for (int round = 0; round < 200; ++round) {
+    const int threads = 1 + round % 5;
+    std::vector<std::atomic<int>> runs(37);
+    std::atomic<bool> worker_in_range{true};
+    parallel_jobs(runs.size(), threads, [&](std::size_t job, int worker) {
+      if (worker < 0 || worker >= threads) worker_in_range = false;
+      if (job % 9 == 0) {
+        std::atomic<int> inner{0};
+        parallel_jobs(5, 3, [&](std::size_t, int) { ++inner; });
+        if (inner != 5) return;
+      }
+      ++runs[job];
+    });
+    EXPECT_TRUE(worker_in_range);
+    for (std::size_t job = 0; job < runs.size(); ++job) ASSERT_EQ(runs[job], 1) << "round " << round << ", job " << job;
+    EXPECT_THROW(parallel_jobs(8, threads, [](std::size_t job, int) {
+                   if (job == 3) throw InputError("job 3");
+                 }),
+                 InputError);
+  }
 }
 
 TEST(Renderers, FixedDepthOverTenToTheTwelveLeavesIsRefusedByName) {

@@ -91,6 +91,7 @@ class BandWriter {
     std::size_t leaf = 0, word = 0;
     int base = 0;
     for (std::size_t v = 0; v < span.size; ++v) {
+      if ((v & 0xFFFFF) == 0xFFFFF && stop_requested()) throw Cancelled();  // a band holds ~10^7 keys
       const std::uint64_t key = span.keys[v];
       if (key >> 3 != run) {
         if (bits) w.leaves[leaf].mask[word] |= bits;

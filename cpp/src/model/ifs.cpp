@@ -10,6 +10,7 @@
 #include "ifsforge/model/map_sampler.h"
 #include "ifsforge/model/orbit.h"
 #include "ifsforge/model/probabilities.h"
+#include "affine_walk.h"
 
 namespace ifsforge {
 
@@ -181,41 +182,20 @@ Point Ifs::start_point() const {
 
 namespace {
 
-/// Orbit's walk (model/orbit.h) for an affine system of dimension N, its maps' coefficients
-/// held here and each applied in AffineMap::apply's order (the same points, bit for bit):
-/// the frame, the plan's box and a volume's bounds walk 2^15-2^16 steps on one core before
-/// any parallel work, where the general step and a call per point through std::function
-/// took three times as long.
+/// Orbit's walk (model/orbit.h) for an affine system of dimension N (affine_walk.h): the
+/// frame, the plan's box and a volume's bounds walk 2^15-2^16 steps before any parallel work,
+/// where the general step and a call per point through std::function took three times as long.
 template <int N, class Visit>
 void walk_affine(const Ifs& ifs, std::size_t count, std::uint64_t seed, Visit& visit) {
-  const std::size_t maps = ifs.size();
-  std::vector<double> a(maps * N * N), b(maps * N);
-  for (std::size_t i = 0; i < maps; ++i)
-    for (int r = 0; r < N; ++r) {
-      b[i * N + r] = ifs.map(i).b(r);
-      for (int c = 0; c < N; ++c) a[(i * N + r) * N + c] = ifs.map(i).a(r, c);
-    }
+  const affine_walk::Walker<N> walker(ifs);
   const MapChain chain(ifs);
   Rng rng(seed, 0);
   std::uint32_t map = chain.start(rng);
-  Point p = ifs.start_point(), q{};
-  for (std::size_t c = N; c < p.size(); ++c) p[c] = 0.0;  // as after Orbit's first step
-  auto step = [&] {
-    map = chain.next(map, rng.next());
-    const double *m = a.data() + map * N * N, *t = b.data() + map * N;
-    for (int r = 0; r < N; ++r) {
-      double v = t[r];
-      for (int c = 0; c < N; ++c) v += m[r * N + c] * p[c];
-      q[r] = v;
-    }
-    for (int r = 0; r < N; ++r) p[r] = q[r];
-  };
-  for (int i = 0; i < 100; ++i) step();
+  Point p = affine_walk::start(ifs, N);
+  for (std::size_t i = 0; i < affine_walk::kSettle; ++i) walker.step(chain, rng, map, p);
   for (std::size_t s = 0; s < count; ++s) {
-    step();
-    bool finite = true;
-    for (int c = 0; c < N; ++c) finite = finite && std::isfinite(p[c]);
-    if (!finite) Orbit(ifs, chain, seed, 0, p).require_finite();  // its error, naming the system
+    walker.step(chain, rng, map, p);
+    if (!walker.finite(p)) Orbit(ifs, chain, seed, 0, p).require_finite();  // its error, naming the system
     visit(static_cast<const Point&>(p));
   }
 }
@@ -242,7 +222,7 @@ void sample_attractor(const Ifs& ifs, std::size_t count, std::uint64_t seed,
   walk_samples(ifs, count, seed, visit);
 }
 
-Bounds Ifs::attractor_bounds(std::size_t samples) const {
+Bounds Ifs::attractor_bounds(std::size_t samples, int threads) const {
   require_attractor();
   const Classification kind = classify();
   const bool hyperbolic = kind == Classification::Hyperbolic;
@@ -253,13 +233,14 @@ Bounds Ifs::attractor_bounds(std::size_t samples) const {
   Bounds b{std::vector<double>(n, std::numeric_limits<double>::infinity()),
            std::vector<double>(n, -std::numeric_limits<double>::infinity())};
   std::vector<std::vector<double>> values(bounded ? 0 : n);
-  walk_samples(*this, samples, 0xB0B5, [&](const Point& p) {
-    for (int c = 0; c < n; ++c) {
-      b.lo[c] = std::min(b.lo[c], p[c]);
-      b.hi[c] = std::max(b.hi[c], p[c]);
-      if (!bounded) values[c].push_back(p[c]);
-    }
-  });
+  if (bounded) {
+    sample_extent(*this, samples, 0xB0B5, n, [n](const Point& p, double* v) { std::copy(p.begin(), p.begin() + n, v); },
+                  b.lo.data(), b.hi.data(), threads);
+  } else {
+    walk_samples(*this, samples, 0xB0B5, [&](const Point& p) {
+      for (int c = 0; c < n; ++c) values[c].push_back(p[c]);
+    });
+  }
   for (int c = 0; c < static_cast<int>(values.size()); ++c) {
     b.lo[c] = quantile(values[c], 0.001);
     b.hi[c] = quantile(values[c], 0.999);

@@ -215,7 +215,7 @@ bool tiled_counts(bool simd, bool depth, std::size_t pixels) {
 
 ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads) {
   ifs.require_attractor();
-  const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view);
+  const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view, Frame::kMargin, threads);
   const std::uint64_t total = options.iterations ? options.iterations
                                                  : default_iterations(options.width, options.height,
                                                                       options.binary,

@@ -17,7 +17,7 @@ void check_image_size(int width, int height) {
 }
 
 Frame Frame::fit(const Ifs& ifs, int width, int height, const std::optional<Window>& window,
-                 const View& view, double margin) {
+                 const View& view, double margin, int threads) {
   check_image_size(width, height);
   Frame f;
   f.width_ = width;
@@ -46,23 +46,36 @@ Frame Frame::fit(const Ifs& ifs, int width, int height, const std::optional<Wind
     // Polar systems stay in a bounded disc (Eq. 30): all their samples count, and a thin
     // margin takes the extremes no sample reached (there is no affine support function).
     const bool polar = kind == Classification::LocallyContractive;
-    std::vector<double> us, vs;
     const std::size_t samples = 1u << 15;  // extremes converge fast; the margin covers the rest
-    us.reserve(samples);
-    vs.reserve(samples);
-    sample_attractor(ifs, samples, 0xF7A3E, [&](const Point& q) {
-      const auto uv = f.project(q);
-      us.push_back(uv[0]);
-      vs.push_back(uv[1]);
-    });
-    if (hyperbolic)
-      for (const Point& q : attractor_extremes(ifs)) {
+    if (hyperbolic || polar) {
+      // Quantiles 0 and 1: the least and greatest projections, by one pass (on `threads` cores)
+      // with no list of them; a hyperbolic system's extreme points after the samples.
+      double lo[2], hi[2];
+      sample_extent(ifs, samples, 0xF7A3E, 2, [&](const Point& q, double* uv) {
+        const auto p = f.project(q);
+        uv[0] = p[0];
+        uv[1] = p[1];
+      }, lo, hi, threads);
+      if (hyperbolic)
+        for (const Point& q : attractor_extremes(ifs)) {
+          const auto uv = f.project(q);
+          for (int c = 0; c < 2; ++c) {
+            if (uv[c] < lo[c]) lo[c] = uv[c];
+            if (hi[c] < uv[c]) hi[c] = uv[c];
+          }
+        }
+      w = {lo[0], lo[1], hi[0], hi[1]};
+    } else {
+      std::vector<double> us, vs;
+      us.reserve(samples);
+      vs.reserve(samples);
+      sample_attractor(ifs, samples, 0xF7A3E, [&](const Point& q) {
         const auto uv = f.project(q);
         us.push_back(uv[0]);
         vs.push_back(uv[1]);
-      }
-    const double lo = hyperbolic || polar ? 0.0 : 0.001, hi = hyperbolic || polar ? 1.0 : 0.999;
-    w = {quantile(us, lo), quantile(vs, lo), quantile(us, hi), quantile(vs, hi)};
+      });
+      w = {quantile(us, 0.001), quantile(vs, 0.001), quantile(us, 0.999), quantile(vs, 0.999)};
+    }
     double dx = w.xmax - w.xmin, dy = w.ymax - w.ymin;
     const double extent = std::max({dx, dy, 1e-9 * (std::abs(w.xmin) + std::abs(w.ymin)), 1e-12});
     dx = std::max(dx, extent * 1e-3);

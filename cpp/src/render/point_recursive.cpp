@@ -53,12 +53,14 @@ struct PrrImage {
   std::uint64_t groups = 1;  // N^prefix address prefixes of the uniform plan
 
   PrrImage(const Ifs& system, const RenderOptions& options, const Renderer& renderer)
-      : ifs(system), frame(Frame::fit(system, options.width, options.height, options.window, options.view)) {
+      : ifs(system),
+        frame(Frame::fit(system, options.width, options.height, options.window, options.view, Frame::kMargin,
+                         resolve_threads(options.threads))) {
     // The address tree knows neither the transitions' forbidden words nor the set C of w_0:
     // capabilities() leaves them out, so render() refuses them before this.
     ifs.require_attractor();
     eq59 = default_depth(ifs.size(), frame.width(), frame.height());
-    plan = plan_recursion(ifs, options.depth, eq59);
+    plan = plan_recursion(ifs, options.depth, eq59, resolve_threads(options.threads));
     if (options.depth <= 0) plan.max_depth = depth_for_size(ifs, plan, frame.pixel_size(), 2, eq59);
     fit_pixels = options.depth <= 0;
     binary = options.binary;

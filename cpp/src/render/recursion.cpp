@@ -109,13 +109,13 @@ void check_leaf_count(std::size_t maps, int depth) {
                      " leaves, more than 10^12; choose a smaller depth, or 0 (automatic)");
 }
 
-RecursionPlan plan_recursion(const Ifs& ifs, int depth, int auto_depth) {
+RecursionPlan plan_recursion(const Ifs& ifs, int depth, int auto_depth, int threads) {
   check_leaf_count(ifs.size(), depth);
   RecursionPlan plan;
   plan.max_depth = std::clamp(depth > 0 ? depth : auto_depth, 1, 64);
   // A rotating map's invariant box (the fern's) is half as wide again as its attractor: the
   // deeper tree it asks for ran past the node budget. Only a tight one is taken.
-  piece_box(ifs, ifs.attractor_bounds(1u << 16), kPieceBoxMargin, false, plan.center, plan.half);
+  piece_box(ifs, ifs.attractor_bounds(1u << 16, threads), kPieceBoxMargin, false, plan.center, plan.half);
   const std::uint64_t n = ifs.size();
   if (n > 1) {
     double below = std::pow(static_cast<double>(n), plan.max_depth);

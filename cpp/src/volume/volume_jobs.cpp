@@ -5,6 +5,7 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/pages.h"
+#include "ifsforge/core/parallel.h"
 #include "ifsforge/core/varint.h"
 
 namespace ifsforge {
@@ -247,9 +248,12 @@ void give_volume_jobs(const std::vector<VolumeJobsBytes>& parts, const Volume& h
     const std::size_t last = std::min(first + kSlabsPerBand, holders.size());
     if (!keys_only) return finish_slabs(first, last, load, quantizer, header.density_mode, total_mass, channels, out);
     // The keys of every part, slab after slab, unmerged (see VolumeBandLoader): decoded in place.
+    // A band's keys take up to a second under load: Ctrl-C is heard between its slabs.
     out.keys.clear();
-    for (std::size_t s = first; s < last; ++s)
+    for (std::size_t s = first; s < last; ++s) {
+      if (stop_requested()) throw Cancelled();
       for (std::uint32_t p : holders[s]) parts[p].decode_keys(s, out.keys);
+    }
     return VoxelSpan{out.keys.data(), nullptr, nullptr, out.keys.size()};
   });
 }

@@ -147,13 +147,13 @@ std::vector<Point> farthest_points(const std::vector<Point>& points) {
 
 }  // namespace
 
-Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes) {
+Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes, int threads) {
   const int n = ifs.dim();
   // For hyperbolic systems these include W^d of the fixed points (model/attractor_points.h),
   // which reach the tips of rarely chosen maps that sampling misses: fewer samples do (as for
   // images). Other systems rely on the samples alone.
   const bool hyperbolic = ifs.classify() == Classification::Hyperbolic;
-  Bounds b = ifs.attractor_bounds(hyperbolic ? 1u << 16 : 1u << 18);
+  Bounds b = ifs.attractor_bounds(hyperbolic ? 1u << 16 : 1u << 18, threads);
   std::vector<Point> candidates;
   // Fixed points of contractive maps lie on the attractor (and, for most systems, at its
   // corners); a sample stands in when there are none.
@@ -191,7 +191,7 @@ VolumeSetup prepare_volume(const Ifs& ifs, const VolumeOptions& options) {
                      " voxels per side, got " + std::to_string(options.resolution));
   ifs.require_attractor();
   VolumeSetup setup;
-  setup.bounds = volume_bounds(ifs, &setup.extremes);
+  setup.bounds = volume_bounds(ifs, &setup.extremes, resolve_threads(options.threads));
   const int n = ifs.dim();
   for (int c = 0; c < n; ++c) {
     if (!std::isfinite(setup.bounds.lo[c]) || !std::isfinite(setup.bounds.hi[c]))

@@ -436,6 +436,7 @@ VoxelSpan finish_slabs(std::size_t first, std::size_t last, const SlabLoader& lo
   out.channels.clear();
   const VolumeWriter write{out, quantizer, mode, total_mass, channels};
   for (std::size_t s = first; s < last; ++s) {
+    if (stop_requested()) throw Cancelled();  // a band's merge takes up to a second under load
     load(s, w.lists, false);
     const SlabMerge merge(w.lists, 1);
     if (!merge.slabs()) continue;

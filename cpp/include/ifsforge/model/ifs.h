@@ -97,7 +97,8 @@ class Ifs {
   /// @brief Bounds of the attractor per channel, from a seeded sample of `samples` points.
   /// Hyperbolic or locally contractive (polar): min/max. Otherwise the 0.1% / 99.9%
   /// quantiles (the measure's bulk; the support may be unbounded).
-  Bounds attractor_bounds(std::size_t samples = 1u << 20) const;
+  /// The walk on up to `threads` cores (0: all) where it allows (sample_extent): the same bounds.
+  Bounds attractor_bounds(std::size_t samples = 1u << 20, int threads = 1) const;
 
   /// @name Extensions of the model (the setters validate; they are defined in recurrent.cpp,
   /// super_ifs.cpp, condensation.cpp and polar_map.cpp). At most one of them is set on a system.
@@ -141,6 +142,16 @@ class Ifs {
 /// skips 100 points; throws DivergentSystemError if the orbit escapes.
 void sample_attractor(const Ifs& ifs, std::size_t count, std::uint64_t seed,
                       const std::function<void(const Point&)>& visit);
+
+/// Writes the k values (at most 8) that stand for a point.
+using ExtentView = std::function<void(const Point&, double* values)>;
+
+/// @brief The least and greatest of each of the `k` values `view` gives sample_attractor's
+/// points, the first of equal ones kept as a scan in order keeps it: the same numbers whatever
+/// `threads` (0: all cores). A 2D or 3D affine system's walk is cut into pieces walked side by
+/// side, each checked to continue the one before bit for bit (model/attractor_extent.cpp).
+void sample_extent(const Ifs& ifs, std::size_t count, std::uint64_t seed, int k, const ExtentView& view, double* lo,
+                   double* hi, int threads = 1);
 
 /// @brief The q-quantile of `values` (reorders them).
 double quantile(std::vector<double>& values, double q);

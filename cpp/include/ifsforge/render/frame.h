@@ -124,9 +124,12 @@ class Frame {
   /// @brief A frame for `ifs`: the given window (stretched to the image's aspect ratio) or,
   /// without one, the attractor's projected bounds: exact for a hyperbolic system (no margin,
   /// so a grid-aligned attractor such as a carpet at 3^k pixels fills exactly its pixels),
-  /// else sampled quantiles with a relative `margin` on each side.
+  /// else sampled quantiles with a relative `margin` on each side. The sample walks on up to
+  /// `threads` cores (0: all) where it can: the same frame.
   static Frame fit(const Ifs& ifs, int width, int height, const std::optional<Window>& window,
-                   const View& view = {}, double margin = 0.03);
+                   const View& view = {}, double margin = kMargin, int threads = 1);
+  /// The relative margin of a sampled (not hyperbolic) frame.
+  static constexpr double kMargin = 0.03;
 
  private:
   int width_ = 0, height_ = 0, spatial_ = 2;

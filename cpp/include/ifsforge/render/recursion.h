@@ -62,8 +62,9 @@ void check_leaf_count(std::size_t maps, int depth);
 /// check_leaf_count).
 /// depth == 0: `auto_depth`, which should be deep enough for the renderer's stop test to end
 /// every branch; pass default_depth() (Eq. 59) or more. Jobs: at least 64 (load balance), with
-/// at most ~2^20 leaves each at fixed depth (memory of per-job results).
-RecursionPlan plan_recursion(const Ifs& ifs, int depth, int auto_depth);
+/// at most ~2^20 leaves each at fixed depth (memory of per-job results). The box's sample walks
+/// on up to `threads` cores (Ifs::attractor_bounds): the same plan.
+RecursionPlan plan_recursion(const Ifs& ifs, int depth, int auto_depth, int threads = 1);
 
 /// @brief The address (prefix) that job `job` of `plan` walks below.
 std::vector<std::uint32_t> job_address(const Ifs& ifs, const RecursionPlan& plan, std::uint64_t job);

@@ -135,7 +135,8 @@ double expected_voxels(const Ifs& ifs, const VolumeOptions& options, const Volum
                        double bytes_per_voxel, double fixed_bytes);
 
 /// @brief The attractor's bounds per channel (Ifs::attractor_bounds). `extremes` (optional)
-/// receives a few attractor points at its corners (see VolumeSetup).
-Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes = nullptr);
+/// receives a few attractor points at its corners (see VolumeSetup). The sample walks on up to
+/// `threads` cores: the same bounds.
+Bounds volume_bounds(const Ifs& ifs, std::vector<Point>* extremes = nullptr, int threads = 1);
 
 }  // namespace ifsforge
