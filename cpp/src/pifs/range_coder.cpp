@@ -4,7 +4,6 @@
 
 namespace ifsforge {
 namespace {
-using range_coding::kAdapt;
 using range_coding::kProbBits;
 using range_coding::kTop;
 using range_coding::kMaxLength;
@@ -44,14 +43,13 @@ int RangeDecoder::bit(BitModel& m) {
   int bit;
   if (code_ < bound) {
     range_ = bound;
-    m.p += ((1u << kProbBits) - m.p) >> kAdapt;
     bit = 0;
   } else {
     code_ -= bound;
     range_ -= bound;
-    m.p -= m.p >> kAdapt;
     bit = 1;
   }
+  m.p = m.after(bit);
   while (range_ < kTop) {
     range_ <<= 8;
     code_ = (code_ << 8) | next();

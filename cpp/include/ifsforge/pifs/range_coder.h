@@ -18,6 +18,12 @@ constexpr unsigned kMaxLength = 24;  // an integer's bit count is coded up to th
 /// @brief Probability of a 0 bit, in 1/2048; adapts after each coded bit.
 struct BitModel {
   std::uint16_t p = 1024;
+  /// @brief The probability once `bit` is coded: a 16th of the way towards the bit seen. The
+  /// encoder, the decoder and the sizer all adapt through this.
+  std::uint16_t after(int bit) const {
+    using namespace range_coding;
+    return bit ? std::uint16_t(p - (p >> kAdapt)) : std::uint16_t(p + (((1u << kProbBits) - p) >> kAdapt));
+  }
 };
 
 /// @brief What RangeEncoder and RangeSizer share: multi-bit symbols as runs of `bit` calls.
@@ -56,12 +62,11 @@ class RangeEncoder : public RangeSymbols<RangeEncoder> {
     const std::uint32_t bound = (range_ >> kProbBits) * m.p;
     if (bit == 0) {
       range_ = bound;
-      m.p += ((1u << kProbBits) - m.p) >> kAdapt;
     } else {
       low_ += bound;
       range_ -= bound;
-      m.p -= m.p >> kAdapt;
     }
+    m.p = m.after(bit);
     while (range_ < kTop) {
       range_ <<= 8;
       shift_low();
@@ -93,10 +98,8 @@ class RangeSizer : public RangeSymbols<RangeSizer> {
   void bit(BitModel& m, int bit) {
     using namespace range_coding;
     const std::uint32_t bound = (range_ >> kProbBits) * m.p;
-    const std::uint16_t zero = std::uint16_t(m.p + (((1u << kProbBits) - m.p) >> kAdapt)),
-                        one = std::uint16_t(m.p - (m.p >> kAdapt));
     range_ = bit ? range_ - bound : bound;
-    m.p = bit ? one : zero;
+    m.p = m.after(bit);
     const int bytes = __builtin_clz(range_) >> 3;  // shifts by 8 until range_ >= kTop = 2^24
     range_ <<= 8 * bytes;
     shifts_ += std::size_t(bytes);
