@@ -93,7 +93,7 @@ std::vector<Raster> both_ways(const char* variable, const Ifs& ifs, RenderOption
 // same integer sums as counting each point as it comes, so the same bytes on any thread count.
 TEST(ChaosKernels, TiledCountingGivesTheSameBytesAsDirectCounting) {
   RenderOptions o;
-  o.width = 4160;  // above the tiling threshold (4096^2 pixels)
+  o.width = 4160;  // above the tiling threshold (4096^2 pixels), past 256 tiles: stage lines prefetched
   o.height = 4100;
   o.iterations = 6'000'000;
   const std::vector<Raster> images = both_ways("IFSFORGE_CHAOS_TILES", sample("barnsley_fern"), o);
@@ -102,8 +102,9 @@ TEST(ChaosKernels, TiledCountingGivesTheSameBytesAsDirectCounting) {
 }
 
 // The same on a small, dense image counted through tiles (the threshold lowered for the test):
-// five tiles, the last one partial with the trash slot, every bin filled and counted many times,
-// points left in the bins and stages at the end, and the densest counters wrapped past 255 many times.
+// five tiles (stages in L1, not prefetched), the last one partial with the trash slot, every bin
+// filled and counted many times, points left in the bins and stages at the end, and the densest
+// counters wrapped past 255 many times.
 TEST(ChaosKernels, TiledCountingOfADenseImageGivesTheSameBytes) {
   RenderOptions o;
   o.width = 640;

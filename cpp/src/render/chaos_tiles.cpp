@@ -10,6 +10,11 @@ namespace ifsforge::lanes {
 namespace {
 constexpr std::size_t kStageBytes = kStagePoints * sizeof(std::uint16_t);
 static_assert(kStageBytes == 64, "a stage is one cache line");
+/// Stages of up to 16 KB (256 tiles: 4096^2 pixels) stay in a 32 KB L1 data cache beside the
+/// batch (kTileBatch slots, 16 KB); beyond it each point's stage line is prefetched.
+constexpr std::size_t kStagesInL1 = std::size_t(16) << 10;
+/// How many points ahead a stage's line is prefetched: a few L2 latencies of the staging loop.
+constexpr std::size_t kStageAhead = 16;
 
 std::size_t tiles_of(std::size_t slots) { return (slots + (std::size_t(1) << kTileShift) - 1) >> kTileShift; }
 
@@ -42,10 +47,21 @@ std::size_t TiledCounter::bytes(std::size_t slots) {
 }
 
 void TiledCounter::add(const std::uint32_t* slots, std::size_t n) {
+  if (tiles_ * kStageBytes > kStagesInL1)
+    stage<true>(slots, n);
+  else
+    stage<false>(slots, n);
+}
+
+template <bool kPrefetch>
+void TiledCounter::stage(const std::uint32_t* slots, std::size_t n) {
   std::uint16_t** const staged = staged_.data();
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t s = slots[i];
     const std::size_t tile = s >> kTileShift;
+    // Stages beyond L1: the stage line of the point kStageAhead on is fetched now, so neither
+    // its store nor its unstaging waits for it (at 8192^2 unstaging took half the time).
+    if (kPrefetch && i + kStageAhead < n) __builtin_prefetch(staged[slots[i + kStageAhead] >> kTileShift], 1);
     std::uint16_t* place = staged[tile];
     *place++ = static_cast<std::uint16_t>(s);
     staged[tile] = place;

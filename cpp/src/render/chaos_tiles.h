@@ -5,7 +5,8 @@
 /// are fetched once for several points each whatever the image's size, instead of once a point.
 /// A point reaches its bin through its tile's stage, one cache line written whole when full: at
 /// 8192^2 there are a thousand bins, and writing each point straight into its bin fetched the
-/// bin's line from memory first, one miss every few points.
+/// bin's line from memory first, one miss every few points. Past 256 tiles the stages outgrow
+/// L1, and each point's stage line is prefetched a few points ahead.
 /// The counts are integer sums, so the image is the same bytes as counting the points in the
 /// order they came.
 #include <cstddef>
@@ -48,6 +49,8 @@ class TiledCounter {
   static std::size_t bytes(std::size_t slots);
 
  private:
+  template <bool kPrefetch>
+  void stage(const std::uint32_t* slots, std::size_t n);
   void unstage(std::size_t tile);
   void count(std::size_t tile, const std::uint16_t* offsets, std::size_t n);
 
