@@ -99,17 +99,19 @@ TEST(VolumeRenderers, AllFourAgreeOnAHyperbolicSystem) {
   }
 }
 
-// Table 2's system (a 5-map 3D + RGB pyramid): PRR, RIA and ETA agree as closely; DIA, which
-// keeps only six points per voxel, loses a few percent of the voxels the pyramid grazes.
-// Known shortfall: the pyramid's height is not a whole number of voxels, and PRR misses about
-// 3% of the voxels that 2^27 random-iteration points find strictly inside (ETA's set contains
-// PRR's): PRR's pairs are held to 0.94 until that is found.
+// Table 2's system (a 5-map 3D + RGB pyramid) at Table 2's 100^3: PRR, RIA and ETA agree as
+// closely; DIA, which keeps only six points per voxel, may lose a few percent of the voxels the
+// pyramid grazes. Not 128^3: there RIA's automatic stop takes 3.6e8 points (16 times its
+// 100^3 count, 36 of the test's 47 CPU seconds), chasing voxels the pyramid grazes.
+// Known shortfall: the pyramid's height is not a whole number of voxels, and PRR misses voxels
+// that random iteration finds strictly inside (ETA's set contains PRR's): IoU with ETA 0.981 at
+// 100^3, 0.945 at 128^3. PRR's pairs are held to 0.94 until that is found.
 TEST(VolumeRenderers, TableTwoPyramidAgrees) {
   const Ifs ifs = pyramid_rgb();
-  const Volume prr = render_volume(ifs, "prr", options(128));
-  const Volume ria = render_volume(ifs, "ria", options(128));
-  const Volume eta = render_volume(ifs, "eta", options(128));
-  const Volume dia = render_volume(ifs, "dia", options(128));
+  const Volume prr = render_volume(ifs, "prr", options(100));
+  const Volume ria = render_volume(ifs, "ria", options(100));
+  const Volume eta = render_volume(ifs, "eta", options(100));
+  const Volume dia = render_volume(ifs, "dia", options(100));
   EXPECT_GE(iou(prr, ria), 0.94);
   EXPECT_GE(iou(prr, eta), 0.94);
   EXPECT_GE(iou(ria, eta), 0.95);
