@@ -1,12 +1,14 @@
 // The inverse problem: distance transforms, collage distance (Eq. 41-42), fitting.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/image.h"
 #include "ifsforge/core/random.h"
+#include "ifsforge/inverse/cma_es.h"
 #include "ifsforge/inverse/collage.h"
 #include "ifsforge/inverse/distance_transform.h"
 #include "ifsforge/inverse/fit.h"
@@ -130,6 +132,37 @@ TEST(Inverse, ForegroundOfAShapeTouchingTheFrame) {
     for (int x = 0; x < 8; ++x) bright.at(x, y, 0) = 1.0f;
   EXPECT_EQ(foreground(bright).count(), 64u);
   EXPECT_THROW(foreground(Image(8, 8, 1)), InputError);
+}
+
+// A value at the floor is never replaced (only a smaller one is), so stopping there ends with
+// the result the full search ends with, in fewer evaluations; a start at the floor costs one.
+TEST(Inverse, CmaStopsAtItsFloorWithTheSameResult) {
+  auto f = [](const std::vector<double>& x, int) {
+    return std::max(0.0, (x[0] - 3) * (x[0] - 3) + (x[1] + 1) * (x[1] + 1) - 0.25);
+  };
+  CmaOptions o;
+  o.seed = 5;
+  o.max_generations = 300;
+  o.tolerance = 0;
+  const CmaResult full = minimize_cma(f, {0, 0}, {1, 1}, o);
+  o.floor = 0;
+  const CmaResult floored = minimize_cma(f, {0, 0}, {1, 1}, o);
+  ASSERT_EQ(full.value, 0.0);
+  EXPECT_EQ(floored.value, 0.0);
+  EXPECT_EQ(floored.best, full.best);
+  EXPECT_LT(floored.evaluations, full.evaluations / 4);
+  EXPECT_EQ(minimize_cma(f, {3, -1}, {1, 1}, o).evaluations, 1u);
+}
+
+// A negative overlap weight would reward overlapping copies and let a fit's value fall below the
+// floor its searches stop at.
+TEST(Inverse, FitRefusesANegativeOverlapWeight) {
+  PixelSet square{16, 16, std::vector<std::uint8_t>(256, 1)};
+  FitOptions o;
+  o.overlap_weight = -1;
+  EXPECT_THROW(fit_ifs(square, o), InputError);
+  o.overlap_weight = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(fit_ifs(square, o), InputError);
 }
 
 }  // namespace

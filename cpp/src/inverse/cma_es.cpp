@@ -48,7 +48,7 @@ CmaResult minimize_cma(const std::function<double(const std::vector<double>&, in
   std::vector<double> values(lambda);
   std::vector<double> history;
   for (int g = 0; g < o.max_generations; ++g) {
-    if (stop && stop()) break;
+    if ((stop && stop()) || best.value <= o.floor) break;
     for (int k = 0; k < lambda; ++k)
       for (int i = 0; i < n; ++i) {
         z[k][i] = normal(rng);

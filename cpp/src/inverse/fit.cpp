@@ -129,6 +129,7 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
   if (o.raster < 8 || o.raster > 1024) throw InputError("the fit raster must be 8..1024 cells, got " + std::to_string(o.raster));
   if (!(o.max_contraction > 0 && o.max_contraction < 1))
     throw InputError("the largest contraction must lie in (0, 1), got " + std::to_string(o.max_contraction));
+  check_overlap_weight(o.overlap_weight);
   if (full.count() == 0) throw InputError("the target has no pixels");
   check_start(o.start, o.maps, 2);
   FitDeadline deadline(o.time_limit);

@@ -58,6 +58,7 @@ FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
     throw InputError("the 3D refinement raster must be 8..512 voxels, got " + std::to_string(o.refine_raster));
   if (!(o.max_contraction > 0 && o.max_contraction < 1))
     throw InputError("the largest contraction must lie in (0, 1), got " + std::to_string(o.max_contraction));
+  check_overlap_weight(o.overlap_weight);
   if (full.cells.size() != std::size_t(full.grid.dims[0]) * full.grid.dims[1] * full.grid.dims[2] ||
       !(full.grid.voxel_size > 0))
     throw InputError("the 3D target's cells do not match its grid");

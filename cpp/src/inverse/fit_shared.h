@@ -24,6 +24,7 @@ inline CmaOptions fit_cma_options(int n, int generations, std::uint64_t seed, in
   co.max_generations = generations;
   co.seed = seed;
   co.threads = threads;
+  co.floor = 0;  // every fit's value (a collage distance, 1 - IoU, plus penalties) is >= 0
   return co;
 }
 
@@ -48,6 +49,13 @@ inline void check_start(const std::vector<AffineMap>& start, int maps, int dim) 
     throw InputError("the start has " + std::to_string(start.size()) + " maps, the fit asks " + std::to_string(maps));
   for (const AffineMap& m : start)
     if (m.dim() != dim) throw InputError("the start's maps must have " + std::to_string(dim) + " dimensions");
+}
+
+/// The collage proxy's weight of the copies' overlap: a negative one would reward overlap, and
+/// every fit's value must stay >= 0 (fit_cma_options' floor).
+inline void check_overlap_weight(double weight) {
+  if (!(weight >= 0 && weight <= 1e6))
+    throw InputError("the overlap weight must lie in [0, 1e6], got " + std::to_string(weight));
 }
 
 /// The time limit of a fit (0: none): stop() turns true, and stays so, once it has passed.

@@ -4,6 +4,7 @@
 /// evaluated in parallel, so the result does not depend on the thread count.
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 namespace ifsforge {
@@ -12,6 +13,9 @@ struct CmaOptions {
   int population = 0;        ///< lambda; 0: 4 + 3 ln n
   int max_generations = 200;
   double tolerance = 1e-7;   ///< stop when 20 generations' best values lie within this
+  /// No value lies below it (a fit's 1 - IoU, a distance): a best value there cannot be replaced,
+  /// as only a smaller one replaces it, so the search stops with the result it would end with.
+  double floor = -std::numeric_limits<double>::infinity();
   std::uint64_t seed = 0;
   int threads = 0;
 };
