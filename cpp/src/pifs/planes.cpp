@@ -54,7 +54,8 @@ std::vector<std::array<int, 2>> plane_sizes(const Image& image, PifsColor color)
   const int w = image.width, h = image.height, c = image.channels;
   const bool half = color == PifsColor::YCbCr420 && c >= 3;
   std::vector<std::array<int, 2>> sizes;
-  for (int k = 0; k < c; ++k) sizes.push_back(half && (k == 1 || k == 2) ? std::array<int, 2>{(w + 1) / 2, (h + 1) / 2} : std::array<int, 2>{w, h});
+  for (int k = 0; k < c; ++k)
+    sizes.push_back(half && (k == 1 || k == 2) ? std::array<int, 2>{(w + 1) / 2, (h + 1) / 2} : std::array<int, 2>{w, h});
   return sizes;
 }
 
@@ -101,15 +102,6 @@ void convert_rows(const Image& image, PifsColor color, std::vector<PifsRaster>& 
   }
 }
 
-std::vector<PifsRaster> image_planes(const Image& image, PifsColor color, int threads, const ProgressCallback& progress) {
-  std::vector<PifsRaster> planes;
-  for (const auto& [w, h] : plane_sizes(image, color)) planes.push_back(plane_raster(w, h));
-  parallel_jobs(std::size_t(conversion_rows(image, color)), threads, [&](std::size_t row, int) {
-    convert_rows(image, color, planes, int(row), int(row) + 1);
-  }, progress);
-  return planes;
-}
-
 void pad_rows(PifsRaster& padded, int width, int height, int begin, int end) {
   // Row y < height keeps its first `width` samples, and a row below copies row height − 1's;
   // only those are read, so the rows can be padded in any order, side by side.
@@ -145,7 +137,7 @@ Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsC
 double chroma_halving_error(const Image& image, int threads, const ProgressCallback& progress) {
   const int w = image.width, h = image.height;
   if (image.channels < 3) return 0;
-  // Each pair of rows on its own: the 2×2 cell's chroma averaged as image_planes does, every
+  // Each pair of rows on its own: the 2×2 cell's chroma averaged as convert_rows does, every
   // pixel rebuilt from its own Y and the cell's chroma.
   return mean_of_rows(std::size_t((h + 1) / 2), 3.0 * w * h, threads, [&](std::size_t row) {
     const int y0 = 2 * int(row), y1 = std::min(y0 + 2, h);

@@ -13,22 +13,18 @@ namespace ifsforge {
 /// @brief A `width`×`height` raster of `value` in huge pages, faulted in.
 PifsRaster plane_raster(int width, int height, float value = 0.f);
 
-/// @brief The planes of `image` (values rounded to 8-bit levels), unpadded: gray [+ alpha],
-/// Y Cb Cr [+ alpha] for YCbCr444, the same with chroma at half size (rounded up) for YCbCr420,
-/// else one plane per channel.
-/// Rows are jobs on `threads` threads (parallel_jobs, with `progress`).
-std::vector<PifsRaster> image_planes(const Image& image, PifsColor color, int threads = 1,
-                                     const ProgressCallback& progress = nullptr);
-
-/// @brief The width and height of each plane image_planes makes.
+/// @brief The width and height of each plane the encoder codes `image` as (unpadded): gray
+/// [+ alpha], Y Cb Cr [+ alpha] for YCbCr444, the same with chroma at half size (rounded up) for
+/// YCbCr420, else one plane per channel.
 std::vector<std::array<int, 2>> plane_sizes(const Image& image, PifsColor color);
 
 /// @brief The conversion's jobs: the image's rows, pairs of rows for YCbCr420.
 int conversion_rows(const Image& image, PifsColor color);
 
-/// @brief image_planes' samples of jobs [begin, end) of conversion_rows, written into `planes`:
-/// rasters at least plane_sizes large (a larger, padded one keeps its other samples). Any split
-/// of the jobs gives the same planes (the encoder converts on its rounds' threads).
+/// @brief The planes' samples (values rounded to 8-bit levels) of jobs [begin, end) of
+/// conversion_rows, written into `planes`: rasters at least plane_sizes large (a larger, padded
+/// one keeps its other samples). Any split of the jobs gives the same planes (the encoder
+/// converts on its rounds' threads).
 void convert_rows(const Image& image, PifsColor color, std::vector<PifsRaster>& planes, int begin, int end);
 
 /// @brief Rows [begin, end) of `padded`, whose top-left `width`×`height` samples are a plane,
