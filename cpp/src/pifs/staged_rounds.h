@@ -1,8 +1,9 @@
 #pragma once
-// The encoder's rounds as job lists (encoder.cpp): the domain search (a unit is a domain pool:
-// built, then its block rows searched), then the rate control's (a unit is one plane of one
-// probe: cut, then decoded a pass at a time, each pass in parts, then its residual's rows
-// quantised, each followed, in order, by the entropy coder's share of that row).
+// The encoder's rounds as job lists (encoder.cpp): the set-up (one unit: the planes' rasters,
+// then their conversion, padding and halving, each a stage of parts), the domain search (a unit
+// is a domain pool: built, then its block rows searched), then the rate control's (a unit is
+// one plane of one probe: cut, then decoded a pass at a time, each pass in parts, then its
+// residual's rows quantised, each followed, in order, by the entropy coder's share of that row).
 #include <cstddef>
 #include <functional>
 #include <vector>
@@ -23,9 +24,10 @@ namespace ifsforge {
 /// else its next follow when it is ready and no thread runs one, else that unit's lowest middle
 /// not yet taken (one a running follow will need), else the next unit's. So the costliest
 /// unit's stages run on every thread that is free and its sequential follows start as soon as
-/// they can while the other threads quantise ahead of them; no thread waits for a barrier
-/// within a round, and a follow never waits while other work is ready. A thread with nothing to
-/// do spins briefly before it sleeps. Each step writes its own unit's results, so the outputs
+/// they can while the other threads quantise ahead of them; a thread waits within a round only
+/// when no step of any unit is ready (a stage's last parts or a follow's middle still running),
+/// and a follow never waits while other work is ready. A thread with nothing to do spins
+/// briefly before it sleeps. Each step writes its own unit's results, so the outputs
 /// never depend on the thread count. `progress` hears the rounds ended plus the running round's
 /// share of steps ended.
 void staged_rounds(const std::function<bool(std::vector<std::size_t>& middles)>& next_round, int threads,
