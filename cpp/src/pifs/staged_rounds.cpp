@@ -5,13 +5,10 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <thread>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/parallel.h"
-
-#if defined(__x86_64__) || defined(__i386__)
-#include <immintrin.h>
-#endif
 
 namespace ifsforge {
 namespace {
@@ -19,12 +16,9 @@ namespace {
 /// How long a thread with nothing to do spins before it sleeps (see `idle` below).
 constexpr std::chrono::microseconds kSpin{2000};
 
-/// One spin of a busy wait: tells an x86 core (and its hyper-thread sibling) that this is one.
-inline void relax() {
-#if defined(__x86_64__) || defined(__i386__)
-  _mm_pause();
-#endif
-}
+/// One spin of a busy wait: yields the core to any thread waiting for it (on a machine busier
+/// than its cores, the thread whose step this one waits for), else returns at once.
+inline void relax() { std::this_thread::yield(); }
 
 }  // namespace
 
@@ -112,8 +106,10 @@ void staged_rounds(const std::function<bool(std::vector<std::size_t>& middles)>&
   // step that ends a round, next_round, the middle a follow needs, the tail of a round's
   // follows) mostly comes within a millisecond or two, while waking a sleeping thread took 2 to
   // 4.5 ms on the 2-core VM (an idle virtual core is halted): at 1024² a tenth of a round. The
-  // spin is bounded, so a longer wait costs at most kSpin of CPU; the sleep's timeout only
-  // bounds a missed notification.
+  // spin is bounded, so a longer wait costs at most kSpin of CPU, and it yields: where the
+  // machine gave the encode one core, a spin of pauses held it while the step it waited for
+  // queued behind it (half the spins ran the full 2 ms), and yielding hands the core over (none
+  // did). The sleep's timeout only bounds a missed notification.
   const auto idle = [&](std::unique_lock<std::mutex>& lock) {
     const std::uint64_t seen = version.load(std::memory_order_acquire);
     lock.unlock();
