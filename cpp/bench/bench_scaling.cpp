@@ -8,8 +8,8 @@
 // on 2 threads alternating with 1-thread runs, the median and spread of the share from each
 // 2-thread run's own CPU and wall time (single runs drift with the machine's speed).
 //
-//   build/cpp/bench/bench_scaling [--threads 16] [--repeat 3] [--points 1000000000] [--only chaos,prr]
-//                                 [--serial-runs 10]
+//   build/cpp/bench/bench_scaling [--threads 16] [--repeat 3] [--points 1000000000] [--only chaos,prr,pifs-serial]
+//                                 [--serial-runs 10] [--serial-encodes 512-gray,1024-gray,2048-colour]
 //   /usr/bin/python3 cpp/bench/results.py bench_scaling --plain   # the same, written to RESULTS.md
 #include <algorithm>
 #include <cmath>
@@ -22,6 +22,7 @@
 
 #include "bench_systems.h"
 #include "bench_timing.h"
+#include "thread_schedule.h"
 #include "ifsforge/core/image.h"
 #include "ifsforge/pifs/encoder.h"
 #include "ifsforge/render/renderer.h"
@@ -138,36 +139,52 @@ double median(std::vector<double> v) {
 /// on 1 (so both see the same drift of the machine's speed): the median, quartiles and range of
 /// the share serial_from_cpu gives each 2-thread run, the median idle thread time (2 wall − CPU:
 /// a core waiting, for work or for the machine) of those runs and the median CPU of both counts.
-void pifs_serial_table(int runs) {
+/// Beside it the code's own part of that idle time (thread_schedule.h): the threads' sleep,
+/// 2 wall − run − waiting for a CPU, as a share of their run time, and the waiting apart.
+/// `keys` chooses the encodes (512-gray, 1024-gray, 2048-colour; empty: all).
+void pifs_serial_table(int runs, const std::string& keys) {
   struct Encode {
+    const char* key;
     const char* label;
-    Image image;
-    int runs;
+    int size, channels, runs;
   };
-  const Encode encodes[] = {{"512² gray", texture(512), runs},
-                            {"1024² gray", texture(1024), runs},
-                            {"2048² colour", texture(2048, 3), std::max(3, runs / 2)}};
+  const Encode encodes[] = {{"512-gray", "512² gray", 512, 1, runs},
+                            {"1024-gray", "1024² gray", 1024, 1, runs},
+                            {"2048-colour", "2048² colour", 2048, 3, std::max(3, runs / 2)}};
   std::printf("\nPIFS encode (50:1) serial share on 2 threads, each run after a 1-thread run: median, "
               "quartiles and range of (2 wall - CPU) / CPU per run; idle: 2 wall - CPU (thread-ms a core waited), "
               "median; CPU: median per encode on 1 and 2 threads.\n\n"
-              "| encode | runs | serial median | quartiles | range | idle ms | CPU s, 1 thread | CPU s, 2 threads |\n"
-              "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+              "Slept: the threads' sleep waiting for work, (2 wall - run - waiting) / run from the kernel's "
+              "per-thread run time and run-queue wait (the code's serial part without the machine's); "
+              "waited: the run-queue wait, ms (the machine's part).\n\n"
+              "| encode | runs | serial median | quartiles | range | idle ms | slept median | slept range | "
+              "waited ms | CPU s, 1 thread | CPU s, 2 threads |\n"
+              "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
   for (const Encode& e : encodes) {
-    std::vector<double> share, idle, cpu1, cpu2;
+    if (!keys.empty() && ("," + keys + ",").find("," + std::string(e.key) + ",") == std::string::npos) continue;
+    const Image image = texture(e.size, e.channels);
+    std::vector<double> share, idle, slept, waited, cpu1, cpu2;
     for (int r = 0; r < e.runs; ++r) {
-      cpu1.push_back(bench::best_of(1, [&] { encode(e.image, 1); }).cpu);
-      const bench::Timing t = bench::best_of(1, [&] { encode(e.image, 2); });
+      cpu1.push_back(bench::best_of(1, [&] { encode(image, 1); }).cpu);
+      const bench::ThreadSchedule before = bench::thread_schedule();
+      const bench::Timing t = bench::best_of(1, [&] { encode(image, 2); });
+      const bench::ThreadSchedule after = bench::thread_schedule();
       share.push_back(serial_from_cpu(2, t.wall, t.cpu));
       idle.push_back(2 * t.wall - t.cpu);
+      const double run = after.run - before.run, waiting = after.waiting - before.waiting;
+      slept.push_back(after.known && run > 0 ? (2 * t.wall - run - waiting) / run : NAN);
+      waited.push_back(waiting);
       cpu2.push_back(t.cpu);
     }
-    std::vector<double> sorted = share;
-    std::sort(sorted.begin(), sorted.end());
-    const auto quantile = [&](double q) { return sorted[std::size_t(std::lround(q * double(sorted.size() - 1)))]; };
-    std::printf("| %s | %d | %.1f%% | %.1f–%.1f%% | %.1f–%.1f%% | %.1f | %s | %s |\n", e.label, e.runs,
-                100 * median(share), 100 * quantile(0.25), 100 * quantile(0.75), 100 * sorted.front(),
-                100 * sorted.back(), 1e3 * median(idle), seconds_cell(median(cpu1)).c_str(),
-                seconds_cell(median(cpu2)).c_str());
+    const auto quantile = [](std::vector<double> v, double q) {
+      std::sort(v.begin(), v.end());
+      return v[std::size_t(std::lround(q * double(v.size() - 1)))];
+    };
+    std::printf("| %s | %d | %.1f%% | %.1f–%.1f%% | %.1f–%.1f%% | %.1f | %.1f%% | %.1f–%.1f%% | %.1f | %s | %s |\n",
+                e.label, e.runs, 100 * median(share), 100 * quantile(share, 0.25), 100 * quantile(share, 0.75),
+                100 * quantile(share, 0), 100 * quantile(share, 1), 1e3 * median(idle), 100 * median(slept),
+                100 * quantile(slept, 0), 100 * quantile(slept, 1), 1e3 * median(waited),
+                seconds_cell(median(cpu1)).c_str(), seconds_cell(median(cpu2)).c_str());
     std::fflush(stdout);
   }
 }
@@ -177,8 +194,10 @@ void pifs_serial_table(int runs) {
 int main(int argc, char** argv) {
   if (bench::flag(argc, argv, "help")) {
     std::puts("bench_scaling [--threads N (default: the machine's cores)] [--repeat R (3)] "
-              "[--points P (chaos game points, 1e9)] [--only key,key (chaos, prr-fern, prr-sierpinski, volume, pifs)] "
-              "[--serial-runs N (10; the PIFS serial share's runs, 0: none)]");
+              "[--points P (chaos game points, 1e9)] [--only key,key (chaos, prr-fern, prr-sierpinski, volume, pifs; "
+              "pifs-serial: the serial-share table alone)] "
+              "[--serial-runs N (10; the PIFS serial share's runs, 0: none)] "
+              "[--serial-encodes key,key (512-gray, 1024-gray, 2048-colour; default all)]");
     return 0;
   }
   const int cores = std::stoi(bench::option(argc, argv, "threads",
@@ -215,7 +234,8 @@ int main(int argc, char** argv) {
                 seconds_cell(cpu).c_str());
     std::fflush(stdout);
   }
-  if (serial_runs > 0 && (only.empty() || ("," + only + ",").find(",pifs,") != std::string::npos))
-    pifs_serial_table(serial_runs);
+  const auto chosen = [&](const char* key) { return ("," + only + ",").find("," + std::string(key) + ",") != std::string::npos; };
+  if (serial_runs > 0 && (only.empty() || chosen("pifs") || chosen("pifs-serial")))
+    pifs_serial_table(serial_runs, bench::option(argc, argv, "serial-encodes", ""));
   return 0;
 }

@@ -6,6 +6,7 @@
 
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/planes.h"
+#include "decode_steps.h"
 
 namespace ifsforge {
 namespace {
@@ -26,7 +27,8 @@ constexpr DeblockStrength kMagnified{1.5f, INFINITY};
 
 }  // namespace
 
-void deblock(const PifsCode& code, const PifsPlane& plane, int log_scale, PifsRaster& r, int threads) {
+void deblock_leaves(const PifsCode& code, const PifsPlane& plane, int log_scale, PifsRaster& r, bool vertical,
+                    std::size_t begin, std::size_t end) {
   auto scaled = [&](int v) { return log_scale >= 0 ? v << log_scale : v >> -log_scale; };
   const DeblockStrength strength = log_scale > 0 ? kMagnified : kNative;
   // The step δ between the two pixels at an edge is spread as a linear ramp over `w` pixels on
@@ -38,6 +40,36 @@ void deblock(const PifsCode& code, const PifsPlane& plane, int log_scale, PifsRa
   auto smooth = [&](float p1, float p0, float q0, float q1) {
     return std::max(std::abs(p1 - p0), std::abs(q1 - q0)) < strength.flat;
   };
+  for (std::size_t i = begin; i < end; ++i) {
+    const PifsLeaf& leaf = plane.leaves[i];
+    const int n = scaled(1 << leaf.log_size);
+    if (n < 4 * w) continue;
+    const int x0 = scaled(leaf.x), y0 = scaled(leaf.y);
+    if (vertical && x0 >= w)
+      for (int v = 0; v < n; ++v) {
+        float* p = r.row(y0 + v) + x0;
+        if (x0 < 2 * w || !smooth(p[-1 - w], p[-1], p[0], p[w])) continue;
+        const float delta = p[0] - p[-1];
+        for (int k = 0; k < w; ++k) {
+          p[-1 - k] += delta * weight[k];
+          p[k] -= delta * weight[k];
+        }
+      }
+    if (!vertical && y0 >= w)
+      for (int u = 0; u < n; ++u) {
+        const int x = x0 + u;
+        if (y0 < 2 * w || !smooth(r.row(y0 - 1 - w)[x], r.row(y0 - 1)[x], r.row(y0)[x], r.row(y0 + w)[x]))
+          continue;
+        const float delta = r.row(y0)[x] - r.row(y0 - 1)[x];
+        for (int k = 0; k < w; ++k) {
+          r.row(y0 - 1 - k)[x] += delta * weight[k];
+          r.row(y0 + k)[x] -= delta * weight[k];
+        }
+      }
+  }
+}
+
+void deblock(const PifsCode& code, const PifsPlane& plane, int log_scale, PifsRaster& r, int threads) {
   // Every inner edge is the left or top edge of exactly one leaf. The vertical edges go first,
   // then the horizontal ones: the ramps of one direction touch disjoint pixels (cells under 4w
   // are left), and the side pixels each edge reads lie outside every other ramp of its
@@ -46,33 +78,7 @@ void deblock(const PifsCode& code, const PifsPlane& plane, int log_scale, PifsRa
   threads = pass_threads(threads, double(r.width) * r.height);
   for (const bool vertical : {true, false})
     parallel_jobs(kJobs, threads, [&](std::size_t job, int) {
-      for (std::size_t i = count * job / kJobs; i < count * (job + 1) / kJobs; ++i) {
-        const PifsLeaf& leaf = plane.leaves[i];
-        const int n = scaled(1 << leaf.log_size);
-        if (n < 4 * w) continue;
-        const int x0 = scaled(leaf.x), y0 = scaled(leaf.y);
-        if (vertical && x0 >= w)
-          for (int v = 0; v < n; ++v) {
-            float* p = r.row(y0 + v) + x0;
-            if (x0 < 2 * w || !smooth(p[-1 - w], p[-1], p[0], p[w])) continue;
-            const float delta = p[0] - p[-1];
-            for (int k = 0; k < w; ++k) {
-              p[-1 - k] += delta * weight[k];
-              p[k] -= delta * weight[k];
-            }
-          }
-        if (!vertical && y0 >= w)
-          for (int u = 0; u < n; ++u) {
-            const int x = x0 + u;
-            if (y0 < 2 * w || !smooth(r.row(y0 - 1 - w)[x], r.row(y0 - 1)[x], r.row(y0)[x], r.row(y0 + w)[x]))
-              continue;
-            const float delta = r.row(y0)[x] - r.row(y0 - 1)[x];
-            for (int k = 0; k < w; ++k) {
-              r.row(y0 - 1 - k)[x] += delta * weight[k];
-              r.row(y0 + k)[x] -= delta * weight[k];
-            }
-          }
-      }
+      deblock_leaves(code, plane, log_scale, r, vertical, count * job / kJobs, count * (job + 1) / kJobs);
     });
 }
 

@@ -5,86 +5,78 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
-#include "ifsforge/core/pages.h"
 #include "ifsforge/core/parallel.h"
 #include "ifsforge/pifs/deblock.h"
 #include "ifsforge/pifs/planes.h"
 #include "ifsforge/pifs/residual.h"
 #include "ifsforge/pifs/zoom.h"
+#include "decode_steps.h"
 
 namespace ifsforge {
 namespace {
 
 constexpr std::size_t kJobs = 64;  // leaf chunks: fixed, so the output never depends on threads
 
-int scaled(int v, int log_scale) { return log_scale >= 0 ? v << log_scale : v >> -log_scale; }
-
-PifsRaster blank(int w, int h, float value) {
-  PifsRaster r;
-  r.width = w;
-  r.height = h;
-  assign_large(r.values, std::size_t(w) * h, value);  // huge pages, faulted in on every core
-  return r;
-}
-
-/// One application of the PIFS operator (Eq. 29 for every range cell) writing `dst` at scale
-/// 2^l. `from_half`: `src` is the level below (scale 2^(l−1)), where each domain already has the
-/// range's size (Baharav's step); otherwise `src` is at the same scale and φ averages 2×2.
+/// One application of the PIFS operator writing `dst` at scale 2^l, its leaves in kJobs chunks.
 void apply(const PifsCode& code, const PifsPlane& plane, int l, const PifsRaster& src, bool from_half,
            PifsRaster& dst, int threads) {
   const std::size_t count = plane.leaves.size();
   threads = pass_threads(threads, double(dst.width) * dst.height);
   parallel_jobs(kJobs, threads, [&](std::size_t job, int) {
-    const std::size_t begin = count * job / kJobs, end = count * (job + 1) / kJobs;
-    for (std::size_t k = begin; k < end; ++k) {
-      const PifsLeaf& leaf = plane.leaves[k];
-      const int n = scaled(1 << leaf.log_size, l);
-      const int x0 = scaled(leaf.x, l), y0 = scaled(leaf.y, l);
-      const float dc = float(leaf.dc * code.dc_step);
-      if (leaf.s == 0) {
-        for (int v = 0; v < n; ++v) std::fill_n(dst.row(y0 + v) + x0, n, dc);
-        continue;
-      }
-      const float s = float(code.s_value(leaf.s));
-      const int size = 1 << leaf.log_size;
-      if (from_half) {
-        const float* d = src.row(scaled(leaf.dy * size, l - 1)) + scaled(leaf.dx * size, l - 1);
-        const long stride = src.width;
-        double sum = 0;
-        for (int v = 0; v < n; ++v)
-          for (int u = 0; u < n; ++u) sum += d[long(v) * stride + u];
-        const float mean = float(sum / (double(n) * n));
-        long origin, du, dv;
-        isometry_walk(leaf.isometry, n, stride, origin, du, dv);
-        for (int v = 0; v < n; ++v) {
-          const float* p = d + origin + v * dv;
-          float* out = dst.row(y0 + v) + x0;
-          for (int u = 0; u < n; ++u) out[u] = s * (p[u * du] - mean) + dc;
-        }
-      } else {
-        // φ: the 2n×2n domain averaged 2×2 (read through the isometry on the averaged grid).
-        const float* d = src.row(scaled(leaf.dy * size, l)) + scaled(leaf.dx * size, l);
-        const long stride = src.width;
-        double sum = 0;
-        for (int v = 0; v < 2 * n; ++v)
-          for (int u = 0; u < 2 * n; ++u) sum += d[long(v) * stride + u];
-        const float mean = float(sum / (4.0 * n * n));
-        for (int v = 0; v < n; ++v) {
-          float* out = dst.row(y0 + v) + x0;
-          for (int u = 0; u < n; ++u) {
-            int a, b;
-            isometry_map(leaf.isometry, n, u, v, a, b);
-            const float* p = d + long(2 * b) * stride + 2 * a;
-            const float avg = 0.25f * (p[0] + p[1] + p[stride] + p[stride + 1]);
-            out[u] = s * (avg - mean) + dc;
-          }
-        }
-      }
-    }
+    apply_leaves(code, plane, l, src, from_half, dst, count * job / kJobs, count * (job + 1) / kJobs);
   });
 }
 
 }  // namespace
+
+void apply_leaves(const PifsCode& code, const PifsPlane& plane, int l, const PifsRaster& src, bool from_half,
+                  PifsRaster& dst, std::size_t begin, std::size_t end) {
+  for (std::size_t k = begin; k < end; ++k) {
+    const PifsLeaf& leaf = plane.leaves[k];
+    const int n = scaled_length(1 << leaf.log_size, l);
+    const int x0 = scaled_length(leaf.x, l), y0 = scaled_length(leaf.y, l);
+    const float dc = float(leaf.dc * code.dc_step);
+    if (leaf.s == 0) {
+      for (int v = 0; v < n; ++v) std::fill_n(dst.row(y0 + v) + x0, n, dc);
+      continue;
+    }
+    const float s = float(code.s_value(leaf.s));
+    const int size = 1 << leaf.log_size;
+    if (from_half) {
+      const float* d = src.row(scaled_length(leaf.dy * size, l - 1)) + scaled_length(leaf.dx * size, l - 1);
+      const long stride = src.width;
+      double sum = 0;
+      for (int v = 0; v < n; ++v)
+        for (int u = 0; u < n; ++u) sum += d[long(v) * stride + u];
+      const float mean = float(sum / (double(n) * n));
+      long origin, du, dv;
+      isometry_walk(leaf.isometry, n, stride, origin, du, dv);
+      for (int v = 0; v < n; ++v) {
+        const float* p = d + origin + v * dv;
+        float* out = dst.row(y0 + v) + x0;
+        for (int u = 0; u < n; ++u) out[u] = s * (p[u * du] - mean) + dc;
+      }
+    } else {
+      // φ: the 2n×2n domain averaged 2×2 (read through the isometry on the averaged grid).
+      const float* d = src.row(scaled_length(leaf.dy * size, l)) + scaled_length(leaf.dx * size, l);
+      const long stride = src.width;
+      double sum = 0;
+      for (int v = 0; v < 2 * n; ++v)
+        for (int u = 0; u < 2 * n; ++u) sum += d[long(v) * stride + u];
+      const float mean = float(sum / (4.0 * n * n));
+      for (int v = 0; v < n; ++v) {
+        float* out = dst.row(y0 + v) + x0;
+        for (int u = 0; u < n; ++u) {
+          int a, b;
+          isometry_map(leaf.isometry, n, u, v, a, b);
+          const float* p = d + long(2 * b) * stride + 2 * a;
+          const float avg = 0.25f * (p[0] + p[1] + p[stride] + p[stride + 1]);
+          out[u] = s * (avg - mean) + dc;
+        }
+      }
+    }
+  }
+}
 
 PifsRaster decode_plane(const PifsCode& code, const PifsPlane& plane, int log_scale, PifsDecoder decoder,
                         int iterations, int threads) {
@@ -94,8 +86,8 @@ PifsRaster decode_plane(const PifsCode& code, const PifsPlane& plane, int log_sc
   const int top = std::max(log_scale, coarsest);
   PifsRaster x;
   if (decoder == PifsDecoder::Iterative) {
-    x = blank(scaled(pw, top), scaled(ph, top), 128.f);
-    PifsRaster next = blank(x.width, x.height, 128.f);
+    x = plane_raster(scaled_length(pw, top), scaled_length(ph, top), 128.f);
+    PifsRaster next = plane_raster(x.width, x.height, 128.f);
     for (int i = 0; i < iterations; ++i) {
       apply(code, plane, top, x, false, next, threads);
       std::swap(x, next);
@@ -103,14 +95,14 @@ PifsRaster decode_plane(const PifsCode& code, const PifsPlane& plane, int log_sc
   } else {
     // Baharav: the fixed point of the coarsest level, then each doubling is one pass whose
     // domains are the previous level's pixels (φ commutes with the 2×2 mean, so it is exact).
-    x = blank(scaled(pw, coarsest), scaled(ph, coarsest), 128.f);
-    PifsRaster next = blank(x.width, x.height, 128.f);
+    x = plane_raster(scaled_length(pw, coarsest), scaled_length(ph, coarsest), 128.f);
+    PifsRaster next = plane_raster(x.width, x.height, 128.f);
     for (int i = 0; i < iterations; ++i) {
       apply(code, plane, coarsest, x, false, next, threads);
       std::swap(x, next);
     }
     for (int l = coarsest + 1; l <= top; ++l) {
-      next = blank(scaled(pw, l), scaled(ph, l), 0.f);
+      next = plane_raster(scaled_length(pw, l), scaled_length(ph, l), 0.f);
       apply(code, plane, l, x, true, next, threads);
       std::swap(x, next);
     }

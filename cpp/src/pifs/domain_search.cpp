@@ -17,18 +17,22 @@ int quantise_mean(const PifsCode& code, double mean) {
 
 }  // namespace
 
+void half_rows(const PifsRaster& p, PifsRaster& h, int begin, int end) {
+  for (int y = begin; y < end; ++y) {
+    const float* a = p.row(2 * y);
+    const float* b = p.row(2 * y + 1);
+    float* out = h.row(y);
+    for (int x = 0; x < h.width; ++x) out[x] = 0.25f * (a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1]);
+  }
+}
+
 PifsRaster half_plane(const PifsRaster& p, int threads, const ProgressCallback& progress) {
   PifsRaster h;
   h.width = p.width / 2;
   h.height = p.height / 2;
   h.values.resize(std::size_t(h.width) * h.height);
-  parallel_jobs(std::size_t(h.height), threads, [&](std::size_t row, int) {
-    const int y = int(row);
-    const float* a = p.row(2 * y);
-    const float* b = p.row(2 * y + 1);
-    float* out = h.row(y);
-    for (int x = 0; x < h.width; ++x) out[x] = 0.25f * (a[2 * x] + a[2 * x + 1] + b[2 * x] + b[2 * x + 1]);
-  }, progress);
+  parallel_jobs(std::size_t(h.height), threads, [&](std::size_t row, int) { half_rows(p, h, int(row), int(row) + 1); },
+                progress);
   return h;
 }
 

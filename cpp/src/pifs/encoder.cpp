@@ -10,12 +10,12 @@
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/pifs/code_bytes.h"
-#include "ifsforge/pifs/deblock.h"
 #include "ifsforge/pifs/decoder.h"
 #include "ifsforge/pifs/partition.h"
 #include "ifsforge/pifs/plane_coding.h"
 #include "ifsforge/pifs/planes.h"
 #include "ifsforge/pifs/residual.h"
+#include "decode_steps.h"
 #include "rate_search.h"
 #include "staged_rounds.h"
 
@@ -82,37 +82,56 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
   code.s_bits = o.s_bits;
   code.dc_step = o.dc_step;
 
-  // Steps 1-4: planes, then every quadtree level's candidates. The domain pools of every
-  // (plane, level) are built first, then all block rows of all of them are searched in one job
-  // list, so every thread is busy from the first range block; each candidate depends on its
-  // block alone.
-  // Every step on the workers (with a progress callback the calling thread only reports), so
-  // the serial part of an encode stays small.
-  const ProgressCallback start = progress_range(progress, 0.0, 0.0);
-  std::vector<PifsRaster> planes = image_planes(image, code.color, o.threads, start);
+  // Steps 1-4: planes, then every quadtree level's candidates. The planes are converted,
+  // padded and halved in the first round of the job lists below (staged_rounds.h), a stage each
+  // in parts of rows, on the threads that then search and run the rate control, so no step of
+  // the encode is left to one thread and none waits for threads to wake between steps. The
+  // domain pools of every (plane, level) are built first, then all block rows of all of them
+  // are searched in one job list, so every thread is busy from the first range block; each
+  // candidate depends on its block alone.
+  const std::vector<std::array<int, 2>> plane_size = plane_sizes(image, code.color);
+  const std::size_t plane_count = plane_size.size();
   const int levels = code.max_log - code.min_log + 1;
-  std::vector<PifsRaster> padded(planes.size()), halves(planes.size());
-  std::vector<PifsPlaneCandidates> cands(planes.size());
-  for (std::size_t k = 0; k < planes.size(); ++k) {
+  std::vector<PifsRaster> padded(plane_count), halves(plane_count);
+  std::vector<PifsPlaneCandidates> cands(plane_count);
+  for (std::size_t k = 0; k < plane_count; ++k) {
     PifsPlaneCandidates& c = cands[k];
-    c.width = planes[k].width;
-    c.height = planes[k].height;
+    c.width = plane_size[k][0];
+    c.height = plane_size[k][1];
     c.padded_width = code.padded(c.width);
     c.padded_height = code.padded(c.height);
-    // A plane already of whole top-level blocks is its own padded plane (the residual reads its
-    // unpadded part from the padded one, which is the same there).
-    const bool whole = c.padded_width == c.width && c.padded_height == c.height;
-    padded[k] = whole ? std::move(planes[k]) : pad_plane(planes[k], c.padded_width, c.padded_height, o.threads, start);
-    planes[k] = PifsRaster();
-    halves[k] = half_plane(padded[k], o.threads, start);
     for (int log = code.min_log; log <= code.max_log; ++log)
       c.levels.emplace_back(std::size_t(c.padded_width >> log) * (c.padded_height >> log));
   }
+  // The set-up round's stages: the rasters (a part each), then the conversion, the padding and
+  // the halving, each in parts of about 2^16 samples of rows.
+  const std::size_t setup_parts =
+      std::clamp<std::size_t>(std::size_t(image.width) * image.height * image.channels >> 16, 1, 64);
+  const auto setup_step = [&](std::size_t stage, std::size_t part) {
+    const auto rows = [&](int count, auto&& run) {
+      run(int(std::size_t(count) * part / setup_parts), int(std::size_t(count) * (part + 1) / setup_parts));
+    };
+    if (stage == 0) {
+      const std::size_t k = part % plane_count;
+      if (part < plane_count) padded[k] = plane_raster(cands[k].padded_width, cands[k].padded_height);
+      else halves[k] = plane_raster(cands[k].padded_width / 2, cands[k].padded_height / 2);
+    } else if (stage == 1) {
+      rows(conversion_rows(image, code.color), [&](int a, int b) { convert_rows(image, code.color, padded, a, b); });
+    } else {
+      for (std::size_t k = 0; k < plane_count; ++k) {
+        const PifsPlaneCandidates& c = cands[k];
+        if (stage == 2)
+          rows(c.padded_height, [&](int a, int b) { pad_rows(padded[k], c.width, c.height, a, b); });
+        else
+          rows(c.padded_height / 2, [&](int a, int b) { half_rows(padded[k], halves[k], a, b); });
+      }
+    }
+  };
   // The search is the first round of the job lists below (staged_rounds.h, on the same threads as
   // the rate control's rounds): a unit is one domain pool, largest first; its first step builds
   // the pool, its middle steps search its block rows. A thread that finds the largest pool's
   // tree still being built works on the other pools' rows meanwhile.
-  std::vector<PifsDomains> pools(planes.size() * levels);
+  std::vector<PifsDomains> pools(plane_count * levels);
   std::vector<std::size_t> pool_order(pools.size());
   for (std::size_t p = 0; p < pools.size(); ++p) pool_order[p] = p;
   const auto pool_area = [&](std::size_t p) {
@@ -124,8 +143,8 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
   std::vector<std::size_t> pool_rows(pools.size());
   for (std::size_t u = 0; u < pools.size(); ++u)
     pool_rows[u] = std::size_t(cands[pool_order[u] / levels].padded_height >> (code.min_log + int(pool_order[u] % levels)));
-  code.planes.resize(planes.size());
-  for (std::size_t k = 0; k < planes.size(); ++k) {
+  code.planes.resize(plane_count);
+  for (std::size_t k = 0; k < plane_count; ++k) {
     code.planes[k].width = cands[k].width;
     code.planes[k].height = cands[k].height;
   }
@@ -146,32 +165,34 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
   std::vector<Probe> probes(2);
   Probe best;  // done() holds only once a value has fitted
   // A unit is one plane of one probe, the largest planes and lowest λ (the costliest) first.
-  // Its first step cuts the quadtree and decodes what the decoder shows at 1× (deblocked, as
-  // pifs_decode does); its middle steps quantise the residual a block row each, then code the
-  // transforms (only their size is needed, so off the path to the residual); the entropy
-  // coder, sequential, follows the rows one by one. All rounds are job lists on the same
-  // threads, so both threads stay busy however the units' costs differ.
-  const std::size_t count = probes.size(), plane_count = planes.size(), units = count * plane_count;
+  // Its first step cuts the quadtree and decodes the coarsest level; its stages' parts, shared
+  // by every free thread (the costliest unit's decode is on the round's longest path), make
+  // what the decoder shows at 1× (each doubling, then the deblocking, as pifs_decode does);
+  // its middle steps quantise the residual a block row each, then code the transforms (only
+  // their size is needed, so off the path to the residual); the entropy coder, sequential,
+  // follows the rows one by one. All rounds are job lists on the same threads, so both
+  // threads stay busy however the units' costs differ.
+  const std::size_t count = probes.size(), units = count * plane_count;
   std::vector<PifsStreamSizes> sizes(units);
-  std::vector<PifsRaster> decoded(units);
+  std::vector<std::unique_ptr<PlaneDecodeSteps>> decoded(units);
   std::vector<std::unique_ptr<PifsResidualRows>> residuals(units);
   std::vector<std::size_t> block_rows(units, 0);
   if (o.residual)
     for (std::size_t u = 0; u < units; ++u)
       block_rows[u] = std::size_t(cands[u / count].height + kResidualBlock - 1) / kResidualBlock;
-  int rounds = 0;  // started: the search, then the rate control's
-  bool searching = false;
-  // Between rounds, on one thread: first the search; then the sizes of the round that ended
-  // narrow the bracket, which gives the next two values of λ.
+  int rounds = 0;  // started: the set-up, the search, then the rate control's
+  enum class Phase { SetUp, Search, Rate } phase = Phase::SetUp;
+  // Between rounds, on one thread: first the set-up, then the search; then the sizes of the
+  // round that ended narrow the bracket, which gives the next two values of λ.
   const auto next_round = [&](std::vector<std::size_t>& middles) {
-    if (rounds++ == 0) {
-      searching = true;
-      middles = pool_rows;
+    if (++rounds <= 2) {
+      phase = rounds == 1 ? Phase::SetUp : Phase::Search;
+      middles = rounds == 1 ? std::vector<std::size_t>{0} : pool_rows;
       return true;
     }
-    searching = false;
+    phase = Phase::Rate;
     if (target == 0) return false;
-    if (rounds > 2) {
+    if (rounds > 3) {
       for (std::size_t p = 0; p < count; ++p) {
         std::vector<PifsStreamSizes> stream_sizes(plane_count);
         for (std::size_t k = 0; k < plane_count; ++k) stream_sizes[k] = sizes[k * count + p];
@@ -195,20 +216,22 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
     for (std::size_t& m : middles) ++m;  // the transforms' code
     return true;
   };
-  // The search's share of the progress, then the rate control's rounds.
+  // The search's share of the progress (the set-up's is nil), then the rate control's rounds.
   ProgressCallback rounds_progress;
   if (progress)
     rounds_progress = [&](double rounds) {
-      return progress(rounds <= 1 ? 0.9 * rounds : std::min(0.99, 0.9 + 0.008 * (rounds - 1)));
+      const double r = std::max(0.0, rounds - 1);
+      return progress(r <= 1 ? 0.9 * r : std::min(0.99, 0.9 + 0.008 * (r - 1)));
     };
   staged_rounds(
       next_round, o.threads,
-      [&](std::size_t u) {
-        if (searching) {
+      [&](std::size_t u) -> std::vector<std::size_t> {
+        if (phase == Phase::SetUp) return {2 * plane_count, setup_parts, setup_parts, setup_parts};
+        if (phase == Phase::Search) {
           const std::size_t p = pool_order[u], k = p / levels;
           pools[p] = domain_pool(halves[k], cands[k].padded_width, cands[k].padded_height,
                                  code.min_log + int(p % levels), o.search.mode == PifsDomainSearch::Tree);
-          return;
+          return {};
         }
         const std::size_t k = u / count, p = u % count;
         const bool half = code.halved(k);
@@ -218,14 +241,18 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
         plane.height = cands[k].height;
         const double lambda = std::exp(probes[p].log_lambda);
         plane.leaves = partition_lagrangian(code, cands[k], lambda, half ? 4.0 : 1.0);
-        if (!o.residual) return;
-        decoded[u] = decode_plane(code, plane, 0, PifsDecoder::Hierarchical, 0, 1);
-        deblock(code, plane, 0, decoded[u], 1);
+        if (!o.residual) return {};
         const double step = std::sqrt(lambda / kResidualLambda) * (half ? 0.5 : 1.0);
         residuals[u] = std::make_unique<PifsResidualRows>(plane.width, plane.height, step);
+        decoded[u] = std::make_unique<PlaneDecodeSteps>(code, plane);
+        return decoded[u]->stages();
+      },
+      [&](std::size_t u, std::size_t stage, std::size_t part) {
+        if (phase == Phase::SetUp) setup_step(stage, part);
+        else decoded[u]->run(stage, part);
       },
       [&](std::size_t u, std::size_t row) {
-        if (searching) {
+        if (phase == Phase::Search) {
           const std::size_t k = pool_order[u] / levels;
           const PifsDomains& pool = pools[pool_order[u]];
           PifsPlaneCandidates& c = cands[k];
@@ -239,10 +266,10 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
           return;
         }
         // A step too coarse for any coefficient has no rows.
-        if (int(row) < residuals[u]->rows()) residuals[u]->quantise(int(row), padded[u / count], decoded[u]);
+        if (int(row) < residuals[u]->rows()) residuals[u]->quantise(int(row), padded[u / count], decoded[u]->raster());
       },
       [&](std::size_t u, std::size_t row) {
-        if (searching) {
+        if (phase == Phase::Search) {
           if (row + 1 == pool_rows[u]) pools[pool_order[u]] = PifsDomains();  // its rows are searched
           return;
         }
@@ -253,11 +280,11 @@ PifsCode encode_as(const Image& image, const PifsEncodeOptions& o, PifsColor col
         plane.residual = residuals[u]->finish(&sizes[u].residual);
         sizes[u].residual_step = plane.residual.step;
         residuals[u].reset();
-        decoded[u] = PifsRaster();
+        decoded[u].reset();
       },
       rounds_progress);
   if (target == 0) {
-    for (std::size_t k = 0; k < planes.size(); ++k) code.planes[k].leaves = partition_threshold(code, cands[k], o.quality);
+    for (std::size_t k = 0; k < plane_count; ++k) code.planes[k].leaves = partition_threshold(code, cands[k], o.quality);
     return code;
   }
   code.planes = std::move(best.planes);

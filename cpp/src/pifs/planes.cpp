@@ -1,6 +1,7 @@
 #include "ifsforge/pifs/planes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <vector>
@@ -11,14 +12,6 @@
 
 namespace ifsforge {
 namespace {
-
-PifsRaster make(int w, int h) {
-  PifsRaster p;
-  p.width = w;
-  p.height = h;
-  assign_large(p.values, std::size_t(w) * h, 0.f);  // huge pages, faulted in on every core
-  return p;
-}
 
 float level(float v) { return std::round(std::clamp(v, 0.f, 1.f) * 255.f); }
 
@@ -49,7 +42,28 @@ double mean_of_rows(std::size_t rows, double count, int threads, const std::func
 
 }  // namespace
 
-std::vector<PifsRaster> image_planes(const Image& image, PifsColor color, int threads, const ProgressCallback& progress) {
+PifsRaster plane_raster(int width, int height, float value) {
+  PifsRaster p;
+  p.width = width;
+  p.height = height;
+  assign_large(p.values, std::size_t(width) * height, value);  // huge pages, faulted in on every core
+  return p;
+}
+
+std::vector<std::array<int, 2>> plane_sizes(const Image& image, PifsColor color) {
+  const int w = image.width, h = image.height, c = image.channels;
+  const bool half = color == PifsColor::YCbCr420 && c >= 3;
+  std::vector<std::array<int, 2>> sizes;
+  for (int k = 0; k < c; ++k)
+    sizes.push_back(half && (k == 1 || k == 2) ? std::array<int, 2>{(w + 1) / 2, (h + 1) / 2} : std::array<int, 2>{w, h});
+  return sizes;
+}
+
+int conversion_rows(const Image& image, PifsColor color) {
+  return color == PifsColor::YCbCr420 && image.channels >= 3 ? (image.height + 1) / 2 : image.height;
+}
+
+void convert_rows(const Image& image, PifsColor color, std::vector<PifsRaster>& planes, int begin, int end) {
   const int w = image.width, h = image.height, c = image.channels;
   const bool ycc = color != PifsColor::Direct && c >= 3, half = ycc && color == PifsColor::YCbCr420;
   // The levels of pixel (x, y), converted to JPEG's full-range YCbCr (the seed's YUV, Step 1).
@@ -57,24 +71,20 @@ std::vector<PifsRaster> image_planes(const Image& image, PifsColor color, int th
     for (int k = 0; k < c; ++k) v[k] = level(image.at(x, y, k));
     if (ycc) to_ycc(v);
   };
-  std::vector<PifsRaster> planes;
-  for (int k = 0; k < c; ++k) planes.push_back(half && (k == 1 || k == 2) ? make((w + 1) / 2, (h + 1) / 2) : make(w, h));
-  // Each pixel on its own: rows are jobs (pairs of rows for 4:2:0), the same planes on any
-  // number of threads. Half-size chroma is averaged over 2×2 as it is converted (the seed's
-  // Step 2; odd edges average what exists), never held at full size.
-  const int rows = half ? (h + 1) / 2 : h;
-  parallel_jobs(std::size_t(rows), threads, [&](std::size_t row, int) {
-    float v[4];
+  // Each pixel on its own: any split of the rows gives the same planes. Half-size chroma is
+  // averaged over 2×2 as it is converted (the seed's Step 2; odd edges average what exists),
+  // never held at full size.
+  float v[4];
+  for (int y = begin; y < end; ++y) {
     if (!half) {
-      const int y = int(row);
       for (int x = 0; x < w; ++x) {
         pixel(x, y, v);
         for (int k = 0; k < c; ++k) planes[k].row(y)[x] = v[k];
       }
-      return;
+      continue;
     }
-    const int y = int(row), y1 = std::min(2 * y + 2, h);
-    for (int x = 0; x < planes[1].width; ++x) {
+    const int y1 = std::min(2 * y + 2, h);
+    for (int x = 0; x < (w + 1) / 2; ++x) {
       const int x1 = std::min(2 * x + 2, w);
       float cb = 0, cr = 0;
       for (int j = 2 * y; j < y1; ++j)
@@ -89,19 +99,17 @@ std::vector<PifsRaster> image_planes(const Image& image, PifsColor color, int th
       planes[1].row(y)[x] = cb / count;
       planes[2].row(y)[x] = cr / count;
     }
-  }, progress);
-  return planes;
+  }
 }
 
-PifsRaster pad_plane(const PifsRaster& p, int width, int height, int threads, const ProgressCallback& progress) {
-  PifsRaster out = make(width, height);
-  parallel_jobs(std::size_t(height), threads, [&](std::size_t row, int) {
-    const int y = int(row);
-    const float* src = p.row(std::min(y, p.height - 1));
-    float* dst = out.row(y);
-    for (int x = 0; x < width; ++x) dst[x] = src[std::min(x, p.width - 1)];
-  }, progress);
-  return out;
+void pad_rows(PifsRaster& padded, int width, int height, int begin, int end) {
+  // Row y < height keeps its first `width` samples, and a row below copies row height − 1's;
+  // only those are read, so the rows can be padded in any order, side by side.
+  for (int y = begin; y < end; ++y) {
+    const float* src = padded.row(std::min(y, height - 1));
+    float* dst = padded.row(y);
+    for (int x = y < height ? width : 0; x < padded.width; ++x) dst[x] = src[std::min(x, width - 1)];
+  }
 }
 
 int pass_threads(int threads, double pixels) {
@@ -129,7 +137,7 @@ Image planes_to_image(const std::vector<PifsRaster>& planes, int channels, PifsC
 double chroma_halving_error(const Image& image, int threads, const ProgressCallback& progress) {
   const int w = image.width, h = image.height;
   if (image.channels < 3) return 0;
-  // Each pair of rows on its own: the 2×2 cell's chroma averaged as image_planes does, every
+  // Each pair of rows on its own: the 2×2 cell's chroma averaged as convert_rows does, every
   // pixel rebuilt from its own Y and the cell's chroma.
   return mean_of_rows(std::size_t((h + 1) / 2), 3.0 * w * h, threads, [&](std::size_t row) {
     const int y0 = 2 * int(row), y1 = std::min(y0 + 2, h);
@@ -198,14 +206,14 @@ PifsRaster resample_area(const PifsRaster& p, int width, int height) {
     return w;
   };
   const auto wx = weights(p.width, width), wy = weights(p.height, height);
-  PifsRaster mid = make(width, p.height);
+  PifsRaster mid = plane_raster(width, p.height);
   for (int y = 0; y < p.height; ++y)
     for (int x = 0; x < width; ++x) {
       float s = 0;
       for (auto [k, w] : wx[x]) s += w * p.row(y)[k];
       mid.row(y)[x] = s;
     }
-  PifsRaster out = make(width, height);
+  PifsRaster out = plane_raster(width, height);
   for (int y = 0; y < height; ++y)
     for (auto [k, w] : wy[y]) {
       const float* src = mid.row(k);

@@ -57,6 +57,10 @@ struct PifsSearch {
 /// (x, y) is the r×r block at (x/2, y/2) of this raster.
 PifsRaster half_plane(const PifsRaster& padded, int threads = 1, const ProgressCallback& progress = nullptr);
 
+/// @brief Rows [begin, end) of half_plane(padded) written into `half` (padded.width / 2 ×
+/// padded.height / 2); rows may be made in any order, side by side.
+void half_rows(const PifsRaster& padded, PifsRaster& half, int begin, int end);
+
 /// @brief The domain pool of one plane for ranges of 2^log_size: each domain's energy
 /// Σ(d − mean_d)² (of its φ) and a tree of its canonical feature (with √energy, so the tree
 /// ranks by Eq. 29's error, |s| < 1 included), shared read-only by the threads that search it.

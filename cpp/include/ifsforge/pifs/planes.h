@@ -1,6 +1,7 @@
 #pragma once
 /// @file Image ↔ coded planes: 8-bit levels, the seed's Steps 1-2 for colour (YCbCr with the
 /// chroma averaged to half resolution), padding to whole top-level blocks, cropping and resampling.
+#include <array>
 #include <vector>
 
 #include "ifsforge/pifs/code.h"
@@ -9,17 +10,27 @@
 
 namespace ifsforge {
 
-/// @brief The planes of `image` (values rounded to 8-bit levels), unpadded: gray [+ alpha],
-/// Y Cb Cr [+ alpha] for YCbCr444, the same with chroma at half size (rounded up) for YCbCr420,
-/// else one plane per channel.
-/// Rows are jobs on `threads` threads (parallel_jobs, with `progress`): the encoder's first step
-/// is not left to one thread.
-std::vector<PifsRaster> image_planes(const Image& image, PifsColor color, int threads = 1,
-                                     const ProgressCallback& progress = nullptr);
+/// @brief A `width`×`height` raster of `value` in huge pages, faulted in.
+PifsRaster plane_raster(int width, int height, float value = 0.f);
 
-/// @brief `plane` extended to `width`×`height` by repeating its last column and row (rows as jobs).
-PifsRaster pad_plane(const PifsRaster& plane, int width, int height, int threads = 1,
-                     const ProgressCallback& progress = nullptr);
+/// @brief The width and height of each plane the encoder codes `image` as (unpadded): gray
+/// [+ alpha], Y Cb Cr [+ alpha] for YCbCr444, the same with chroma at half size (rounded up) for
+/// YCbCr420, else one plane per channel.
+std::vector<std::array<int, 2>> plane_sizes(const Image& image, PifsColor color);
+
+/// @brief The conversion's jobs: the image's rows, pairs of rows for YCbCr420.
+int conversion_rows(const Image& image, PifsColor color);
+
+/// @brief The planes' samples (values rounded to 8-bit levels) of jobs [begin, end) of
+/// conversion_rows, written into `planes`: rasters at least plane_sizes large (a larger, padded
+/// one keeps its other samples). Any split of the jobs gives the same planes (the encoder
+/// converts on its rounds' threads).
+void convert_rows(const Image& image, PifsColor color, std::vector<PifsRaster>& planes, int begin, int end);
+
+/// @brief Rows [begin, end) of `padded`, whose top-left `width`×`height` samples are a plane,
+/// filled past the plane by repeating its last column and row. Rows may be padded in any order,
+/// side by side.
+void pad_rows(PifsRaster& padded, int width, int height, int begin, int end);
 
 /// @brief Threads for one pass over `pixels` pixels: one per whole 2^20, at least one and at most
 /// `threads`. A thread shares a pass only when it gets 2^20 pixels of it: with less, waiting for
