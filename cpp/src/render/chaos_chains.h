@@ -5,7 +5,8 @@
 /// general path's operations in its order (no fused multiply-add), and projects the point the
 /// way that path does, so every point, and the image, is that path's bit for bit whatever the
 /// instruction set. One kernel per instruction set, each in its own translation unit
-/// (chaos_chains_avx2.cpp, chaos_chains_baseline.cpp); like chaos_lanes.h this header holds
+/// (chaos_chains_avx512.cpp and chaos_chains_avx2.cpp, one source for both widths:
+/// chaos_chains_kernel.h; chaos_chains_baseline.cpp); like chaos_lanes.h this header holds
 /// plain data only, so nothing of ours is compiled for a wider set than the one that runs it.
 /// The lanes also quantise each point's channels as Accumulator::quantised does and round its
 /// depth to float as Accumulator::add_depth does (the same operations: the same integers and
@@ -16,8 +17,8 @@
 namespace ifsforge::chains {
 
 constexpr int kMaxDim = 8;     ///< the general path's largest dimension
-constexpr int kWidth = 4;      ///< doubles per AVX2 register
-constexpr int kMaxChains = 8;  ///< jobs in flight: two registers, to hide the map's latency
+constexpr int kWidth = 4;      ///< doubles per AVX2 register (Plan's tables: rows of four)
+constexpr int kMaxChains = 8;  ///< jobs in flight: two AVX2 registers, to hide the map's latency; one AVX-512 one
 /// Points per batch; a buffer holds kMaxChains more (a step's stores run past). Two buffers
 /// alternate: a batch goes to the sink once the next one is full, so its counters, asked for
 /// as each point was made, have arrived (a large image's counters miss the caches).
@@ -137,5 +138,6 @@ using Kernel = void (*)(const Maps&, const Job&);
 
 void run_baseline(const Maps&, const Job&);
 void run_avx2(const Maps&, const Job&);
+void run_avx512(const Maps&, const Job&);
 
 }  // namespace ifsforge::chains

@@ -14,7 +14,10 @@ bool enabled() {
   return !(chains && std::strcmp(chains, "0") == 0);
 }
 
-Kernel kernel() { return std::strcmp(lanes::lane_isa(), "avx2") == 0 ? run_avx2 : run_baseline; }
+Kernel kernel() {
+  const char* isa = lanes::lane_isa();
+  return std::strcmp(isa, "avx512") == 0 ? run_avx512 : std::strcmp(isa, "avx2") == 0 ? run_avx2 : run_baseline;
+}
 
 std::uint64_t jobs_per_task(std::uint64_t jobs, int threads) {
   const std::uint64_t share = (jobs + threads - 1) / threads;

@@ -1,5 +1,5 @@
 // Which lane kernel runs: chosen per render from the CPU (and IFSFORGE_ISA), so one binary built
-// for any x86-64 still takes the wide kernel where the CPU has it; and whether large images are
+// for any x86-64 still takes the widest kernel the CPU has; and whether large images are
 // counted through tiles, and whether the general path counts into narrow counters.
 #include <cstdlib>
 #include <cstring>
@@ -19,17 +19,32 @@ bool cpu_has_avx2() {
 #endif
 }
 
+/// The chain lanes' AVX-512 kernel (chaos_chains_avx512.cpp) needs AVX-512 F and VL.
+bool cpu_has_avx512() {
+#if defined(__x86_64__) || defined(__i386__)
+  static const bool has = cpu_has_avx2() && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+  return has;
+#else
+  return false;
+#endif
+}
+
 }  // namespace
 
 const char* lane_isa() {
   const char* forced = std::getenv("IFSFORGE_ISA");
   if (forced && *forced) {
     if (std::strcmp(forced, "baseline") == 0) return "baseline";
-    if (std::strcmp(forced, "avx2") != 0) throw InputError("IFSFORGE_ISA must be baseline or avx2, not " + std::string(forced));
+    if (std::strcmp(forced, "avx512") == 0) {
+      if (!cpu_has_avx512()) throw InputError("IFSFORGE_ISA=avx512, but this CPU lacks AVX-512 F and VL");
+      return "avx512";
+    }
+    if (std::strcmp(forced, "avx2") != 0)
+      throw InputError("IFSFORGE_ISA must be baseline, avx2 or avx512, not " + std::string(forced));
     if (!cpu_has_avx2()) throw InputError("IFSFORGE_ISA=avx2, but this CPU lacks AVX2 or FMA");
     return "avx2";
   }
-  return cpu_has_avx2() ? "avx2" : "baseline";
+  return cpu_has_avx512() ? "avx512" : cpu_has_avx2() ? "avx2" : "baseline";
 }
 
 bool lane_tiles() {
@@ -43,7 +58,8 @@ bool narrow_counters() {
 }
 
 Kernel lane_kernel(int n) {
-  const bool wide = std::strcmp(lane_isa(), "avx2") == 0;
+  // The float lanes have no AVX-512 kernel: where the chain lanes take theirs, these take AVX2.
+  const bool wide = std::strcmp(lane_isa(), "baseline") != 0;
   if (n == 2) return wide ? run_avx2_2 : run_baseline2;
   return wide ? run_avx2_3 : run_baseline3;
 }

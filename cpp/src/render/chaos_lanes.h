@@ -56,11 +56,12 @@ void run_avx2_2(const Maps&, const Job&);
 void run_avx2_3(const Maps&, const Job&);
 
 /// The kernel for dimension `n` (2 or 3) on this CPU: AVX2 + FMA where the CPU has them, else
-/// the baseline one. IFSFORGE_ISA=baseline (or avx2, where supported) forces one; it is read at
-/// each call, so a test can render with both in one process.
+/// the baseline one. IFSFORGE_ISA=baseline (or avx2 or avx512, where supported) forces one; it is
+/// read at each call, so a test can render with each in one process.
 Kernel lane_kernel(int n);
 
-/// The instruction set lane_kernel picks now: "avx2" or "baseline".
+/// The instruction set the kernels take now: "avx512" (the chain lanes' AVX-512 kernel, the float
+/// lanes' AVX2 one), "avx2" or "baseline".
 const char* lane_isa();
 
 /// Whether a large 2D image is counted through tiles (chaos_tiles.h): yes unless
