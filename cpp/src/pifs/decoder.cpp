@@ -15,7 +15,7 @@
 namespace ifsforge {
 namespace {
 
-constexpr std::size_t kJobs = 64;  // leaf chunks: fixed, so the output never depends on threads
+constexpr std::size_t kLeafChunks = 64;  // leaf chunks: fixed, so the output never depends on threads
 
 int scaled(int v, int log_scale) { return log_scale >= 0 ? v << log_scale : v >> -log_scale; }
 
@@ -34,8 +34,8 @@ void apply(const PifsCode& code, const PifsPlane& plane, int l, const PifsRaster
            PifsRaster& dst, int threads) {
   const std::size_t count = plane.leaves.size();
   threads = pass_threads(threads, double(dst.width) * dst.height);
-  parallel_jobs(kJobs, threads, [&](std::size_t job, int) {
-    const std::size_t begin = count * job / kJobs, end = count * (job + 1) / kJobs;
+  parallel_jobs(kLeafChunks, threads, [&](std::size_t job, int) {
+    const std::size_t begin = count * job / kLeafChunks, end = count * (job + 1) / kLeafChunks;
     for (std::size_t k = begin; k < end; ++k) {
       const PifsLeaf& leaf = plane.leaves[k];
       const int n = scaled(1 << leaf.log_size, l);
