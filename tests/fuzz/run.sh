@@ -19,7 +19,9 @@ rm -rf "$seeds" && mkdir -p "$seeds"/{ifs_json,fractint,recipes,mesh,png,vdb_inf
 cp "$here"/samples/systems/*.json "$seeds/ifs_json/"
 cp "$here"/samples/systems/*.ifs "$seeds/fractint/"
 cp "$here"/samples/terrain/*.json "$seeds/recipes/"
-find "$here/samples" -name '*.png' -size -1M -exec cp {} "$seeds/png/" \;
+# PNG seeds under 1 MiB: `-size -1M` would match only empty files (find rounds sizes up to whole
+# units), and without a seed the PNG target does not get past the header checks in its runs.
+find "$here/samples" -name '*.png' -size -1024k -exec cp {} "$seeds/png/" \;
 python3 - "$seeds" <<'PY'
 import sys
 seeds = sys.argv[1]

@@ -15,15 +15,15 @@
 namespace ifsforge {
 namespace {
 
-constexpr std::size_t kJobs = 64;  // leaf chunks: fixed, so the output never depends on threads
+constexpr std::size_t kLeafChunks = 64;  // leaf chunks: fixed, so the output never depends on threads
 
-/// One application of the PIFS operator writing `dst` at scale 2^l, its leaves in kJobs chunks.
+/// One application of the PIFS operator writing `dst` at scale 2^l, its leaves in kLeafChunks chunks.
 void apply(const PifsCode& code, const PifsPlane& plane, int l, const PifsRaster& src, bool from_half,
            PifsRaster& dst, int threads) {
   const std::size_t count = plane.leaves.size();
   threads = pass_threads(threads, double(dst.width) * dst.height);
-  parallel_jobs(kJobs, threads, [&](std::size_t job, int) {
-    apply_leaves(code, plane, l, src, from_half, dst, count * job / kJobs, count * (job + 1) / kJobs);
+  parallel_jobs(kLeafChunks, threads, [&](std::size_t job, int) {
+    apply_leaves(code, plane, l, src, from_half, dst, count * job / kLeafChunks, count * (job + 1) / kLeafChunks);
   });
 }
 

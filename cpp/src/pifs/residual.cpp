@@ -59,7 +59,7 @@ const std::vector<double>& basis() {
 int blocks_along(int size) { return (size + kN - 1) / kN; }
 
 /// Context models shared by encoder and decoder (they visit blocks and coefficients alike).
-struct Models {
+struct ResidualModels {
   BitModel coded[3];                 ///< block has a nonzero coefficient; context: coded neighbours
   BitModel significant[kBands][3];   ///< context: band, nonzero same coefficient left and above
   BitModel last[kBands];             ///< no nonzero coefficient after this one
@@ -101,10 +101,10 @@ template <class Sink>
 class BlockRowCoder {
  public:
   BlockRowCoder(const std::vector<std::int16_t>& coefficients, int bx, int by)
-      : walk_{bx, by, coefficients}, models_(std::make_unique<Models>()) {}
+      : walk_{bx, by, coefficients}, models_(std::make_unique<ResidualModels>()) {}
   void row(int y) {
     const Tables& t = tables();
-    Models& m = *models_;
+    ResidualModels& m = *models_;
     const int bx = walk_.bx;
     for (int x = 0; x < bx; ++x) walk_.remember(y * bx + x);
     auto level = [&](int band, int v) {
@@ -136,7 +136,7 @@ class BlockRowCoder {
 
  private:
   BlockWalk walk_;
-  std::unique_ptr<Models> models_;
+  std::unique_ptr<ResidualModels> models_;
   Sink rc_;
 };
 
@@ -257,7 +257,7 @@ PifsResidual decode_residual(int step, int width, int height, const std::uint8_t
   const Tables& t = tables();
   const int bx = blocks_along(width), by = blocks_along(height);
   r.coefficients.assign(std::size_t(bx) * by * kCoefficients, 0);
-  auto m = std::make_unique<Models>();
+  auto m = std::make_unique<ResidualModels>();
   RangeDecoder rc(data, size, where);
   BlockWalk walk{bx, by, r.coefficients};
   auto level = [&](int band) {

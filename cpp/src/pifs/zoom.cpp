@@ -11,7 +11,7 @@
 namespace ifsforge {
 namespace {
 
-constexpr std::size_t kJobs = 64;  // row chunks: fixed, so the output never depends on threads
+constexpr std::size_t kRowChunks = 64;  // row chunks: fixed, so the output never depends on threads
 constexpr double kKeysA = -0.5;    // Keys' cubic convolution parameter (the usual "bicubic")
 
 double keys(double x) {
@@ -50,8 +50,8 @@ PifsRaster upscale_bicubic(const PifsRaster& r, int log_factor, int threads) {
   auto clamp = [](int i, int n) { return std::clamp(i, 0, n - 1); };
   threads = pass_threads(threads, double(out.width) * out.height);
   // Rows across, then columns down; every output pixel is the same sum whichever job computes it.
-  parallel_jobs(kJobs, threads, [&](std::size_t job, int) {
-    for (int y = int(r.height * job / kJobs); y < int(r.height * (job + 1) / kJobs); ++y) {
+  parallel_jobs(kRowChunks, threads, [&](std::size_t job, int) {
+    for (int y = int(r.height * job / kRowChunks); y < int(r.height * (job + 1) / kRowChunks); ++y) {
       const float* src = r.row(y);
       float* dst = mid.row(y);
       for (int i = 0; i < r.width; ++i)
@@ -62,8 +62,8 @@ PifsRaster upscale_bicubic(const PifsRaster& r, int log_factor, int threads) {
         }
     }
   });
-  parallel_jobs(kJobs, threads, [&](std::size_t job, int) {
-    for (int y = int(out.height * job / kJobs); y < int(out.height * (job + 1) / kJobs); ++y) {
+  parallel_jobs(kRowChunks, threads, [&](std::size_t job, int) {
+    for (int y = int(out.height * job / kRowChunks); y < int(out.height * (job + 1) / kRowChunks); ++y) {
       const Phase& q = ph[y % f];
       std::array<const float*, 4> rows;
       for (int k = 0; k < 4; ++k) rows[k] = mid.row(clamp(y / f + q.first + k, r.height));

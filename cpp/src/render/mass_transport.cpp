@@ -14,9 +14,7 @@
 #include "mass_transport_cells.h"
 
 namespace ifsforge {
-
-using namespace mass_transport_detail;
-
+namespace mass_transport_detail {
 namespace {
 
 /// The mass centroid within the pixel and the channel means of each cell of `image`.
@@ -151,6 +149,7 @@ Settled settle(std::vector<Landing>& landings, const Cells& at, const MassImage&
 }
 
 }  // namespace
+}  // namespace mass_transport_detail
 
 RendererParameter spread_parameter() {
   return {"spread", "", "box: each pixel's mass shared among the cells its image overlaps (an accurate measure); "
@@ -167,6 +166,7 @@ bool spread_mass(const std::string& value, bool binary) {
 
 TransportResult transport_mass(const Ifs& ifs, const PixelSpace& space, const TransportPlan& plan,
                                const RenderOptions& options) {
+  using namespace mass_transport_detail;  // in the function: a unity build's next file does not see it
   const int C = plan.components, ch = space.channels;
   const std::size_t pixels = space.pixels(), maps = space.maps.size();
   const Cells at{C, ch, plan.spread, !plan.spread && ch == 0, pixels};

@@ -16,8 +16,6 @@
 namespace ifsforge {
 namespace {
 
-using namespace prr_volume;
-
 /// The leaves of `depth` more levels below a node, relative to the node: the images of
 /// `start` under every address of that length, with their masses. Plotting M(s) for each s
 /// is the same as walking those levels below a node with composed map M, without composing.
@@ -93,7 +91,7 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
   // walk's depth is capped where the least contractive branch shrinks B below kFinest voxels
   // (Eq. 59's N^L >= cells when some map does not contract).
   Cloud cloud;
-  SubTree tree;
+  prr_volume::SubTree tree;
   int cloud_levels = 0, tree_levels = 0;
   double handover = 0.0;  // pieces up to this many voxels go to the sub-tree
   if (fixed) {
@@ -102,10 +100,10 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
     cloud = suffix_cloud(ifs, center, cloud_levels);
   } else {
     const int eq59 = n < 2 ? 1 : static_cast<int>(std::ceil(std::log(grid.cells()) / log_n));
-    plan.max_depth = depth_for_size(ifs, plan, grid.voxel_size * kFinest, 1, eq59);
+    plan.max_depth = depth_for_size(ifs, plan, grid.voxel_size * prr_volume::kFinest, 1, eq59);
     tree_levels = std::max(1, static_cast<int>(std::log(1024.0) / log_n));  // about a thousand nodes
-    if (shrink > 0.0 && shrink < 1.0) handover = kFinest * std::pow(1.0 / shrink, tree_levels);
-    tree = build_subtree(ifs, plan, setup.extremes, center, tree_levels);
+    if (shrink > 0.0 && shrink < 1.0) handover = prr_volume::kFinest * std::pow(1.0 / shrink, tree_levels);
+    tree = prr_volume::build_subtree(ifs, plan, setup.extremes, center, tree_levels);
   }
 
   // Jobs: address prefixes whose pieces of the attractor span at most ~16 voxels, so that
@@ -189,8 +187,8 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
         std::uint64_t plotted = 0;
         int depth = 0;
         Point q;
-        std::unique_ptr<Expander> expander;
-        if (!fixed) expander = make_expander(dim, spatial, tree, grid, acc, n, options.density == VolumeDensity::Measure);
+        std::unique_ptr<prr_volume::Expander> expander;
+        if (!fixed) expander = prr_volume::make_expander(dim, spatial, tree, grid, acc, n, options.density == VolumeDensity::Measure);
 
         auto stop = [&](const RecursionNode& node) {
           double l[3], h[3];
@@ -201,7 +199,7 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
           // systems have no handover: a map that stretches leaves no size the sub-tree is
           // sure to resolve, yet most pieces shrink).
           const double extent = std::max({h[0] - l[0], h[1] - l[1], h[2] - l[2]});
-          return extent <= std::max(handover, kFinest) || (extent < kCheckBelow && acc.occupied(l, h));
+          return extent <= std::max(handover, prr_volume::kFinest) || (extent < prr_volume::kCheckBelow && acc.occupied(l, h));
         };
         walk_job(ifs, plan, job, stop, [&](const RecursionNode& node) {
           if (!fixed) {
