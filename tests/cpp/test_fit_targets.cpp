@@ -156,6 +156,22 @@ TEST(Fit3d, RecoversATetrahedronAndIsIndependentOfThreads) {
   for (const double s : one.system.contraction_factors()) EXPECT_LE(s, 0.9 + 1e-9);
 }
 
+// The last search starts from corners that, snapped onto the voxel lattice, already draw the
+// target exactly: no search ends better, so none runs; a start a few voxels off still searches.
+TEST(Fit3d, AStartThatSnapsOntoTheTargetNeedsNoSearch) {
+  const VoxelSet t = tetrahedron_voxels(5);
+  Fit3dOptions o;
+  o.refine_raster = 32;
+  o.final_generations = 50;
+  for (const AffineMap& m : test_systems::tetrahedron().maps())
+    o.start.push_back(AffineMap(3, m.matrix(), {m.offset()[0] + 0.3 / 32, m.offset()[1], m.offset()[2] - 0.2 / 32}));
+  const FitResult exact = fit_3d(t, o);
+  EXPECT_EQ(exact.iou, 1.0);
+  EXPECT_EQ(exact.evaluations, 0u);
+  for (AffineMap& m : o.start) m = AffineMap(3, m.matrix(), {m.offset()[0] + 3.0 / 32, m.offset()[1], m.offset()[2]});
+  EXPECT_GT(fit_3d(t, o).evaluations, 0u);
+}
+
 TEST(Fit3d, RefusesAnEmptyTarget) {
   VoxelSet t = tetrahedron_voxels(3);
   std::fill(t.cells.begin(), t.cells.end(), 0);

@@ -261,16 +261,23 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     best_value = value(to_corners(final_maps, 2), 0);
   }
   if (o.final_generations > 0 && !stop()) {
-    CmaOptions co = fit_cma_options(n, o.final_generations, o.seed * 7919 + 1999, threads);
-    co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
-    // Half a pixel per corner coordinate: the peak is that narrow.
-    const CmaResult run = minimize_cma(value, to_corners(final_maps, 2), std::vector<double>(n, 0.5 / fine.pixels_per_unit), co, stop);
-    result.evaluations += run.evaluations;
-    final_maps = from_corners(run.best, 2, o.max_contraction, nullptr);
-    best_value = run.value;
     // Corners on the pixel lattice when the IoU allows (snap_corners): the plane's pixel
     // corners lie at (i, ymax - j) / pixels_per_unit.
-    const auto snapped = snap_corners(to_corners(final_maps, 2), 2, {0.0, fine.ymax, 0.0}, 1.0 / fine.pixels_per_unit);
+    const auto lattice = [&](const std::vector<double>& y) {
+      return snap_corners(y, 2, {0.0, fine.ymax, 0.0}, 1.0 / fine.pixels_per_unit);
+    };
+    // A start whose snapped corners draw the target exactly needs no search: none ends better.
+    if (value(lattice(to_corners(final_maps, 2)), 0) > 0) {
+      CmaOptions co = fit_cma_options(n, o.final_generations, o.seed * 7919 + 1999, threads);
+      co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
+      // Half a pixel per corner coordinate: the peak is that narrow.
+      const CmaResult run =
+          minimize_cma(value, to_corners(final_maps, 2), std::vector<double>(n, 0.5 / fine.pixels_per_unit), co, stop);
+      result.evaluations += run.evaluations;
+      final_maps = from_corners(run.best, 2, o.max_contraction, nullptr);
+      best_value = run.value;
+    }
+    const auto snapped = lattice(to_corners(final_maps, 2));
     const double snapped_value = value(snapped, 0);
     if (snapped_value <= best_value + kSnapTolerance) {
       final_maps = from_corners(snapped, 2, o.max_contraction, nullptr);

@@ -142,7 +142,9 @@ FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
                               scratch[worker]) + kExcessPenalty * excess;
   };
   best_value = fine_value(to_corners(final_maps, 3), 0);
-  if (o.final_generations > 0 && !stop()) {
+  auto lattice = [&](const std::vector<double>& y) { return snap_corners(y, 3, fine.grid.origin, fine.grid.voxel_size); };
+  // A start whose snapped corners draw the target exactly needs no search: none ends better.
+  if (o.final_generations > 0 && !stop() && fine_value(lattice(to_corners(final_maps, 3)), 0) > 0) {
     CmaOptions co = fit_cma_options(o.maps * 12, o.final_generations, o.seed * 7919 + 1999, threads);
     co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
     const CmaResult run = minimize_cma(fine_value, to_corners(final_maps, 3),
@@ -152,7 +154,7 @@ FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
     best_value = run.value;
   }
   // Corners on the voxel lattice when the IoU allows (snap_corners).
-  const std::vector<double> snapped = snap_corners(to_corners(final_maps, 3), 3, fine.grid.origin, fine.grid.voxel_size);
+  const std::vector<double> snapped = lattice(to_corners(final_maps, 3));
   const double snapped_value = fine_value(snapped, 0);
   if (snapped_value <= best_value + kSnapTolerance) {
     final_maps = from_corners(snapped, 3, o.max_contraction, nullptr);
