@@ -5,14 +5,12 @@
 #include <string>
 #include <utility>
 
-#include "ifsforge/io/ifs_json.h"
 #include "ifsforge/render/renderer.h"
+#include "sample_systems.h"
 
 namespace ifsforge::algorithms_test {
 
-inline Ifs sample(const std::string& name) {
-  return read_ifs_json(std::string(IFSFORGE_SOURCE_DIR) + "/samples/systems/" + name + ".json");
-}
+using sample_systems::sample;
 
 /// Options on the sample's own window (so every renderer uses the same frame).
 inline RenderOptions on_window(const Ifs& ifs, int size, std::map<std::string, std::string> parameters = {}) {

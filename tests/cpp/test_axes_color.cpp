@@ -24,7 +24,7 @@ using namespace ifsforge;
 
 namespace {
 
-std::string temp(const std::string& name) { return ::testing::TempDir() + "ifsforge_axes_" + name; }
+std::string axes_temp_path(const std::string& name) { return ::testing::TempDir() + "ifsforge_axes_" + name; }
 
 /// A tetrahedron with its apex at (1, 2, 3) straight above (1, 2, 0): z is its up.
 TriangleMesh steeple() {
@@ -88,7 +88,7 @@ TEST(Axes, FormatsHaveTheirReadersUpAxis) {
 TEST(Axes, GlbIsYUpWithLinearColorsByDefaultAndZUpOnRequest) {
   const TriangleMesh m = steeple();
   for (const Up up : {Up::y, Up::z}) {
-    const std::string path = temp(std::string("steeple_") + name_of(up) + ".glb");
+    const std::string path = axes_temp_path(std::string("steeple_") + name_of(up) + ".glb");
     MeshWriteOptions options;
     if (up == Up::z) options.up = Up::z;
     write_mesh(path, m, options);
@@ -120,7 +120,7 @@ TEST(Axes, ObjIsYUpAndPlyZUpWithDisplayColors) {
   const TriangleMesh m = steeple();
   for (const char* ext : {"obj", "ply"}) {
     for (const std::optional<Up> up : {std::optional<Up>{}, std::optional<Up>{Up::y}, std::optional<Up>{Up::z}}) {
-      const std::string path = temp(std::string("steeple.") + ext);
+      const std::string path = axes_temp_path(std::string("steeple.") + ext);
       MeshWriteOptions options;
       options.up = up;
       write_mesh(path, m, options);
@@ -159,7 +159,7 @@ TEST(Axes, GltfInstancesPlaceEachFrameInEitherAxes) {
   for (const Up up : {Up::y, Up::z}) {
     GltfInstanceOptions g;
     g.up = up;
-    const std::string path = temp(std::string("instances_") + name_of(up) + ".glb");
+    const std::string path = axes_temp_path(std::string("instances_") + name_of(up) + ".glb");
     write_gltf_instances(path, list, g);
     const tinygltf::Model model = load_glb(path);
     ASSERT_EQ(model.nodes.size(), 1 + list.size());

@@ -22,14 +22,12 @@
 #include "ifsforge/render/piece_work.h"
 #include "ifsforge/render/renderer.h"
 #include "ifsforge/volume/volume_renderer.h"
+#include "sample_systems.h"
 
 using namespace ifsforge;
+using ifsforge::sample_systems::sample;
 
 namespace {
-
-Ifs sample(const std::string& name) {
-  return read_ifs_json(std::string(IFSFORGE_SOURCE_DIR) + "/samples/systems/" + name + ".json");
-}
 
 /// Three half-size Sierpinski maps and one that expands by 1.25 about the triangle's middle
 /// (p = 0.1): sum p log s = 0.9 log 0.5 + 0.1 log 1.25 < 0 (Eq. 14), so average-contractive.
@@ -57,7 +55,7 @@ std::vector<bool> mask(const Raster& r) {
   return m;
 }
 
-double iou(const std::vector<bool>& a, const std::vector<bool>& b) {
+double mask_iou(const std::vector<bool>& a, const std::vector<bool>& b) {
   std::size_t both = 0, either = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {
     both += a[i] && b[i];
@@ -84,12 +82,12 @@ void expect_names_the_alternatives(const std::string& message, const std::string
   }
 }
 
-struct Case {
+struct SystemCase {
   Ifs ifs;
   std::optional<Window> window;
 };
 
-std::vector<Case> four_systems() {
+std::vector<SystemCase> four_systems() {
   return {{sample("recurrent_squares"), Window{0, 0, 1, 1}},
           {sample("polar_spirals"), std::nullopt},
           {average_contractive(), std::nullopt},
@@ -180,7 +178,7 @@ TEST(Capabilities, EveryRandomPathCoversTheRecurrentSquaresLikeChaos) {
 TEST(Capabilities, EveryRendererRefusesByNameOrMatchesChaos) {
   auto picture = std::make_shared<Image>(16, 16, 3);
   for (std::size_t i = 0; i < picture->pixels.size(); ++i) picture->pixels[i] = 0.2f + 0.6f * ((i * 7919) % 13) / 13.0f;
-  for (const Case& c : four_systems()) {
+  for (const SystemCase& c : four_systems()) {
     RenderOptions o;
     o.width = o.height = 64;
     o.binary = true;
@@ -202,7 +200,7 @@ TEST(Capabilities, EveryRendererRefusesByNameOrMatchesChaos) {
       try {
         const Raster raster = r->render(c.ifs, o);
         EXPECT_TRUE(declared);
-        EXPECT_GE(std::max(iou(mask(raster), reference), iou(mask(raster), converged)), 0.9);
+        EXPECT_GE(std::max(mask_iou(mask(raster), reference), mask_iou(mask(raster), converged)), 0.9);
       } catch (const InputError& e) {
         if (declared) continue;  // a refusal of its own (AFRA: rotation), not a capability
         expect_names_the_alternatives(e.what(), r->name(), c.ifs, renderer_capabilities());

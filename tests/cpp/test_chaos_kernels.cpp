@@ -13,13 +13,12 @@
 #include "ifsforge/core/error.h"
 #include "ifsforge/io/ifs_json.h"
 #include "ifsforge/render/renderer.h"
+#include "sample_systems.h"
 
 namespace ifsforge {
 namespace {
 
-Ifs sample(const std::string& name) {
-  return read_ifs_json(std::string(IFSFORGE_SOURCE_DIR) + "/samples/systems/" + name + ".json");
-}
+using sample_systems::sample;
 
 Raster render_with(const char* isa, const Ifs& ifs, RenderOptions o, int threads) {
   setenv("IFSFORGE_ISA", isa, 1);

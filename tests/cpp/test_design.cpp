@@ -13,7 +13,7 @@ using namespace ifsforge;
 
 namespace {
 
-Ifs sierpinski(std::vector<double> p = {1, 1, 1}) {
+Ifs weighted_sierpinski(std::vector<double> p = {1, 1, 1}) {
   std::vector<AffineMap> maps;
   for (auto [x, y] : {std::pair{0.0, 0.0}, {0.5, 0.0}, {0.25, 0.5}})
     maps.emplace_back(2, std::vector<double>{0.5, 0, 0, 0.5}, std::vector<double>{x, y});
@@ -60,7 +60,7 @@ TEST(PreviewCloud, EveryPointLiesInThePieceOfItsLastMap) {
   // triangles, inside the boxes [0, .5]x[0, .5], [.5, 1]x[0, .5], [.25, .75]x[.5, 1].
   PreviewOptions o;
   o.count = 150000;
-  const PreviewCloud cloud = preview_cloud(sierpinski(), o);
+  const PreviewCloud cloud = preview_cloud(weighted_sierpinski(), o);
   ASSERT_EQ(cloud.positions.size(), o.count * 3);
   const double lo[3][2] = {{0, 0}, {0.5, 0}, {0.25, 0.5}};
   for (std::size_t k = 0; k < cloud.count; ++k) {
@@ -85,7 +85,7 @@ TEST(PreviewCloud, PieceFrequenciesFollowTheProbabilities) {
   PreviewOptions o;
   o.count = 200000;
   const std::vector<double> p = {0.6, 0.3, 0.1};
-  const PreviewCloud cloud = preview_cloud(sierpinski(p), o);
+  const PreviewCloud cloud = preview_cloud(weighted_sierpinski(p), o);
   std::vector<double> hits(3, 0.0);
   for (auto i : cloud.pieces) hits[i] += 1;
   for (int i = 0; i < 3; ++i) {
@@ -151,7 +151,7 @@ TEST(PreviewCloud, PieceColorsAndHighlight) {
 TEST(PreviewCloud, CollageFramesAreTheBoxAndItsImages) {
   PreviewOptions o;
   o.count = 100000;
-  const Ifs s = sierpinski();
+  const Ifs s = weighted_sierpinski();
   const PreviewCloud cloud = preview_cloud(s, o);
   // A rectangle has 4 edges of 2 end points: the box, then one frame per map.
   ASSERT_EQ(cloud.frame_pieces.size(), 4u * 2 * (s.size() + 1));
@@ -184,15 +184,15 @@ TEST(PreviewCloud, RefusesWhatItCannotShow) {
   EXPECT_THROW(preview_cloud(divergent), DivergentSystemError);
   PreviewOptions o;
   o.coloring = PreviewColoring::Channels;
-  EXPECT_THROW(preview_cloud(sierpinski(), o), InputError);  // xy has no colour
+  EXPECT_THROW(preview_cloud(weighted_sierpinski(), o), InputError);  // xy has no colour
   o.coloring = PreviewColoring::Auto;
   o.count = 0;
-  EXPECT_THROW(preview_cloud(sierpinski(), o), InputError);
+  EXPECT_THROW(preview_cloud(weighted_sierpinski(), o), InputError);
   EXPECT_THROW(parse_name<PreviewColoring>("rainbow"), InputError);
 }
 
 TEST(Morph, EndPointsAreTheSystems) {
-  const Ifs a = sierpinski({0.5, 0.25, 0.25});
+  const Ifs a = weighted_sierpinski({0.5, 0.25, 0.25});
   const Ifs b("b", ChannelLayout("xy"), {from_params(0.6, 20, false, 1), from_params(0.3, -40, true, -1)}, {0.7, 0.3});
   const Ifs at0 = morph(a, b, 0.0), at1 = morph(a, b, 1.0);
   ASSERT_EQ(at0.size(), 3u);
@@ -255,7 +255,7 @@ TEST(Morph, IsContinuousInT) {
 }
 
 TEST(Morph, PaddingKeepsTheAttractor) {
-  const Ifs s = sierpinski({0.5, 0.25, 0.25});
+  const Ifs s = weighted_sierpinski({0.5, 0.25, 0.25});
   const Ifs padded = pad_maps(s, 5);
   ASSERT_EQ(padded.size(), 5u);
   EXPECT_NEAR(padded.probabilities()[2] + padded.probabilities()[3] + padded.probabilities()[4], 0.25, 1e-15);
@@ -268,7 +268,7 @@ TEST(Morph, PaddingKeepsTheAttractor) {
 }
 
 TEST(Morph, RefusesMismatches) {
-  const Ifs s = sierpinski();
+  const Ifs s = weighted_sierpinski();
   std::vector<AffineMap> maps = {AffineMap(3, {0.5, 0, 0, 0, 0.5, 0, 0, 0, 0.5}, {0, 0, 0})};
   const Ifs cube("cube", ChannelLayout("xyz"), maps);
   EXPECT_THROW(morph(s, cube, 0.5), InputError);

@@ -18,7 +18,7 @@ namespace ifsforge {
 namespace {
 
 /// The Sierpinski triangle, drawn on the unit square (render.window).
-Ifs sierpinski() {
+Ifs framed_sierpinski() {
   Ifs ifs("sierpinski", ChannelLayout("xy"),
           {AffineMap(2, {0.5, 0, 0, 0.5}, {0, 0}), AffineMap(2, {0.5, 0, 0, 0.5}, {0.5, 0}),
            AffineMap(2, {0.5, 0, 0, 0.5}, {0.25, 0.5})});
@@ -33,7 +33,7 @@ TEST(FitColor, RecoversTheRowsOfALinearColorField) {
   // f(w_i(p)) = c f(p) + g_i . p + o_i exactly with c = 1/2, g_i = A_i^T a - a / 2 and
   // o_i = a . b_i + d / 2: the fit must find rows that close the collage to the pixel's size.
   const int n = 128;
-  const Ifs shape = sierpinski();
+  const Ifs shape = framed_sierpinski();
   Image picture(n, n, 3);
   PixelSet mask{n, n, std::vector<std::uint8_t>(std::size_t(n) * n, 1)};  // the whole square
   const double a[3][2] = {{0.6, 0.2}, {-0.3, 0.5}, {0.1, -0.4}}, base[3] = {0.1, 0.3, 0.6};
@@ -57,7 +57,7 @@ TEST(FitColor, RecoversTheRowsOfALinearColorField) {
 TEST(FitColor, ClampsTheColorContraction) {
   // A colour that doubles from copy to copy asks for c = 2: it is held at max_contraction.
   const int n = 64;
-  const Ifs shape = sierpinski();
+  const Ifs shape = framed_sierpinski();
   Image picture(n, n, 3);
   Rng rng(3, 0);
   for (float& v : picture.pixels) v = static_cast<float>(rng.uniform());
@@ -72,9 +72,9 @@ TEST(FitColor, ClampsTheColorContraction) {
 TEST(FitColor, RefusesBadInput) {
   Image gray(16, 16, 1);
   PixelSet mask{16, 16, std::vector<std::uint8_t>(256, 1)};
-  EXPECT_THROW(fit_color(sierpinski(), gray, mask), InputError);
+  EXPECT_THROW(fit_color(framed_sierpinski(), gray, mask), InputError);
   Image rgb(16, 16, 3);
-  EXPECT_THROW(fit_color(sierpinski(), rgb, PixelSet{8, 8, std::vector<std::uint8_t>(64, 1)}), InputError);
+  EXPECT_THROW(fit_color(framed_sierpinski(), rgb, PixelSet{8, 8, std::vector<std::uint8_t>(64, 1)}), InputError);
   EXPECT_THROW(color_foreground(rgb), InputError);  // uniform: no shape
 }
 
@@ -128,7 +128,7 @@ TEST(Fit3d, IouOfTheTrueSystemIsOne) {
   const VoxelSet t = tetrahedron_voxels(5);
   EXPECT_EQ(t.count(), 1024u);
   EXPECT_GT(attractor_iou_3d(test_systems::tetrahedron(), t), 0.99);
-  EXPECT_THROW(attractor_iou_3d(sierpinski(), t), InputError);
+  EXPECT_THROW(attractor_iou_3d(framed_sierpinski(), t), InputError);
 }
 
 TEST(Fit3d, RecoversATetrahedronAndIsIndependentOfThreads) {

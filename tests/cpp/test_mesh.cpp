@@ -34,7 +34,7 @@ TriangleMesh cube() {
   return m;
 }
 
-std::string temp(const std::string& name) { return ::testing::TempDir() + "ifsforge_mesh_" + name; }
+std::string mesh_temp_path(const std::string& name) { return ::testing::TempDir() + "ifsforge_mesh_" + name; }
 
 }  // namespace
 
@@ -50,7 +50,7 @@ TEST(Mesh, NormalsPointOutOfTheCube) {
 
 TEST(Mesh, PlyAndObjReadBackThroughOpenMesh) {
   for (const char* ext : {"ply", "obj"}) {
-    const std::string path = temp(std::string("cube.") + ext);
+    const std::string path = mesh_temp_path(std::string("cube.") + ext);
     write_mesh(path, cube());
     OpenMesh::TriMesh_ArrayKernelT<> back;
     OpenMesh::IO::Options options = OpenMesh::IO::Options::VertexColor;
@@ -69,11 +69,11 @@ TEST(Mesh, PlyAndObjReadBackThroughOpenMesh) {
 }
 
 TEST(Mesh, GlbReadsBackWithItsTexture) {
-  const std::string png = temp("texture.png");
+  const std::string png = mesh_temp_path("texture.png");
   write_png(png, Image(4, 1, 3));
   MeshWriteOptions options;
   options.base_color_texture = png;
-  const std::string path = temp("cube.glb");
+  const std::string path = mesh_temp_path("cube.glb");
   write_mesh(path, cube(), options);
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
@@ -92,13 +92,13 @@ TEST(Mesh, GlbReadsBackWithItsTexture) {
 TEST(Mesh, BadMeshesAreRefusedAndNothingIsWritten) {
   TriangleMesh broken = cube();
   broken.triangles.push_back({0, 1, 99});
-  const std::string path = temp("broken.glb");
+  const std::string path = mesh_temp_path("broken.glb");
   EXPECT_THROW(write_mesh(path, broken), InputError);
   EXPECT_NE(access(path.c_str(), F_OK), 0);
   TriangleMesh short_colors = cube();
   short_colors.colors.pop_back();
-  EXPECT_THROW(write_mesh(temp("c.ply"), short_colors), InputError);
-  EXPECT_THROW(write_mesh(temp("cube.stl"), cube()), InputError);
+  EXPECT_THROW(write_mesh(mesh_temp_path("c.ply"), short_colors), InputError);
+  EXPECT_THROW(write_mesh(mesh_temp_path("cube.stl"), cube()), InputError);
   EXPECT_THROW(write_mesh("/nonexistent/cube.ply", cube()), FileError);
 }
 

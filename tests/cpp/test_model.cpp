@@ -25,7 +25,7 @@ AffineMap random_map(std::mt19937& rng, int n) {
   return AffineMap(n, a, b);
 }
 
-Ifs sierpinski() {
+Ifs plain_sierpinski() {
   std::vector<AffineMap> maps;
   for (auto [x, y] : {std::pair{0.0, 0.0}, {0.5, 0.0}, {0.25, 0.5}})
     maps.emplace_back(2, std::vector<double>{0.5, 0, 0, 0.5}, std::vector<double>{x, y});
@@ -39,7 +39,7 @@ TEST(SampleExtent, TheSameBitsAsOneScanOnAnyNumberOfThreads) {
   // before) or, where a guess misses (a slow contraction), walked on one core: the extent is
   // the scan's, bit for bit, and so is the first of equal values.
   std::mt19937 rng(11);
-  std::vector<Ifs> systems{sierpinski()};
+  std::vector<Ifs> systems{plain_sierpinski()};
   const Ifs fern("fern", ChannelLayout("xy"),
                  {AffineMap(2, {0, 0, 0, 0.16}, {0, 0}), AffineMap(2, {0.85, 0.04, -0.04, 0.85}, {0, 1.6}),
                   AffineMap(2, {0.2, -0.26, 0.23, 0.22}, {0, 1.6}), AffineMap(2, {-0.15, 0.28, 0.26, 0.24}, {0, 0.44})},
@@ -115,7 +115,7 @@ TEST(AffineMap, FixedPointIsFixed) {
     const Point q = m(*p);
     for (int c = 0; c < n; ++c) EXPECT_NEAR(q[c], (*p)[c], 1e-9);
   }
-  const auto corner = sierpinski().map(1).fixed_point();
+  const auto corner = plain_sierpinski().map(1).fixed_point();
   EXPECT_DOUBLE_EQ((*corner)[0], 1.0);
   EXPECT_DOUBLE_EQ((*corner)[1], 0.0);
   EXPECT_FALSE(AffineMap(2, {1, 0, 0, 0.5}, {1, 0}).fixed_point());  // a translation along x
@@ -165,8 +165,8 @@ TEST(ChannelLayout, NamesAndErrors) {
 }
 
 TEST(Ifs, Classification) {
-  EXPECT_EQ(sierpinski().classify(), Classification::Hyperbolic);
-  EXPECT_DOUBLE_EQ(sierpinski().contraction_ratio(), 0.5);
+  EXPECT_EQ(plain_sierpinski().classify(), Classification::Hyperbolic);
+  EXPECT_DOUBLE_EQ(plain_sierpinski().contraction_ratio(), 0.5);
   // One expanding map used rarely: contractive on average (Eq. 14), not hyperbolic.
   Ifs average("avg", ChannelLayout("xy"),
               {AffineMap(2, {1.5, 0, 0, 1.5}, {0, 0}), AffineMap(2, {0.5, 0, 0, 0.5}, {1, 0})}, {0.1, 0.9});
@@ -203,7 +203,7 @@ TEST(Ifs, JacobianProbabilitiesEq46) {
 
 TEST(Ifs, BoundsOfTheSierpinskiTriangle) {
   // The corners (0, 0), (1, 0), (0.5, 1) are fixed points: the bounds are exact.
-  const Bounds b = sierpinski().attractor_bounds();
+  const Bounds b = plain_sierpinski().attractor_bounds();
   EXPECT_DOUBLE_EQ(b.lo[0], 0.0);
   EXPECT_DOUBLE_EQ(b.hi[0], 1.0);
   EXPECT_DOUBLE_EQ(b.lo[1], 0.0);

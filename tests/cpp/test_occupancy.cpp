@@ -40,17 +40,17 @@ bool in_sponge(int i, int j, int k) {
 /// The tetrahedron's level-k cells: no binary digit shared by two coordinates.
 bool in_tetrahedron(int i, int j, int k) { return !(i & j) && !(i & k) && !(j & k); }
 
-struct Case {
+struct OccupancyCase {
   const char* name;
   Ifs (*system)();
   int base;
   bool (*truth)(int, int, int);
 };
 
-const Case kCases[] = {{"sponge", menger, 3, in_sponge},
+const OccupancyCase kCases[] = {{"sponge", menger, 3, in_sponge},
                        {"tetrahedron", [] { return tetrahedron(); }, 2, in_tetrahedron}};
 
-std::vector<std::uint64_t> true_cells(const Case& c, int side) {
+std::vector<std::uint64_t> true_cells(const OccupancyCase& c, int side) {
   std::vector<std::uint64_t> keys;
   for (int i = 0; i < side; ++i)
     for (int j = 0; j < side; ++j)
@@ -59,7 +59,7 @@ std::vector<std::uint64_t> true_cells(const Case& c, int side) {
   return keys;  // ascending, as Volume::keys
 }
 
-Volume render(const Case& c, const std::string& algorithm, int k, bool unit_box, int threads, bool fixed_depth = false) {
+Volume render(const OccupancyCase& c, const std::string& algorithm, int k, bool unit_box, int threads, bool fixed_depth = false) {
   VolumeOptions o;
   o.resolution = static_cast<int>(std::lround(std::pow(c.base, k)));
   if (unit_box) o.bounds = Box3{0, 0, 0, 1, 1, 1};
@@ -74,7 +74,7 @@ Volume render(const Case& c, const std::string& algorithm, int k, bool unit_box,
 // grid and on the unit box, with 1 and 2 threads (k = 5 only for PRR: the others test every
 // one of the 243^3 voxels or rewrite them, which takes minutes).
 TEST(Occupancy, GridAlignedVolumesFillExactlyTheirCells) {
-  for (const Case& c : kCases)
+  for (const OccupancyCase& c : kCases)
     for (int k = 1; k <= 5; ++k) {
       const int side = static_cast<int>(std::lround(std::pow(c.base, k)));
       const auto truth = true_cells(c, side);
@@ -97,7 +97,7 @@ TEST(Occupancy, GridAlignedVolumesFillExactlyTheirCells) {
 // The chaos game at its default point count: no voxel outside the set, at least 99.9% of it
 // (k <= 4: at 243^3 the sponge takes tens of millions of points), the same with 1 and 2 threads.
 TEST(Occupancy, RandomIterationStaysInsideTheSetAndFindsIt) {
-  for (const Case& c : kCases)
+  for (const OccupancyCase& c : kCases)
     for (int k = 1; k <= 4; ++k) {
       const int side = static_cast<int>(std::lround(std::pow(c.base, k)));
       const auto truth = true_cells(c, side);

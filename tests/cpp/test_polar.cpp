@@ -10,8 +10,10 @@
 #include "ifsforge/io/ifs_json.h"
 #include "ifsforge/model/ifs.h"
 #include "ifsforge/render/renderer.h"
+#include "algorithms_test.h"
 
 using namespace ifsforge;
+using ifsforge::algorithms_test::iou;
 
 namespace {
 
@@ -37,15 +39,6 @@ Ifs spirals() {
     maps[i].g = {0.9 + 0.4 * i, 0.6, 0.1, 0.0};
   }
   return polar_ifs("spirals", maps);
-}
-
-double iou(const Raster& a, const Raster& b) {
-  std::size_t both = 0, either = 0;
-  for (std::size_t i = 0; i < a.density.size(); ++i) {
-    both += a.density[i] > 0 && b.density[i] > 0;
-    either += a.density[i] > 0 || b.density[i] > 0;
-  }
-  return either ? double(both) / double(either) : 1.0;
 }
 
 std::string polar_document(const std::string& map, const std::string& extra = "") {

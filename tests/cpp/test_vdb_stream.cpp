@@ -32,7 +32,7 @@ namespace {
 
 constexpr std::size_t kUuidBegin = 21, kUuidEnd = 57;  // after magic, versions and the offsets flag
 
-std::string temporary(const std::string& name) {
+std::string stream_temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("ifsforge_stream_" + std::to_string(getpid()) + "_" + name)).string();
 }
 
@@ -59,7 +59,7 @@ std::string rewritten_by_openvdb(const std::string& path, bool blosc) {
 }
 
 void expect_openvdb_writes_the_same(const Volume& v, VdbWriteOptions o, const std::string& what) {
-  const std::string path = temporary("v.vdb");
+  const std::string path = stream_temp_path("v.vdb");
   write_vdb(path, v, o);
   const std::string ours = bytes_of(path), theirs = rewritten_by_openvdb(path, o.compress);
   std::remove(path.c_str());
@@ -149,7 +149,7 @@ TEST(VdbStream, BandsGivenOneByOneMakeTheWholeVolumesFile) {
   VolumeOptions options;
   options.resolution = 300;  // 3 bands
   const Volume v = render_volume(tetrahedron(true), "prr", options);
-  const std::string whole = temporary("whole.vdb"), banded = temporary("banded.vdb");
+  const std::string whole = stream_temp_path("whole.vdb"), banded = stream_temp_path("banded.vdb");
   write_vdb(whole, v);
   Volume header = v;
   header.keys.clear();
@@ -190,7 +190,7 @@ TEST(VdbStream, RenderingStraightIntoTheFileMakesTheRenderedVolumesFile) {
       options.density = density;
       VdbWriteOptions o;
       o.system = &rgb;
-      const std::string rendered = temporary("rendered.vdb"), straight = temporary("straight.vdb");
+      const std::string rendered = stream_temp_path("rendered.vdb"), straight = stream_temp_path("straight.vdb");
       const Volume v = render_volume(rgb, algorithm, options);
       write_vdb(rendered, v, o);
       std::uint64_t voxels = 0;
@@ -208,7 +208,7 @@ TEST(VdbStream, RenderingStraightIntoTheFileMakesTheRenderedVolumesFile) {
 // Voxels outside the grid (a malformed volume, or a cluster's result for another grid) are
 // InputError, and no file is left.
 TEST(VdbStream, VoxelsOutsideTheGridAreInputErrorsAndLeaveNoFile) {
-  const std::string path = temporary("outside.vdb");
+  const std::string path = stream_temp_path("outside.vdb");
   Volume v = wide_volume();
   v.grid.dims[2] = 8999;  // the last voxel's z is 8999
   EXPECT_THROW(write_vdb(path, v), InputError);
@@ -250,7 +250,7 @@ TEST(VdbStream, TheThreadCountNeverChangesTheFile) {
       VdbWriteOptions o;
       o.compress = compress;
       o.threads = threads;
-      const std::string path = temporary("threads.vdb");
+      const std::string path = stream_temp_path("threads.vdb");
       write_vdb(path, v, o);
       const std::string bytes = bytes_of(path);
       std::remove(path.c_str());

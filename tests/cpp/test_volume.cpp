@@ -38,13 +38,13 @@ VolumeOptions options(int resolution, int depth = 0) {
   return o;
 }
 
-double iou(const Volume& a, const Volume& b) {
+double voxel_iou(const Volume& a, const Volume& b) {
   std::vector<std::uint64_t> common;
   std::set_intersection(a.keys.begin(), a.keys.end(), b.keys.begin(), b.keys.end(), std::back_inserter(common));
   return static_cast<double>(common.size()) / static_cast<double>(a.size() + b.size() - common.size());
 }
 
-std::string temporary(const std::string& name) {
+std::string volume_temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("ifsforge_volume_" + std::to_string(getpid()) + "_" + name)).string();
 }
 
@@ -95,7 +95,7 @@ TEST(VolumeRenderers, AllFourAgreeOnAHyperbolicSystem) {
   for (std::size_t a = 0; a < volumes.size(); ++a) {
     EXPECT_GT(volumes[a].size(), 112500u) << volumes[a].algorithm;
     for (std::size_t b = a + 1; b < volumes.size(); ++b)
-      EXPECT_GE(iou(volumes[a], volumes[b]), 0.95) << volumes[a].algorithm << " vs " << volumes[b].algorithm;
+      EXPECT_GE(voxel_iou(volumes[a], volumes[b]), 0.95) << volumes[a].algorithm << " vs " << volumes[b].algorithm;
   }
 }
 
@@ -112,10 +112,10 @@ TEST(VolumeRenderers, TableTwoPyramidAgrees) {
   const Volume ria = render_volume(ifs, "ria", options(100));
   const Volume eta = render_volume(ifs, "eta", options(100));
   const Volume dia = render_volume(ifs, "dia", options(100));
-  EXPECT_GE(iou(prr, ria), 0.94);
-  EXPECT_GE(iou(prr, eta), 0.94);
-  EXPECT_GE(iou(ria, eta), 0.95);
-  for (const Volume* v : {&prr, &ria, &eta}) EXPECT_GE(iou(dia, *v), 0.92) << v->algorithm;
+  EXPECT_GE(voxel_iou(prr, ria), 0.94);
+  EXPECT_GE(voxel_iou(prr, eta), 0.94);
+  EXPECT_GE(voxel_iou(ria, eta), 0.95);
+  for (const Volume* v : {&prr, &ria, &eta}) EXPECT_GE(voxel_iou(dia, *v), 0.92) << v->algorithm;
 }
 
 // Random iteration's automatic stop (Chao1's unseen voxels at most 0.8% of those found) on
@@ -278,7 +278,7 @@ TEST(VolumeGrid, HugeGridsStaySparse) {
 TEST(VolumeVdb, RoundTripKeepsGridsCountsAndTransform) {
   const Ifs ifs = pyramid_rgb();
   const Volume v = render_volume(ifs, "prr", options(64));
-  const std::string path = temporary("pyramid.vdb");
+  const std::string path = volume_temp_path("pyramid.vdb");
   VdbWriteOptions o;
   o.system = &ifs;
   write_vdb(path, v, o);
@@ -311,7 +311,7 @@ TEST(VolumeVdb, GrayAndAlphaGetTheirOwnGrids) {
   for (int i = 0; i < 4; ++i) maps.push_back(corner_map(5, 0.5, kCorners[i], 0.5, {0.1 * i, 0.5}));
   const Ifs ifs("ga", ChannelLayout("xyz+gray+alpha"), maps, {1, 1, 1, 1});
   const Volume v = render_volume(ifs, "prr", options(32));
-  const std::string path = temporary("gray.vdb");
+  const std::string path = volume_temp_path("gray.vdb");
   write_vdb(path, v);
   std::set<std::string> names;
   for (const auto& g : read_vdb_info(path).grids) names.insert(g.name);
@@ -330,7 +330,7 @@ TEST(VolumeVdb, UnwritablePathIsAFileErrorAndLeavesNothing) {
 // a text file; the whole file still reads, again and again.
 TEST(VolumeVdb, TruncatedOrForeignFilesAreFileErrors) {
   const Volume v = render_volume(tetrahedron(true), "prr", options(8));
-  const std::string path = temporary("whole.vdb"), cut = temporary("cut.vdb");
+  const std::string path = volume_temp_path("whole.vdb"), cut = volume_temp_path("cut.vdb");
   write_vdb(path, v);
   std::ifstream in(path, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -362,7 +362,7 @@ TEST(VolumeVdb, EmptyAndSingleVoxelVolumes) {
     ASSERT_EQ(empty.size(), 0u);
     ASSERT_EQ(one.size(), 1u);
     for (const Volume* v : {&empty, &one}) {
-      const std::string path = temporary("small.vdb");
+      const std::string path = volume_temp_path("small.vdb");
       write_vdb(path, *v);
       const VdbFileInfo info = read_vdb_info(path);
       ASSERT_EQ(info.grids.size(), color ? 2u : 1u);
@@ -403,7 +403,7 @@ TEST(VolumeMesh, IsoSurfaceOfASolidCube) {
     EXPECT_NEAR(c[1], 0.5, 1e-5);
     EXPECT_NEAR(c[2], 0.75, 1e-5);
   }
-  const std::string path = temporary("cube.glb");
+  const std::string path = volume_temp_path("cube.glb");
   write_mesh(path, mesh);
   EXPECT_GT(std::filesystem::file_size(path), 1000u);
   std::remove(path.c_str());

@@ -8,13 +8,12 @@
 
 #include "ifsforge/io/ifs_json.h"
 #include "ifsforge/volume/volume_renderer.h"
+#include "sample_systems.h"
 
 namespace ifsforge {
 namespace {
 
-Ifs sample(const std::string& name) {
-  return read_ifs_json(std::string(IFSFORGE_SOURCE_DIR) + "/samples/systems/" + name + ".json");
-}
+using sample_systems::sample;
 
 // 256^3 and three jobs of points: the tables pass the binning threshold (4 MB) in the first job,
 // so the later jobs go through bins, stages and pours; the RGB pyramid's points carry channel
