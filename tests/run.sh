@@ -4,6 +4,13 @@
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$here/cpp/bootstrap.sh"
+# The fuzz targets are built beside the suites at idle priority (SCHED_IDLE): the build takes only
+# the cycles ctest and pytest leave (Blender's start-ups, POV-Ray's parses, a worker's last test),
+# so the suites run as fast as alone. setsid: its own process group, stopped if this script stops.
+fuzz_log="$here/build/fuzz-build.log"
+setsid chrt --idle 0 "$here/tests/fuzz/build.sh" >"$fuzz_log" 2>&1 &
+fuzz_build=$!
+trap 'kill -- "-$fuzz_build" 2>/dev/null || true' EXIT
 cd "$here/build"
 ctest --output-on-failure -j "$(nproc)"
 cd "$here"
@@ -12,5 +19,11 @@ cd "$here"
 # slowest tests are listed at the end, so a run's log shows where the suite's time goes.
 PYTHONPATH="$here/build/python${PYTHONPATH:+:$PYTHONPATH}" /usr/bin/python3 -m pytest -q -n 2 --dist loadgroup --durations=25 \
   "$here/tests/python"
+if ! wait "$fuzz_build"; then
+  echo "the fuzz targets' build failed:" >&2
+  tail -40 "$fuzz_log" >&2
+  exit 1
+fi
+trap - EXIT
 # Every fuzz target 30 s (ASan + UBSan), two at a time; a crash fails the run.
 "$here/tests/fuzz/run.sh" 30 2

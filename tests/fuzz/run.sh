@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# tests/fuzz/run.sh SECONDS [PARALLEL]: builds the libFuzzer targets (ASan + UBSan) in build-fuzz,
-# then runs each for SECONDS on a corpus seeded from samples/ and from the hostile regression
+# tests/fuzz/run.sh SECONDS [PARALLEL]: builds the libFuzzer targets (tests/fuzz/build.sh, where
+# nothing is left to build when tests/run.sh built them beside the suites), then runs each for SECONDS on a corpus seeded from samples/ and from the hostile regression
 # inputs, PARALLEL targets at a time (default 2: one per core of the smallest machine we test on).
 # Exits non-zero when any target crashed (the reproducer is left in build-fuzz/crashes/); prints
 # each target's executed units and the CPU time fuzzed.
@@ -9,9 +9,7 @@ seconds="${1:-30}"
 parallel="${2:-2}"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="$here/build-fuzz"
-cmake -S "$here/tests/fuzz" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-  ${CCACHE:+-DCMAKE_CXX_COMPILER_LAUNCHER=ccache} >/dev/null
-cmake --build "$build" -j "$(nproc)" >/dev/null
+"$here/tests/fuzz/build.sh"
 
 # Seeds: the samples, and the inputs of tests/python/test_hostile*.py.
 seeds="$build/seeds"
