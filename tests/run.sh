@@ -6,10 +6,14 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$here/cpp/bootstrap.sh"
 # The fuzz targets are built beside the suites at idle priority (SCHED_IDLE): the build takes only
 # the cycles ctest and pytest leave (Blender's start-ups, POV-Ray's parses, a worker's last test),
-# so the suites run as fast as alone. setsid: its own process group, stopped if this script stops.
+# so the suites run as fast as alone. It gets a process group of its own (set -m), stopped if this
+# script stops, but not a session of its own: the kernel shares the CPU between sessions
+# (autogroups) before it looks at priorities, and setsid let the idle build take one core of two.
 fuzz_log="$here/build/fuzz-build.log"
-setsid chrt --idle 0 "$here/tests/fuzz/build.sh" >"$fuzz_log" 2>&1 &
+set -m
+chrt --idle 0 "$here/tests/fuzz/build.sh" >"$fuzz_log" 2>&1 &
 fuzz_build=$!
+set +m
 trap 'kill -- "-$fuzz_build" 2>/dev/null || true' EXIT
 cd "$here/build"
 ctest --output-on-failure -j "$(nproc)"
