@@ -157,7 +157,8 @@ TEST(Fit3d, RecoversATetrahedronAndIsIndependentOfThreads) {
 }
 
 // The last search starts from corners that, snapped onto the voxel lattice, already draw the
-// target exactly: no search ends better, so none runs; a start a few voxels off still searches.
+// target exactly: no search ends better, so none runs; a start a few voxels off still searches,
+// and stops at the first best whose snapped corners draw the target, before its generations end.
 TEST(Fit3d, AStartThatSnapsOntoTheTargetNeedsNoSearch) {
   const VoxelSet t = tetrahedron_voxels(5);
   Fit3dOptions o;
@@ -168,8 +169,13 @@ TEST(Fit3d, AStartThatSnapsOntoTheTargetNeedsNoSearch) {
   const FitResult exact = fit_3d(t, o);
   EXPECT_EQ(exact.iou, 1.0);
   EXPECT_EQ(exact.evaluations, 0u);
-  for (AffineMap& m : o.start) m = AffineMap(3, m.matrix(), {m.offset()[0] + 3.0 / 32, m.offset()[1], m.offset()[2]});
-  EXPECT_GT(fit_3d(t, o).evaluations, 0u);
+  o.start[0].a(0, 0) += 0.7 / 32;  // one corner 0.7 voxels off: its snapped corner is one voxel off
+  o.final_generations = 200;
+  const FitResult searched = fit_3d(t, o);
+  EXPECT_EQ(searched.iou, 1.0);
+  // 30 samples a generation (fit_cma_options for 48 corner coordinates): all 200 would be 6,001.
+  EXPECT_GT(searched.evaluations, 0u);
+  EXPECT_LT(searched.evaluations, 30u * 200 / 2);
 }
 
 TEST(Fit3d, RefusesAnEmptyTarget) {

@@ -154,6 +154,24 @@ TEST(Inverse, CmaStopsAtItsFloorWithTheSameResult) {
   EXPECT_EQ(minimize_cma(f, {3, -1}, {1, 1}, o).evaluations, 1u);
 }
 
+// A caller's goal ends the search at the first best that meets it: the fits stop when a best's
+// corners, snapped onto the lattice, draw the target exactly.
+TEST(Inverse, CmaStopsAtTheFirstBestThatReachesItsGoal) {
+  auto f = [](const std::vector<double>& x, int) { return (x[0] - 3) * (x[0] - 3) + (x[1] + 1) * (x[1] + 1); };
+  CmaOptions o;
+  o.seed = 5;
+  o.max_generations = 300;
+  o.tolerance = 0;
+  const CmaResult full = minimize_cma(f, {0, 0}, {1, 1}, o);
+  int asked = 0;
+  o.reached = [&](const std::vector<double>& x) { return ++asked, f(x, 0) < 0.01; };
+  const CmaResult goal = minimize_cma(f, {0, 0}, {1, 1}, o);
+  EXPECT_LT(goal.value, 0.01);
+  EXPECT_GT(goal.value, full.value);
+  EXPECT_LT(goal.evaluations, full.evaluations / 4);
+  EXPECT_LT(asked, int(goal.evaluations));  // asked of new bests only
+}
+
 // A negative overlap weight would reward overlapping copies and let a fit's value fall below the
 // floor its searches stop at.
 TEST(Inverse, FitRefusesANegativeOverlapWeight) {

@@ -59,7 +59,10 @@ CmaResult minimize_cma(const std::function<double(const std::vector<double>&, in
     std::vector<int> order(lambda);
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return values[a] < values[b]; });
-    if (values[order[0]] < best.value) best.value = values[order[0]], best.best = x[order[0]];
+    if (values[order[0]] < best.value) {
+      best.value = values[order[0]], best.best = x[order[0]];
+      if (o.reached && o.reached(best.best)) break;
+    }
     std::vector<double> zw(n, 0.0);
     for (int j = 0; j < mu; ++j)
       for (int i = 0; i < n; ++i) zw[i] += w[j] * z[order[j]][i];

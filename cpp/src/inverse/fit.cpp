@@ -266,10 +266,13 @@ FitResult fit_ifs(const PixelSet& full, const FitOptions& o) {
     const auto lattice = [&](const std::vector<double>& y) {
       return snap_corners(y, 2, {0.0, fine.ymax, 0.0}, 1.0 / fine.pixels_per_unit);
     };
-    // A start whose snapped corners draw the target exactly needs no search: none ends better.
-    if (value(lattice(to_corners(final_maps, 2)), 0) > 0) {
+    // Corners that, snapped onto the lattice, draw the target exactly: no search ends better, so
+    // a start with them needs none and a search that finds them stops there.
+    const auto exact = [&](const std::vector<double>& y) { return value(lattice(y), 0) <= 0; };
+    if (!exact(to_corners(final_maps, 2))) {
       CmaOptions co = fit_cma_options(n, o.final_generations, o.seed * 7919 + 1999, threads);
       co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
+      co.reached = exact;
       // Half a pixel per corner coordinate: the peak is that narrow.
       const CmaResult run =
           minimize_cma(value, to_corners(final_maps, 2), std::vector<double>(n, 0.5 / fine.pixels_per_unit), co, stop);

@@ -143,10 +143,13 @@ FitResult fit_3d(const VoxelSet& full, const Fit3dOptions& o) {
   };
   best_value = fine_value(to_corners(final_maps, 3), 0);
   auto lattice = [&](const std::vector<double>& y) { return snap_corners(y, 3, fine.grid.origin, fine.grid.voxel_size); };
-  // A start whose snapped corners draw the target exactly needs no search: none ends better.
-  if (o.final_generations > 0 && !stop() && fine_value(lattice(to_corners(final_maps, 3)), 0) > 0) {
+  // Corners that, snapped onto the lattice, draw the target exactly: no search ends better, so a
+  // start with them needs none and a search that finds them stops there.
+  auto exact = [&](const std::vector<double>& y) { return fine_value(lattice(y), 0) <= 0; };
+  if (o.final_generations > 0 && !stop() && !exact(to_corners(final_maps, 3))) {
     CmaOptions co = fit_cma_options(o.maps * 12, o.final_generations, o.seed * 7919 + 1999, threads);
     co.tolerance = 0;  // the IoU moves in steps: flat stretches are no sign of convergence
+    co.reached = exact;
     const CmaResult run = minimize_cma(fine_value, to_corners(final_maps, 3),
                                        std::vector<double>(std::size_t(o.maps) * 12, 0.5 * fine.grid.voxel_size), co, stop);
     result.evaluations += run.evaluations;

@@ -16,6 +16,9 @@ struct CmaOptions {
   /// No value lies below it (a fit's 1 - IoU, a distance): a best value there cannot be replaced,
   /// as only a smaller one replaces it, so the search stops with the result it would end with.
   double floor = -std::numeric_limits<double>::infinity();
+  /// Asked of each new best: true when it is as good as the caller can want (a fit whose best,
+  /// snapped onto the target's lattice, draws the target exactly); the search stops with it.
+  std::function<bool(const std::vector<double>&)> reached;
   std::uint64_t seed = 0;
   int threads = 0;
 };
