@@ -3,7 +3,8 @@
 // 8192², in points per CPU-second of one thread. Both fall as the image leaves the caches; the
 // renderer's accumulation is measured against the naive loop in the same run. Then the
 // random-iteration volume (ria) of the Sierpinski tetrahedron at 128³ to 1024³, whose voxels
-// go into a hash table per thread. A plain program.
+// go into a hash table per thread, beside its own naive ceiling: random increments over an
+// array of the table's size and type. A plain program.
 //
 //   build/cpp/bench/bench_scatter [--points 200000000] [--repeat 3] [--sizes 1024,2048,4096,8192]
 //                                 [--volume-points 50000000] [--volume-sizes 128,512,1024]
@@ -25,29 +26,39 @@ using namespace ifsforge;
 
 namespace {
 
-/// `points` increments of uniformly random counters among size² (splitmix64 draws).
+/// `points` increments of uniformly random counters among `cells` (a power of two), the
+/// counters `stride` apart (splitmix64 draws).
 template <class Counter>
-std::uint64_t scatter(std::vector<Counter>& counters, int size, std::uint64_t points) {
-  const std::uint64_t mask = std::uint64_t(size) * size - 1;  // sizes are powers of two
+std::uint64_t scatter(std::vector<Counter>& counters, std::uint64_t cells, std::size_t stride, std::uint64_t points) {
+  const std::uint64_t mask = cells - 1;
   std::uint64_t state = 0x9E3779B97F4A7C15ull;
   for (std::uint64_t i = 0; i < points; ++i) {
     std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    ++counters[(z ^ (z >> 31)) & mask];
+    ++counters[((z ^ (z >> 31)) & mask) * stride];
   }
   std::uint64_t sum = 0;  // read back, so the loop is not dropped
   for (std::size_t i = 0; i < counters.size(); i += 4096) sum += counters[i];
   return sum;
 }
 
+/// Increments per CPU-second over `cells` counters `stride` apart (touched before the clock).
 template <class Counter>
-double scatter_rate(int size, std::uint64_t points, int repeat) {
-  std::vector<Counter> counters(std::size_t(size) * size, 0);  // touched before the clock
+double scatter_rate(std::uint64_t cells, std::size_t stride, std::uint64_t points, int repeat) {
+  std::vector<Counter> counters(cells * stride, 0);
   std::uint64_t sink = 0;
-  const bench::Timing t = bench::best_of(repeat, [&] { sink += scatter(counters, size, points); });
+  const bench::Timing t = bench::best_of(repeat, [&] { sink += scatter(counters, cells, stride, points); });
   if (sink == 1) std::puts("");
   return double(points) / t.cpu;
+}
+
+/// The slots of the tetrahedron's voxel table (4 words each) once it holds `voxels` voxels: the
+/// table's rule (volume/voxel_table.h), powers of two from 4096, at most 3/4 full.
+std::uint64_t table_slots(std::size_t voxels) {
+  std::uint64_t slots = 4096;
+  while (4 * voxels > 3 * slots) slots *= 2;
+  return slots;
 }
 
 /// CPU seconds of the fern's chaos game; `tiles` false: large images counted point by point as
@@ -112,8 +123,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "bench_scatter: sizes are powers of two (%d)\n", size);
       return 2;
     }
-    const double wide = scatter_rate<std::uint32_t>(size, points, repeat);
-    const double narrow = scatter_rate<std::uint8_t>(size, points, repeat);
+    const std::uint64_t pixels = std::uint64_t(size) * size;
+    const double wide = scatter_rate<std::uint32_t>(pixels, 1, points, repeat);
+    const double narrow = scatter_rate<std::uint8_t>(pixels, 1, points, repeat);
     // The render's own fixed cost (framing, buffers, the finish over every pixel) measured with
     // 1,024 points and taken out: the marginal rate is the cost of a point.
     const double fixed = chaos_seconds(size, 1024, repeat, true);
@@ -127,17 +139,23 @@ int main(int argc, char** argv) {
               "thread, best of %d: millions of points per CPU-second, whole (grid, tables, merge and volume "
               "included) and marginal (less a 1,024-point render's CPU time), each point added to the voxel "
               "table as it comes (direct) or through bins by region (the default for tables of 4 MB or "
-              "more).\n\n| volume | voxels | whole, direct | whole, default | marginal, direct | marginal, "
-              "default |\n| --- | ---: | ---: | ---: | ---: | ---: |\n",
+              "more); the naive ceiling: as many increments of random 32-byte slots of a table's size (the "
+              "slots the tetrahedron's table ends with), in the same run.\n\n| volume | voxels | table | "
+              "naive scatter | whole, direct | whole, default | marginal, direct | marginal, default | "
+              "default (whole) / naive |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
               double(volume_points), repeat);
   for (int resolution : volume_sizes) {
     std::size_t voxels = 0;
     const double fixed = volume_seconds(resolution, 1024, repeat, true, voxels);
     const double direct = volume_seconds(resolution, volume_points, repeat, false, voxels);
     const double binned = volume_seconds(resolution, volume_points, repeat, true, voxels);
+    // The naive ceiling: a 64-bit word incremented in uniformly random 32-byte slots of the table's size.
+    const std::uint64_t slots = table_slots(voxels);
+    const double naive = scatter_rate<std::uint64_t>(slots, 4, volume_points, repeat) / 1e6;
     auto rate = [&](double seconds) { return double(volume_points) / std::max(seconds, 1e-9) / 1e6; };
-    std::printf("| %d³ | %zu | %.1f M | %.1f M | %.1f M | %.1f M |\n", resolution, voxels, rate(direct), rate(binned),
-                rate(direct - fixed), rate(binned - fixed));
+    std::printf("| %d³ | %zu | %.0f MB | %.1f M | %.1f M | %.1f M | %.1f M | %.1f M | %.2f× |\n", resolution, voxels,
+                double(slots) * 32 / 1e6, naive, rate(direct), rate(binned), rate(direct - fixed), rate(binned - fixed),
+                rate(binned) / naive);
     std::fflush(stdout);
   }
   return 0;

@@ -46,7 +46,7 @@ void chaos_job(const Ifs& ifs, const MapChain& chain, const VoxelGrid& grid,
   // Points go in batches: every key of a batch is computed and its slot prefetched before
   // the first add, so the table's cache misses overlap instead of stalling one by one; or, into
   // a large table, through bins by region (voxel_bins.h).
-  const bool binned = bins.start(table);
+  const bool binned = bins.start<N - 3>(table);
   constexpr int kBatch = 16;
   std::uint64_t keys[kBatch], values[kBatch][kMaxDim] = {};
   for (std::uint64_t done = 0; done < points;) {
@@ -61,14 +61,19 @@ void chaos_job(const Ifs& ifs, const MapChain& chain, const VoxelGrid& grid,
       }
       for (int c = 3; c < N; ++c) values[kept][c - 3] = quantizer.quantize(c - 3, p[c]);
       if (binned)
-        bins.add(table, keys[kept], values[kept]);
+        bins.add<N - 3>(table, keys[kept], values[kept]);
       else
         table.prefetch(keys[kept++]);
     }
-    for (int b = 0; b < kept; ++b) table.add(keys[b], 1, 1, values[b]);
+    for (int b = 0; b < kept; ++b) table.add_hit<N - 3>(keys[b], values[b]);
     done += batch;
   }
-  if (binned) bins.drain(table);
+}
+
+/// Adds the points a worker's bins still hold to its table (before the table is read).
+template <int N>
+void drain_job(VoxelTable& table, VoxelBins& bins) {
+  bins.drain<N - 3>(table);
 }
 
 /// Voxels hit so far, and those hit exactly once and twice (f1, f2).
@@ -121,6 +126,14 @@ ChaosJob chaos_job_for(int dim) {
   return kJobs[dim - 3];
 }
 
+/// Drains every worker's bins into its table, each on a thread of its own.
+void drain_all(int dim, std::vector<VoxelTable>& tables, std::vector<VoxelBins>& bins, int threads) {
+  using DrainJob = void (*)(VoxelTable&, VoxelBins&);
+  static constexpr DrainJob kDrains[] = {drain_job<3>, drain_job<4>, drain_job<5>,
+                                         drain_job<6>, drain_job<7>, drain_job<8>};
+  parallel_jobs(tables.size(), threads, [&](std::size_t t, int) { kDrains[dim - 3](tables[t], bins[t]); });
+}
+
 }  // namespace
 
 Capabilities RandomIterationVolume::capabilities() const {
@@ -134,9 +147,10 @@ Volume RandomIterationVolume::draw(const Ifs& ifs, const VolumeOptions& options)
   const int channels = ifs.dim() - 3;
   // Each thread's table (at most half full) may meet every voxel; then the running total, the
   // merge and the volume. Refused before the first point, not when a table grows past it.
-  const double per_voxel =
-      setup.threads * VoxelTable::bytes_per_voxel(channels, false) + 2.0 * VoxelList::entry_bytes(channels) + 12.0 +
-      4.0 * channels;
+  // The bins of a large table (voxel_bins.h) cost a share of its bytes.
+  const double per_voxel = setup.threads * VoxelTable::bytes_per_voxel(channels, false) *
+                               (1.0 + VoxelBins::bytes_per_table_byte(channels)) +
+                           2.0 * VoxelList::entry_bytes(channels) + 12.0 + 4.0 * channels;
   check_memory(expected_voxels(ifs, options, setup, per_voxel, 0.0) * per_voxel,
                "random iteration into a " + std::to_string(options.resolution) + "^3 volume");
   const MapChain chain(ifs);
@@ -164,6 +178,7 @@ Volume RandomIterationVolume::draw(const Ifs& ifs, const VolumeOptions& options)
         const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
         run(ifs, chain, setup.grid, setup.quantizer, count, options.seed, job, tables[worker], bins[worker]);
       }, progress);
+      drain_all(ifs.dim(), tables, bins, setup.threads);
     }
     points = std::min(limit, last * kPointsPerJob);
     jobs_done = last;
@@ -229,6 +244,7 @@ std::string RandomIterationVolume::draw_jobs(const Ifs& ifs, const VolumeOptions
       const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
       run(ifs, chain, setup.grid, setup.quantizer, count, options.seed, job, tables[worker], bins[worker]);
     }, options.progress);
+  drain_all(ifs.dim(), tables, bins, setup.threads);
   out.voxels = take_all(tables, setup.threads);
   for (std::uint64_t job = first; job < last; ++job) out.points += std::min(kPointsPerJob, limit - job * kPointsPerJob);
   return encode_volume_jobs(out, options.density);

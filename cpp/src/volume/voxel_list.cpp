@@ -344,14 +344,19 @@ void merge_slabs(const std::vector<VoxelList>& lists, std::uint64_t width, int t
 }
 
 void sort_and_reduce(VoxelList& list) {
-  // Sorted (equal keys side by side), the list merges with itself alone.
+  // Sorted (equal keys side by side), the list merges with itself alone; with no key twice (a
+  // hash table's voxels) the sorted list is already what the merge would give.
   std::vector<Ref> order(list.size()), scratch;
   for (std::size_t i = 0; i < list.size(); ++i) order[i] = {list.keys[i], i};
   if (!order.empty()) radix_sort(order, scratch);
   std::vector<VoxelList> sorted(1, VoxelList(list.channels));
   sorted[0].reserve(order.size());
-  for (const Ref& r : order) sorted[0].push_from(list, r.where);
-  list = merged(SlabMerge(sorted, 1), 1);
+  bool repeated = false;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    repeated |= k > 0 && order[k].key == order[k - 1].key;
+    sorted[0].push_from(list, order[k].where);
+  }
+  list = repeated ? merged(SlabMerge(sorted, 1), 1) : std::move(sorted[0]);
 }
 
 namespace {

@@ -70,6 +70,32 @@ class VoxelTable {
     s[2] += mass;
     for (int c = 0; c < channels_; ++c) s[3 + c] += values[c];
   }
+  /// @brief add(key, 1, 1, values) for a table without extremes whose `Channels` channels are
+  /// known when compiled: random iteration's one hit per point, inlined in its loops (the
+  /// same probes, so the same slots and sums).
+  template <int Channels>
+  void add_hit(std::uint64_t key, const std::uint64_t* values) {
+    constexpr std::size_t stride = slot_words(Channels, false);
+    std::size_t slot = (key * kHash) >> shift_;
+    std::uint64_t* s = base_ + slot * stride;
+    while (s[0] != key) {
+      if (s[0] == kEmpty) {
+        if (4 * (used_ + 1) > 3 * capacity_) {
+          grow();
+          add_hit<Channels>(key, values);
+          return;
+        }
+        s[0] = key;
+        ++used_;
+        break;
+      }
+      slot = (slot + 1) & mask_;
+      s = base_ + slot * stride;
+    }
+    s[1] += 1;
+    s[2] += 1;
+    for (int c = 0; c < Channels; ++c) s[3 + c] += values[c];
+  }
   /// @brief Bytes of the slots.
   std::size_t bytes() const { return capacity_ * stride_ * sizeof(std::uint64_t); }
   /// @brief Reads the slots of region `region` of 2^`bits` (the slots whose index starts with
@@ -102,7 +128,7 @@ class VoxelTable {
   /// a worker reusing it for the next job does not allocate again).
   VoxelList take() {
     VoxelList list(channels_);
-    list.keys.reserve(used_);
+    list.reserve(used_);  // every array, not only the keys: no regrowth while the slots are read
     for (std::size_t slot = 0; slot < capacity_; ++slot) {
       const std::uint64_t* s = at(slot);
       if (s[0] == kEmpty) continue;
@@ -117,7 +143,7 @@ class VoxelTable {
  private:
   static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
 
-  static std::size_t slot_words(int channels, bool extremes) {
+  static constexpr std::size_t slot_words(int channels, bool extremes) {
     std::size_t words = 4;
     while (words < std::size_t(3 + channels + (extremes ? VoxelList::kExtremes : 0))) words *= 2;
     return words;
