@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <string>
+#include <string_view>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -124,6 +125,42 @@ TEST(ChaosKernels, TiledCountingOfADenseImageGivesTheSameBytes) {
   for (std::size_t k = 1; k < images.size(); ++k) EXPECT_EQ(images[0].density, images[k].density) << k;
   EXPECT_GT(*std::max_element(images[0].density.begin(), images[0].density.end()), 10000.0f);
   EXPECT_GT(images[0].covered(), 20000u);
+}
+
+// A 2D lane render makes its density from the workers' 8-bit counters and their wraps, without
+// an accumulator (render/chaos_hits.h); its jobs' results for a cluster go through one. Both
+// are the same integer sums: the local image equals the one merged from the jobs' bytes, counted
+// through tiles (the threshold lowered: wraps listed per tile) and not (wraps in a 64-bit
+// array), on 1, 2 and 3 threads, the densest counters wrapped many times.
+TEST(ChaosKernels, LaneCountsWithoutAnAccumulatorGiveItsBytes) {
+  const Ifs fern = sample("barnsley_fern");
+  RenderOptions o;
+  o.width = 640;
+  o.height = 480;
+  o.iterations = 12'000'000;
+  o.seed = 3;
+  const Renderer& chaos = renderer("chaos");
+  for (const char* tiles : {"0", "1"})
+    for (int threads : {1, 2, 3}) {
+      setenv("IFSFORGE_CHAOS_TILES_FROM", "1", 1);
+      setenv("IFSFORGE_CHAOS_TILES", tiles, 1);
+      o.threads = threads;
+      const Raster local = chaos.render(fern, o);
+      RenderOptions merged = o;
+      std::string bytes;
+      merged.distribute = [&](std::uint64_t first, std::uint64_t last, int) {
+        bytes = chaos.run_jobs(fern, o, first, last);
+        return std::vector<std::string_view>{bytes};
+      };
+      const Raster through_jobs = chaos.render(fern, merged);
+      unsetenv("IFSFORGE_CHAOS_TILES");
+      unsetenv("IFSFORGE_CHAOS_TILES_FROM");
+      EXPECT_EQ(local.density, through_jobs.density) << "tiles " << tiles << ", " << threads << " threads";
+      EXPECT_TRUE(local.channels.empty());
+      EXPECT_EQ(local.width, 640);
+      EXPECT_EQ(local.height, 480);
+      EXPECT_GT(*std::max_element(local.density.begin(), local.density.end()), 5000.0f);
+    }
 }
 
 /// The chaos game of `ifs` counted into wide accumulators per worker (IFSFORGE_CHAOS_NARROW=0)

@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
@@ -14,6 +15,7 @@
 #include "ifsforge/model/orbit.h"
 #include "ifsforge/render/accumulator.h"
 #include "chaos_chains_plan.h"
+#include "chaos_hits.h"
 #include "chaos_lanes.h"
 #include "chaos_sinks.h"
 #include "chaos_tiles.h"
@@ -248,10 +250,15 @@ Accumulator empty_accumulator(const Ifs& ifs, const ChaosSetup& setup) {
   return acc;
 }
 
+/// Whether a render's counts can skip the accumulator (chaos_hits.h): 2D lanes, 8-bit counters.
+bool lane_hits(const Ifs& ifs, const ChaosSetup& setup) { return setup.simd && ifs.spatial_dims() == 2; }
+
 /// Runs jobs [first, last) on `threads` threads into one accumulator (integer sums: the same
-/// whatever the grouping of the jobs).
-Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const ChaosSetup& setup,
-                             std::uint64_t first, std::uint64_t last, int threads) {
+/// whatever the grouping of the jobs); with `direct` (where lane_hits), into it instead, and
+/// no accumulator.
+std::optional<Accumulator> chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const ChaosSetup& setup,
+                                            std::uint64_t first, std::uint64_t last, int threads,
+                                            sinks::LaneHits* direct = nullptr) {
   const Frame& frame = setup.frame;
   const JobPlan& plan = setup.plan;
   const bool simd = setup.simd, narrow = setup.narrow;
@@ -260,7 +267,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   // into one wide accumulator (integer sums and a max: the order of flushes does not matter);
   // otherwise each worker adds into an accumulator of its own.
   std::vector<Accumulator> acc;
-  for (int t = 0; t < (narrow ? 1 : threads); ++t) acc.push_back(empty_accumulator(ifs, setup));
+  for (int t = 0; t < (direct ? 0 : narrow ? 1 : threads); ++t) acc.push_back(empty_accumulator(ifs, setup));
   const MapChain chain(ifs);
   // Polar maps (3.3.3) take their own simple path: the affine kernels stay specialised.
   const ChaosJob scalar_job = ifs.polar() ? polar::chaos_job : chaos_job_for(ifs.dim());
@@ -269,7 +276,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
   // 2D with channels) flushed into the wide accumulator: when the jobs are done (the wraps went
   // there already), and also whenever a 32-bit hit counter could overflow.
   const bool depth = ifs.spatial_dims() == 3;
-  const int channels = acc[0].channels(), stride = channels + 1;
+  const int channels = static_cast<int>(setup.lo.size()), stride = channels + 1;
   const bool packed = narrow && channels > 0;
   std::vector<ZeroedVector<std::uint8_t>> lows(narrow && !depth && !packed ? threads : 0);
   std::vector<LargeVector<HitDepth>> cells(narrow && depth ? threads : 0);
@@ -354,7 +361,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
             channel_job_for(ifs.dim())(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, sink);
           return;
         }
-        const NarrowSink sink{depth ? nullptr : lows[worker].data(), acc[0].hits(),
+        const NarrowSink sink{depth ? nullptr : lows[worker].data(), direct ? direct->carry.data() : acc[0].hits(),
                               depth ? cells[worker].data() : nullptr};
         if (side_by_side) {
           run_chains(sink);
@@ -372,7 +379,7 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
         lane.cells = sink.cells;
         if (tiled) {
           if (!tiles[worker]) {
-            tiles[worker] = std::make_unique<lanes::TiledCounter>(pixels + 1, lane.low, lane.carry);
+            tiles[worker] = std::make_unique<lanes::TiledCounter>(pixels + 1, lane.low);
             batches[worker].resize(lanes::kTileBatch);
           }
           lane.batch = batches[worker].data();
@@ -389,6 +396,21 @@ Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const
       if (tiles[t]) tiles[t]->drain();
     });
 
+  // The wraps the tiles listed: 256 hits each.
+  for (auto& counter : tiles) {
+    if (!counter) continue;
+    std::vector<std::vector<std::uint16_t>> wraps = counter->take_wraps();
+    if (direct) {
+      direct->wraps.push_back(std::move(wraps));
+      continue;
+    }
+    for (std::size_t t = 0; t < wraps.size(); ++t)
+      for (std::uint16_t offset : wraps[t]) acc[0].hits()[(t << lanes::kTileShift) + offset] += 256;
+  }
+  if (direct) {  // the sums are made as the raster's density
+    direct->lows = std::move(lows);
+    return std::nullopt;
+  }
   // The workers' counters into the totals in pixel bands on every core (sums and maxima: the
   // same bytes for any split).
   if (narrow) {
@@ -415,14 +437,22 @@ Capabilities ChaosGame::capabilities() const {
 Raster ChaosGame::draw(const Ifs& ifs, const RenderOptions& options) const {
   const int threads = options.distribute ? 1 : resolve_threads(options.threads);
   const ChaosSetup setup = chaos_setup(ifs, options, threads);
-  // One accumulator either way (an 8 MB one at 1024^2: building a spare cost its page faults).
-  Accumulator acc = options.distribute ? empty_accumulator(ifs, setup)
-                                       : chaos_accumulate(ifs, options, setup, 0, setup.plan.jobs, threads);
-  if (options.distribute)
-    for (std::string_view bytes : options.distribute(0, setup.plan.jobs, options.depth)) acc.merge_encoded(bytes);
   Raster raster;
   describe_channels(ifs, raster);
-  acc.finish(raster, threads);
+  const Frame& frame = setup.frame;
+  if (!options.distribute && lane_hits(ifs, setup)) {
+    const std::size_t pixels = std::size_t(frame.width()) * frame.height();
+    sinks::LaneHits hits(pixels + 1, !tiled_counts(setup.simd, false, pixels));
+    chaos_accumulate(ifs, options, setup, 0, setup.plan.jobs, threads, &hits);
+    hits.finish(raster, frame.width(), frame.height(), threads);
+  } else {
+    // One accumulator either way (an 8 MB one at 1024^2: building a spare cost its page faults).
+    Accumulator acc = options.distribute ? empty_accumulator(ifs, setup)
+                                         : *chaos_accumulate(ifs, options, setup, 0, setup.plan.jobs, threads);
+    if (options.distribute)
+      for (std::string_view bytes : options.distribute(0, setup.plan.jobs, options.depth)) acc.merge_encoded(bytes);
+    acc.finish(raster, threads);
+  }
   raster.pixel_size = setup.frame.pixel_size();
   raster.points = setup.plan.jobs * setup.plan.points_per_job;
   return raster;
@@ -435,7 +465,7 @@ std::string ChaosGame::draw_jobs(const Ifs& ifs, const RenderOptions& options, s
   last = std::min(last, setup.plan.jobs);
   if (first >= last) return empty_accumulator(ifs, setup).encode();
   const int used = static_cast<int>(std::min<std::uint64_t>(threads, last - first));
-  return chaos_accumulate(ifs, options, setup, first, last, used).encode();
+  return chaos_accumulate(ifs, options, setup, first, last, used)->encode();
 }
 
 }  // namespace ifsforge

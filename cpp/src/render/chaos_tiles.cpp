@@ -25,7 +25,7 @@ std::size_t tiled_from_pixels() {
   return from && *from ? std::stoull(from) : kTiledFromPixels;
 }
 
-TiledCounter::TiledCounter(std::size_t slots, std::uint8_t* low, std::uint64_t* carry)
+TiledCounter::TiledCounter(std::size_t slots, std::uint8_t* low)
     : tiles_(tiles_of(slots)), bytes_(bytes(slots)),
       // Not zeroed: a bin's pages are first touched by its first point. Lines from a line's start
       // (small storage comes from operator new).
@@ -33,7 +33,7 @@ TiledCounter::TiledCounter(std::size_t slots, std::uint8_t* low, std::uint64_t* 
       bins_(reinterpret_cast<std::uint16_t*>((reinterpret_cast<std::uintptr_t>(storage_) + kStageBytes - 1) &
                                              ~std::uintptr_t(kStageBytes - 1))),
       stage_(bins_ + tiles_ * kBinPoints),
-      fill_(tiles_), staged_(tiles_), low_(low), carry_(carry) {
+      fill_(tiles_), staged_(tiles_), low_(low), wraps_(tiles_) {
   for (std::size_t t = 0; t < tiles_; ++t) {
     fill_[t] = bins_ + t * kBinPoints;
     staged_[t] = stage_ + t * kStagePoints;
@@ -82,9 +82,8 @@ void TiledCounter::unstage(std::size_t tile) {
 
 void TiledCounter::count(std::size_t tile, const std::uint16_t* offsets, std::size_t n) {
   std::uint8_t* const low = low_ + (tile << kTileShift);
-  std::uint64_t* const carry = carry_ + (tile << kTileShift);
   for (std::size_t i = 0; i < n; ++i)
-    if (++low[offsets[i]] == 0) __atomic_fetch_add(carry + offsets[i], 256, __ATOMIC_RELAXED);
+    if (++low[offsets[i]] == 0) wraps_[tile].push_back(offsets[i]);
 }
 
 void TiledCounter::drain() {
