@@ -4,17 +4,23 @@
 // Benchmark) whose systems are built in code, so it runs on another x86-64 machine with only the
 // shared libraries libifsforge needs.
 //
-// Then the PIFS encoder's serial share, steadily: each of three encodes run --serial-runs times
-// on 2 threads alternating with 1-thread runs, the median and spread of the share from each
-// 2-thread run's own CPU and wall time (single runs drift with the machine's speed).
+// Then each path's serial share, steadily, and the PIFS encoder's for three encodes: each row
+// run --serial-runs times on 2 threads alternating with 1-thread runs, the median and spread of
+// the share from each 2-thread run's own CPU and wall time (single runs drift with the machine's
+// speed), and beside it the part the threads slept (the code's) apart from their wait for a CPU
+// (the machine's).
 //
-//   build/cpp/bench/bench_scaling [--threads 16] [--repeat 3] [--points 1000000000] [--only chaos,prr,pifs-serial]
+//   build/cpp/bench/bench_scaling [--threads 16] [--repeat 3 (0: no sweep)] [--points 1000000000]
+//                                 [--only chaos,prr-sierpinski-serial,pifs-serial]
 //                                 [--serial-runs 10] [--serial-encodes 512-gray,1024-gray,2048-colour]
 //   /usr/bin/python3 cpp/bench/results.py bench_scaling --plain   # the same, written to RESULTS.md
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <string>
 #include <thread>
@@ -24,6 +30,7 @@
 #include "bench_timing.h"
 #include "thread_schedule.h"
 #include "ifsforge/core/image.h"
+#include "ifsforge/io/vdb.h"
 #include "ifsforge/pifs/encoder.h"
 #include "ifsforge/render/renderer.h"
 #include "ifsforge/volume/volume_renderer.h"
@@ -35,6 +42,9 @@ namespace {
 struct Path {
   std::string key, label;
   std::function<void(int threads)> run;
+  /// Its runs in the paths' serial-share table: this share of --serial-runs (at least 3), less
+  /// for the long paths.
+  double serial_runs = 1.0;
 };
 
 /// A photograph-like 8-bit texture (octaves of sines plus hashed noise, each channel's phase
@@ -62,6 +72,13 @@ void encode(const Image& image, int threads) {
   (void)pifs_encode(image, o);
 }
 
+/// The .vdb path's file: in the temporary folder, named by the process (main removes it).
+std::string vdb_path() {
+  const char* folder = std::getenv("TMPDIR");
+  return std::string(folder && *folder ? folder : "/tmp") + "/ifsforge_bench_scaling_" + std::to_string(getpid()) +
+         ".vdb";
+}
+
 std::vector<Path> paths(std::uint64_t points) {
   auto image = [](const char* algorithm, Ifs ifs, int size, std::uint64_t iterations) {
     return [=](int threads) {
@@ -74,8 +91,8 @@ std::vector<Path> paths(std::uint64_t points) {
   };
   const std::string billions = std::to_string(double(points) / 1e9).substr(0, 4);
   return {
-      {"chaos", "chaos, fern 1024², " + billions + "·10⁹ points", image("chaos", bench::fern(), 1024, points)},
-      {"prr-fern", "PRR fern 4096²", image("prr", bench::fern(), 4096, 0)},
+      {"chaos", "chaos, fern 1024², " + billions + "·10⁹ points", image("chaos", bench::fern(), 1024, points), 0.5},
+      {"prr-fern", "PRR fern 4096²", image("prr", bench::fern(), 4096, 0), 0.3},
       {"prr-sierpinski", "PRR Sierpinski 4096²", image("prr", bench::sierpinski(), 4096, 0)},
       {"volume", "volume PRR 512³ (tetrahedron, render)",
        [](int threads) {
@@ -83,6 +100,16 @@ std::vector<Path> paths(std::uint64_t points) {
          o.resolution = 512;
          o.threads = threads;
          (void)render_volume(bench::sierpinski(3), "prr", o);
+       }},
+      // The row: the band writer's jobs are the grid's bands (128 rows of x each).
+      {"vdb", "volume PRR 1024³ render + `.vdb` write (tetrahedron)",
+       [file = vdb_path()](int threads) {
+         VolumeOptions o;
+         o.resolution = 1024;
+         o.threads = threads;
+         VdbWriteOptions w;
+         w.threads = threads;
+         (void)render_volume_to_vdb(file, bench::sierpinski(3), "prr", o, w);
        }},
       {"pifs", "PIFS encode 1024² gray", [im = texture(1024)](int threads) { encode(im, threads); }},
   };
@@ -134,40 +161,37 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-/// The PIFS encoder's serial share on 2 threads, `runs` runs of each encode (the 2048² colour
-/// one, about 70× the 512² one's CPU, half as many, at least 3), each run on 2 threads after one
-/// on 1 (so both see the same drift of the machine's speed): the median, quartiles and range of
-/// the share serial_from_cpu gives each 2-thread run, the median idle thread time (2 wall − CPU:
-/// a core waiting, for work or for the machine) of those runs and the median CPU of both counts.
+/// A row of a serial-share table: `runs` runs of `run` on 2 threads, each after one on 1.
+struct SerialRow {
+  std::string label;
+  std::function<void(int threads)> run;
+  int runs;
+};
+
+/// The serial share on 2 threads of each row, `row.runs` runs on 2 threads each after one on 1
+/// (so both see the same drift of the machine's speed): the median, quartiles and range of the
+/// share serial_from_cpu gives each 2-thread run, the median idle thread time (2 wall − CPU: a
+/// core waiting, for work or for the machine) of those runs and the median CPU of both counts.
 /// Beside it the code's own part of that idle time (thread_schedule.h): the threads' sleep,
 /// 2 wall − run − waiting for a CPU, as a share of their run time, and the waiting apart.
-/// `keys` chooses the encodes (512-gray, 1024-gray, 2048-colour; empty: all).
-void pifs_serial_table(int runs, const std::string& keys) {
-  struct Encode {
-    const char* key;
-    const char* label;
-    int size, channels, runs;
-  };
-  const Encode encodes[] = {{"512-gray", "512² gray", 512, 1, runs},
-                            {"1024-gray", "1024² gray", 1024, 1, runs},
-                            {"2048-colour", "2048² colour", 2048, 3, std::max(3, runs / 2)}};
-  std::printf("\nPIFS encode (50:1) serial share on 2 threads, each run after a 1-thread run: median, "
+/// `intro` heads the table, `first_column` names its rows.
+void serial_share_table(const std::string& intro, const char* first_column, const std::vector<SerialRow>& rows) {
+  std::printf("\n%s serial share on 2 threads, each run after a 1-thread run: median, "
               "quartiles and range of (2 wall - CPU) / CPU per run; idle: 2 wall - CPU (thread-ms a core waited), "
-              "median; CPU: median per encode on 1 and 2 threads.\n\n"
+              "median; CPU: median per %s on 1 and 2 threads.\n\n"
               "Slept: the threads' sleep waiting for work, (2 wall - run - waiting) / run from the kernel's "
               "per-thread run time and run-queue wait (the code's serial part without the machine's); "
               "waited: the run-queue wait, ms (the machine's part).\n\n"
-              "| encode | runs | serial median | quartiles | range | idle ms | slept median | slept range | "
+              "| %s | runs | serial median | quartiles | range | idle ms | slept median | slept range | "
               "waited ms | CPU s, 1 thread | CPU s, 2 threads |\n"
-              "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
-  for (const Encode& e : encodes) {
-    if (!keys.empty() && ("," + keys + ",").find("," + std::string(e.key) + ",") == std::string::npos) continue;
-    const Image image = texture(e.size, e.channels);
+              "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",
+              intro.c_str(), first_column, first_column);
+  for (const SerialRow& row : rows) {
     std::vector<double> share, idle, slept, waited, cpu1, cpu2;
-    for (int r = 0; r < e.runs; ++r) {
-      cpu1.push_back(bench::best_of(1, [&] { encode(image, 1); }).cpu);
+    for (int r = 0; r < row.runs; ++r) {
+      cpu1.push_back(bench::best_of(1, [&] { row.run(1); }).cpu);
       const bench::ThreadSchedule before = bench::thread_schedule();
-      const bench::Timing t = bench::best_of(1, [&] { encode(image, 2); });
+      const bench::Timing t = bench::best_of(1, [&] { row.run(2); });
       const bench::ThreadSchedule after = bench::thread_schedule();
       share.push_back(serial_from_cpu(2, t.wall, t.cpu));
       idle.push_back(2 * t.wall - t.cpu);
@@ -181,12 +205,32 @@ void pifs_serial_table(int runs, const std::string& keys) {
       return v[std::size_t(std::lround(q * double(v.size() - 1)))];
     };
     std::printf("| %s | %d | %.1f%% | %.1f–%.1f%% | %.1f–%.1f%% | %.1f | %.1f%% | %.1f–%.1f%% | %.1f | %s | %s |\n",
-                e.label, e.runs, 100 * median(share), 100 * quantile(share, 0.25), 100 * quantile(share, 0.75),
-                100 * quantile(share, 0), 100 * quantile(share, 1), 1e3 * median(idle), 100 * median(slept),
-                100 * quantile(slept, 0), 100 * quantile(slept, 1), 1e3 * median(waited),
+                row.label.c_str(), row.runs, 100 * median(share), 100 * quantile(share, 0.25),
+                100 * quantile(share, 0.75), 100 * quantile(share, 0), 100 * quantile(share, 1), 1e3 * median(idle),
+                100 * median(slept), 100 * quantile(slept, 0), 100 * quantile(slept, 1), 1e3 * median(waited),
                 seconds_cell(median(cpu1)).c_str(), seconds_cell(median(cpu2)).c_str());
     std::fflush(stdout);
   }
+}
+
+/// The PIFS encoder's serial share (serial_share_table): `runs` runs of each encode (the 2048²
+/// colour one, about 70× the 512² one's CPU, half as many, at least 3). `keys` chooses the
+/// encodes (512-gray, 1024-gray, 2048-colour; empty: all).
+void pifs_serial_table(int runs, const std::string& keys) {
+  struct Encode {
+    const char* key;
+    const char* label;
+    int size, channels, runs;
+  };
+  const Encode encodes[] = {{"512-gray", "512² gray", 512, 1, runs},
+                            {"1024-gray", "1024² gray", 1024, 1, runs},
+                            {"2048-colour", "2048² colour", 2048, 3, std::max(3, runs / 2)}};
+  std::vector<SerialRow> rows;
+  for (const Encode& e : encodes) {
+    if (!keys.empty() && ("," + keys + ",").find("," + std::string(e.key) + ",") == std::string::npos) continue;
+    rows.push_back({e.label, [image = texture(e.size, e.channels)](int threads) { encode(image, threads); }, e.runs});
+  }
+  serial_share_table("PIFS encode (50:1)", "encode", rows);
 }
 
 }  // namespace
@@ -194,9 +238,10 @@ void pifs_serial_table(int runs, const std::string& keys) {
 int main(int argc, char** argv) {
   if (bench::flag(argc, argv, "help")) {
     std::puts("bench_scaling [--threads N (default: the machine's cores)] [--repeat R (3)] "
-              "[--points P (chaos game points, 1e9)] [--only key,key (chaos, prr-fern, prr-sierpinski, volume, pifs; "
-              "pifs-serial: the serial-share table alone)] "
-              "[--serial-runs N (10; the PIFS serial share's runs, 0: none)] "
+              "[--repeat 0: no sweep, the serial-share tables alone] "
+              "[--points P (chaos game points, 1e9)] [--only key,key (chaos, prr-fern, prr-sierpinski, volume, vdb, "
+              "pifs; key-serial, e.g. pifs-serial: that path's serial-share row alone)] "
+              "[--serial-runs N (10; the serial-share tables' runs per row, 0: none)] "
               "[--serial-encodes key,key (512-gray, 1024-gray, 2048-colour; default all)]");
     return 0;
   }
@@ -207,18 +252,22 @@ int main(int argc, char** argv) {
   const std::string only = bench::option(argc, argv, "only", "");
   const int serial_runs = std::stoi(bench::option(argc, argv, "serial-runs", "10"));
   const std::vector<int> counts = sweep(cores);
+  const auto chosen = [&](const std::string& key) { return ("," + only + ",").find("," + key + ",") != std::string::npos; };
+  const std::vector<Path> all = paths(points);
 
-  std::printf("Seconds (wall, best of %d) per thread count; CPU s: the process's CPU seconds of the run on %d "
-              "threads; serial: the serial fraction of Amdahl's law fitted to the row; serial (CPU): the same "
-              "fraction from that one run's CPU and wall time, (N wall - CPU) / ((N - 1) CPU) on N threads, which "
-              "a slow one-thread run cannot skew.\n\n| path |",
-              repeat, counts.back());
-  for (int n : counts) std::printf(" %d |", n);
-  std::printf(" %d vs 1 | 1→2 | serial | serial (CPU) | CPU s at %d |\n| --- |", counts.back(), counts.back());
-  for (std::size_t i = 0; i < counts.size() + 5; ++i) std::printf(" ---: |");
-  std::printf("\n");
-  for (const Path& path : paths(points)) {
-    if (!only.empty() && ("," + only + ",").find("," + path.key + ",") == std::string::npos) continue;
+  if (repeat > 0) {
+    std::printf("Seconds (wall, best of %d) per thread count; CPU s: the process's CPU seconds of the run on %d "
+                "threads; serial: the serial fraction of Amdahl's law fitted to the row; serial (CPU): the same "
+                "fraction from that one run's CPU and wall time, (N wall - CPU) / ((N - 1) CPU) on N threads, which "
+                "a slow one-thread run cannot skew.\n\n| path |",
+                repeat, counts.back());
+    for (int n : counts) std::printf(" %d |", n);
+    std::printf(" %d vs 1 | 1→2 | serial | serial (CPU) | CPU s at %d |\n| --- |", counts.back(), counts.back());
+    for (std::size_t i = 0; i < counts.size() + 5; ++i) std::printf(" ---: |");
+    std::printf("\n");
+  }
+  for (const Path& path : all) {
+    if (repeat <= 0 || (!only.empty() && !chosen(path.key))) continue;
     std::vector<double> wall;
     double cpu = 0;
     for (int n : counts) {
@@ -234,8 +283,14 @@ int main(int argc, char** argv) {
                 seconds_cell(cpu).c_str());
     std::fflush(stdout);
   }
-  const auto chosen = [&](const char* key) { return ("," + only + ",").find("," + std::string(key) + ",") != std::string::npos; };
+  // Every path but the PIFS encode (the table below has it) split as the PIFS table splits it.
+  std::vector<SerialRow> rows;
+  for (const Path& path : all)
+    if (serial_runs > 0 && path.key != "pifs" && (only.empty() || chosen(path.key) || chosen(path.key + "-serial")))
+      rows.push_back({path.label, path.run, std::max(3, int(std::lround(serial_runs * path.serial_runs)))});
+  if (!rows.empty()) serial_share_table("Each path's", "path", rows);
   if (serial_runs > 0 && (only.empty() || chosen("pifs") || chosen("pifs-serial")))
     pifs_serial_table(serial_runs, bench::option(argc, argv, "serial-encodes", ""));
+  std::remove(vdb_path().c_str());
   return 0;
 }

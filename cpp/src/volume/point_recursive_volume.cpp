@@ -103,7 +103,7 @@ PrrJobs point_recursive_jobs(const Ifs& ifs, const VolumeOptions& options, std::
     plan.max_depth = depth_for_size(ifs, plan, grid.voxel_size * prr_volume::kFinest, 1, eq59);
     tree_levels = std::max(1, static_cast<int>(std::log(1024.0) / log_n));  // about a thousand nodes
     if (shrink > 0.0 && shrink < 1.0) handover = prr_volume::kFinest * std::pow(1.0 / shrink, tree_levels);
-    tree = prr_volume::build_subtree(ifs, plan, setup.extremes, center, tree_levels);
+    tree = prr_volume::build_subtree(ifs, plan, setup.extremes, center, tree_levels, setup.threads);
   }
 
   // Jobs: address prefixes whose pieces of the attractor span at most ~16 voxels, so that
@@ -249,7 +249,7 @@ Volume PointRecursiveVolume::draw(const Ifs& ifs, const VolumeOptions& options) 
                                      progress_range(options.progress, 0.0, 0.9), true);
   const std::vector<std::string_view> results =
       here ? std::vector<std::string_view>(run.encoded.begin(), run.encoded.end()) : options.distribute(0, run.jobs);
-  std::vector<VolumeJobsBytes> parts(results.begin(), results.end());
+  std::vector<VolumeJobsBytes> parts = read_volume_jobs(results, run.setup.threads);
   const VolumeSetup& setup = run.setup;
   Volume header = empty_volume(setup.grid, ifs, setup.quantizer, options.density);
   header.algorithm = name();

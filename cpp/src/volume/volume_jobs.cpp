@@ -1,6 +1,7 @@
 #include "ifsforge/volume/volume_jobs.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 #include "ifsforge/core/error.h"
@@ -183,6 +184,15 @@ void VolumeJobsBytes::decode(std::size_t s, VoxelList& out, bool keys_only) cons
   read(out.sums, nc);
   if (extremes_) read(out.points, VoxelList::kExtremes);
   if (!in.done()) throw InputError("volume job result: trailing bytes");
+}
+
+std::vector<VolumeJobsBytes> read_volume_jobs(const std::vector<std::string_view>& results, int threads) {
+  std::vector<std::optional<VolumeJobsBytes>> read(results.size());
+  parallel_jobs(results.size(), threads, [&](std::size_t k, int) { read[k].emplace(results[k]); });
+  std::vector<VolumeJobsBytes> parts;
+  parts.reserve(read.size());
+  for (std::optional<VolumeJobsBytes>& part : read) parts.push_back(std::move(*part));
+  return parts;
 }
 
 VolumeJobsResult decode_volume_jobs(std::string_view bytes) {

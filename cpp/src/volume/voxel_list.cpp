@@ -369,11 +369,21 @@ struct VolumeWriter {
   VolumeDensity mode;
   double total_mass;
   int channels;
+  int threads = 1;  ///< sizing the arrays (between the merge's passes, where nothing else runs)
 
   void allocate(std::size_t total) const {
-    resize_large(volume.keys, total);
-    resize_large(volume.density, total);
-    resize_large(volume.channels, total * channels);
+    // Faulted in on every core, then each array's zeros written on a core of its own: as one
+    // resize after another they were the largest part of a render's time on one core.
+    reserve_large(volume.keys, total);
+    reserve_large(volume.density, total);
+    reserve_large(volume.channels, total * channels);
+    const auto size = [&](std::size_t array, int) {
+      if (array == 0) volume.keys.resize(total);
+      if (array == 1) volume.density.resize(total);
+      if (array == 2) volume.channels.resize(total * channels);
+    };
+    if (threads > 1) return parallel_jobs(3, threads, size);
+    for (std::size_t array = 0; array < 3; ++array) size(array, 0);
   }
   void operator()(std::size_t v, std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* sums,
                   const std::uint64_t*) const {
@@ -406,7 +416,7 @@ Volume finish_volume(std::vector<VoxelList>& lists, const VoxelGrid& grid, const
                      const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads) {
   Volume volume = empty_volume(grid, ifs, quantizer, mode);
   const SlabMerge merge(lists);
-  const VolumeWriter write{volume, quantizer, mode, total_mass, merge.channels()};
+  const VolumeWriter write{volume, quantizer, mode, total_mass, merge.channels(), threads};
   merge.run(threads, [&](std::size_t total) { write.allocate(total); }, write);
   lists.clear();
   return volume;
@@ -415,7 +425,7 @@ Volume finish_volume(std::vector<VoxelList>& lists, const VoxelGrid& grid, const
 Volume finish_volume(std::size_t slabs, const SlabLoader& load, const VoxelGrid& grid, const Ifs& ifs,
                      const ChannelQuantizer& quantizer, VolumeDensity mode, double total_mass, int threads) {
   Volume volume = empty_volume(grid, ifs, quantizer, mode);
-  const VolumeWriter write{volume, quantizer, mode, total_mass, ifs.dim() - ifs.spatial_dims()};
+  const VolumeWriter write{volume, quantizer, mode, total_mass, ifs.dim() - ifs.spatial_dims(), threads};
   // Each loaded slab is one merge of a single slab (its rows alone: a bitmap in cache).
   two_pass(
       slabs, threads,

@@ -62,6 +62,10 @@ class VolumeJobsBytes {
   bool extremes_ = false, hits_ = false, mass_ = false;
 };
 
+/// @brief A VolumeJobsBytes of each of `results`, checked on `threads` threads (a render's thousands
+/// of job results took a core alone before its merge); InputError as the constructor's.
+std::vector<VolumeJobsBytes> read_volume_jobs(const std::vector<std::string_view>& results, int threads);
+
 /// @brief The whole result `encode_volume_jobs` wrote; InputError for anything else.
 VolumeJobsResult decode_volume_jobs(std::string_view bytes);
 
