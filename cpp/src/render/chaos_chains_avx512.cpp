@@ -117,7 +117,7 @@ struct V {
     const __m128i w = _mm_loadu_si128(reinterpret_cast<const __m128i*>(word));
     const __m128i sum = _mm_add_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(record)), w);
     _mm_storeu_si128(reinterpret_cast<__m128i*>(record), sum);
-    return _mm_cmplt_epu32_mask(sum, w) & 0xE;
+    return _mm_mask_cmplt_epu32_mask(0xE, sum, w);
   }
 
   /// The frame's pixels: each lane's slot, the trash one off the image.
