@@ -204,7 +204,10 @@ TEST(ChaosKernels, NarrowCountersGiveTheBytesOfAWideAccumulator) {
 
 // A 2D system with channels counts 32-bit hits and channel sums per pixel, each sum's wraps
 // adding 2^32 to the wide totals: on 16x12 pixels 2,000,000 points give each busy pixel tens of
-// thousands of quantised values of up to 2^20, so the sums wrap many times.
+// thousands of quantised values of up to 2^20, so the sums wrap many times. Three channels' sums
+// are added by the chain lanes themselves (chains::Job::records), each instruction set its own
+// way: 9e6 points are 3 jobs, which 1 and 2 threads run side by side in the chain lanes, on the
+// small image with every instruction set the CPU has (2e6 points are one job: the one-job loop).
 TEST(ChaosKernels, ChannelSumsWrapIntoTheSameBytes) {
   for (const char* name : {"colour5d_sierpinski_rgb", "colour5d_fern_hsi", "rgba_carpet"}) {
     const Ifs ifs = sample(name);
@@ -214,6 +217,15 @@ TEST(ChaosKernels, ChannelSumsWrapIntoTheSameBytes) {
       EXPECT_EQ(images[0].channels.size(), images[0].density.size() * (ifs.dim() - 2)) << name;
       EXPECT_GT(images[0].covered(), std::size_t(size.first * size.second / 8)) << name;
     }
+    std::vector<Raster> lanes;
+    for (const char* isa : {"baseline", "avx2", "avx512"}) {
+      if ((std::string(isa) == "avx2" && !cpu_has_avx2()) || (std::string(isa) == "avx512" && !cpu_has_avx512()))
+        continue;
+      setenv("IFSFORGE_ISA", isa, 1);
+      for (Raster& image : wide_and_narrow(ifs, 16, 12, 9'000'000)) lanes.push_back(std::move(image));
+      unsetenv("IFSFORGE_ISA");
+    }
+    expect_same_bytes(lanes, std::string(name) + " (chain lanes, every instruction set)");
   }
 }
 

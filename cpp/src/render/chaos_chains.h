@@ -85,18 +85,36 @@ struct Job {
   const char* counters;
   std::size_t counter_bytes;
   std::uint32_t* slots;   ///< 2 * kStride slots: buffer b at b * kStride
-  std::uint32_t* levels;  ///< 2 * channels * kStride levels: channel c of buffer b's point i at (b * channels + c) * kStride + i
-  float* depths;          ///< 3D: 2 * kStride depths, buffer b at b * kStride
+  /// 2 * (channels + 1) * kStride levels: channel c of buffer b's point i at (b * (channels + 1) + c) * kStride + i
+  /// (where `records`, the vector kernels' buffer b holds point i's record word at b * 4 * kStride + 4 i).
+  std::uint32_t* levels;
+  float* depths;  ///< 3D: 2 * kStride depths, buffer b at b * kStride
   /// Receives each batch: the points' slots, levels (channel c's at c * kStride) and depths,
   /// chain 0's point first in each step.
   void (*flush)(void* sink, const std::uint32_t* slots, const std::uint32_t* levels, const float* depths,
                 std::size_t n);
   void* sink;
+  /// A 2D system with three channels (ChannelSink's packed records: per pixel four 32-bit words,
+  /// its hits and its channels' sums), else null: the kernel adds each batch to the records
+  /// itself (ToRecords), in its own instruction set and without `flush`, and a sum below the
+  /// level it took wrapped: 2^32 to carry[pixel * 3 + c], as ChannelSink::add_levels does.
+  std::uint32_t* records;
+  std::uint64_t* carry;
 };
 
 namespace {  // internal linkage: each kernel's unit compiles its own copy for its own set
 
-/// The two alternating batch buffers of a job.
+/// Where a batch goes: the job's sink (Job::flush).
+struct ToSink {
+  static void add(const Job& job, const std::uint32_t* slots, const std::uint32_t* levels, const float* depths,
+                  std::size_t n) {
+    job.flush(job.sink, slots, levels, depths, n);
+  }
+};
+
+/// The two alternating batch buffers of a job, each batch handed to Add::add (ToSink, or a
+/// kernel's own add of Job::records).
+template <class Add = ToSink>
 class Batches {
  public:
   Batches(const Job& job, int channels) : job_(job), channels_(channels) {}
@@ -115,16 +133,16 @@ class Batches {
   void finish() {
     send_other();
     waiting_ = 0;
-    if (filled_) job_.flush(job_.sink, slots(), levels(), depths(), filled_);
+    if (filled_) Add::add(job_, slots(), levels(), depths(), filled_);
   }
 
  private:
-  std::uint32_t* levels(int buffer) const { return job_.levels + std::size_t(buffer) * channels_ * kStride; }
+  std::uint32_t* levels(int buffer) const { return job_.levels + std::size_t(buffer) * (channels_ + 1) * kStride; }
   float* depths(int buffer) const { return job_.depths ? job_.depths + buffer * kStride : nullptr; }
   void send_other() const {
     if (!waiting_) return;
     const int other = buffer_ ^ 1;
-    job_.flush(job_.sink, job_.slots + other * kStride, levels(other), depths(other), waiting_);
+    Add::add(job_, job_.slots + other * kStride, levels(other), depths(other), waiting_);
   }
   const Job& job_;
   int channels_;

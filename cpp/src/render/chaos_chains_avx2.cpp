@@ -40,6 +40,7 @@ struct V {
   template <int k>
   static I rotate_left(I x) { return _mm256_or_si256(_mm256_slli_epi64(x, k), _mm256_srli_epi64(x, 64 - k)); }
   static I bits(D x) { return _mm256_castpd_si256(x); }
+  static D doubles(I x) { return _mm256_castsi256_pd(x); }
 
   /// The permute that takes map i's double (floats 2i and 2i + 1 of a table) into each lane.
   static Index index(I map) {
@@ -91,6 +92,29 @@ struct V {
     _mm_storeu_si128(reinterpret_cast<__m128i*>(to), _mm256_cvttpd_epi32(x));
   }
   static void store_rounded(float* to, D x) { _mm_storeu_ps(to, _mm256_cvtpd_ps(x)); }
+  /// Each lane's record word: 1 (its hit), then its three levels (below 2^31) truncated to 32
+  /// bits, lane k's at to + 4 k: the four lanes' (1, l0, l1, l2) transposed.
+  static void store_records(std::uint32_t* to, D level0, D level1, D level2) {
+    const __m128i one = _mm_set1_epi32(1), l0 = _mm256_cvttpd_epi32(level0);
+    const __m128i l1 = _mm256_cvttpd_epi32(level1), l2 = _mm256_cvttpd_epi32(level2);
+    const __m128i low01 = _mm_unpacklo_epi32(one, l0), low23 = _mm_unpacklo_epi32(l1, l2);
+    const __m128i high01 = _mm_unpackhi_epi32(one, l0), high23 = _mm_unpackhi_epi32(l1, l2);
+    __m128i* words = reinterpret_cast<__m128i*>(to);
+    _mm_storeu_si128(words, _mm_unpacklo_epi64(low01, low23));
+    _mm_storeu_si128(words + 1, _mm_unpackhi_epi64(low01, low23));
+    _mm_storeu_si128(words + 2, _mm_unpacklo_epi64(high01, high23));
+    _mm_storeu_si128(words + 3, _mm_unpackhi_epi64(high01, high23));
+  }
+  /// A record word added to a pixel's record (four 32-bit sums); bit 1 + c set where channel c's
+  /// sum wrapped (came out below what it took, where the unsigned maximum of both is not the sum;
+  /// the hits, flushed first, never do).
+  static int add_record(std::uint32_t* record, const std::uint32_t* word) {
+    const __m128i w = _mm_loadu_si128(reinterpret_cast<const __m128i*>(word));
+    const __m128i sum = _mm_add_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(record)), w);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(record), sum);
+    const int kept = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(_mm_max_epu32(sum, w), sum)));
+    return (kept ^ 0xF) & 0xE;
+  }
 
   /// The frame's pixels: each lane's slot, the trash one off the image.
   struct Screen {

@@ -48,6 +48,7 @@ struct V {
   template <int k>
   static I rotate_left(I x) { return _mm512_rol_epi64(x, k); }
   static I bits(D x) { return _mm512_castpd_si512(x); }
+  static D doubles(I x) { return _mm512_castsi512_pd(x); }
 
   static Index index(I map) { return map; }
   /// Each lane's map's double of a table that holds map i's in lane i.
@@ -97,6 +98,27 @@ struct V {
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(to), _mm512_cvttpd_epi32(x));
   }
   static void store_rounded(float* to, D x) { _mm256_storeu_ps(to, _mm512_cvtpd_ps(x)); }
+  /// Each lane's record word: 1 (its hit), then its three levels (below 2^31) truncated to 32
+  /// bits, lane k's at to + 4 k; two permutes of the truncated levels and the ones.
+  static void store_records(std::uint32_t* to, D level0, D level1, D level2) {
+    const __m512i levels01 = _mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvttpd_epi32(level0)),
+                                                _mm512_cvttpd_epi32(level1), 1);
+    const __m512i levels2_ones = _mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvttpd_epi32(level2)),
+                                                    _mm256_set1_epi32(1), 1);
+    // Word k: the one (index 24), level 0 (k), level 1 (8 + k), level 2 (16 + k).
+    const __m512i first = _mm512_setr_epi32(24, 0, 8, 16, 24, 1, 9, 17, 24, 2, 10, 18, 24, 3, 11, 19);
+    const __m512i second = _mm512_setr_epi32(24, 4, 12, 20, 24, 5, 13, 21, 24, 6, 14, 22, 24, 7, 15, 23);
+    _mm512_storeu_si512(to, _mm512_permutex2var_epi32(levels01, first, levels2_ones));
+    _mm512_storeu_si512(to + 16, _mm512_permutex2var_epi32(levels01, second, levels2_ones));
+  }
+  /// A record word added to a pixel's record (four 32-bit sums); bit 1 + c set where channel c's
+  /// sum wrapped (came out below what it took; the hits, flushed first, never do).
+  static int add_record(std::uint32_t* record, const std::uint32_t* word) {
+    const __m128i w = _mm_loadu_si128(reinterpret_cast<const __m128i*>(word));
+    const __m128i sum = _mm_add_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(record)), w);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(record), sum);
+    return _mm_mask_cmplt_epu32_mask(0xE, sum, w);
+  }
 
   /// The frame's pixels: each lane's slot, the trash one off the image.
   struct Screen {

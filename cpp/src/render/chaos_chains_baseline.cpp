@@ -9,7 +9,24 @@
 namespace ifsforge::chains {
 namespace {
 
-template <int N>
+/// A batch into Job::records: each point's hit and three levels added to its pixel's record, a
+/// sum below its level wrapped (as ChannelSink::add_levels).
+struct ToRecords {
+  static void add(const Job& job, const std::uint32_t* slots, const std::uint32_t* levels, const float*,
+                  std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint32_t* record = job.records + std::size_t(slots[i]) * 4;
+      ++record[0];
+      for (int c = 0; c < 3; ++c) {
+        const std::uint32_t q = levels[c * kStride + i], sum = record[1 + c] + q;
+        if (sum < q) __atomic_fetch_add(job.carry + std::size_t(slots[i]) * 3 + c, std::uint64_t(1) << 32, __ATOMIC_RELAXED);
+        record[1 + c] = sum;
+      }
+    }
+  }
+};
+
+template <int N, class Add>
 void run(const Maps& m, const Job& job) {
   constexpr int kTerms = N < 3 ? N : 3;
   const int chains = job.chains;
@@ -47,7 +64,7 @@ void run(const Maps& m, const Job& job) {
   for (std::uint64_t i = 0; i < job.skip; ++i)
     for (int k = 0; k < chains; ++k) step(k);
   const int channels = m.dim - m.spatial;
-  Batches batches(job, channels);
+  Batches<Add> batches(job, channels);
   for (std::uint64_t i = 0; i < job.points; ++i) {
     std::uint32_t* slots = batches.slots();
     std::uint32_t* levels = batches.levels();
@@ -82,7 +99,9 @@ void run(const Maps& m, const Job& job) {
 
 void run_baseline(const Maps& m, const Job& job) {
   using Run = void (*)(const Maps&, const Job&);
-  static constexpr Run kRuns[] = {run<2>, run<3>, run<4>, run<5>, run<6>, run<7>, run<8>};
+  static constexpr Run kRuns[] = {run<2, ToSink>, run<3, ToSink>, run<4, ToSink>, run<5, ToSink>,
+                                  run<6, ToSink>, run<7, ToSink>, run<8, ToSink>};
+  if (job.records) return run<5, ToRecords>(m, job);  // Job::records: 5D, two of them spatial
   kRuns[m.dim - 2](m, job);
 }
 

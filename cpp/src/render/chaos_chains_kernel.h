@@ -9,6 +9,7 @@
 #include <immintrin.h>
 
 #include <cstdint>
+#include <type_traits>
 
 namespace ifsforge::chains {
 namespace {
@@ -58,14 +59,28 @@ struct SharedA {
   [[gnu::always_inline]] void apply(const D* b, D* p) const { affine<N, kShape>(a, b, p); }
 };
 
-/// The draw of Coefficients and SharedLinear (Quad::choose: a gather of each lane's choice; with
-/// at most four maps, permutes and blends of the choices held in registers gained at most 2% and
-/// cost a recurrent system 8%), and their map applied to the quad.
+/// The draw of Coefficients and SharedLinear (Quad::choose: a gather of each lane's choice), and
+/// their map applied to the quad. Without recurrence and with at most kLanes maps whose draws
+/// may take an alias, the one row of choices is a register, each lane's a permute (a gather
+/// was 14% of the colour fern's kernel on AVX-512; on AVX2 permutes and blends of choices in
+/// registers gained at most 2% and cost a recurrent system 8%, so recurrent rows still gather).
 template <class Self>
 struct FromChoices {
+  D choices;      // map i's choice's bits in lane i
+  bool in_table;  // the draw reads `choices`
+
+  explicit FromChoices(const Maps& m) : in_table(!m.recurrent && !m.own_columns && m.count <= kLanes) {
+    alignas(sizeof(D)) std::uint64_t row[kLanes] = {};
+    for (int i = 0; i < m.count && in_table; ++i) row[i] = m.choices[i];
+    choices = V::doubles(V::load(row));
+  }
+
   template <class Q>
   [[gnu::always_inline]] void choose(Q& q, const Maps& m, I count) const {
-    q.choose(m, count);
+    if (!in_table) return q.choose(m, count);
+    I random, column;
+    q.draw(m, count, random, column);
+    q.pick(V::bits(V::lookup(choices, V::index(column))), random, column);
   }
   template <class Q>
   void apply(Q& q) const {
@@ -89,7 +104,8 @@ struct Coefficients : FromChoices<Coefficients<N, kFew, kShape>> {
   const double* rows;
   long long stride;  // kPadded, as Plan lays the rows out
 
-  explicit Coefficients(const Maps& m) : rows(m.coefficients), stride(m.stride) {
+  explicit Coefficients(const Maps& m)
+      : FromChoices<Coefficients<N, kFew, kShape>>(m), rows(m.coefficients), stride(m.stride) {
     for (int k = 0; k < kPadded; ++k) {
       shared[k] = V::set1(rows[k]);
       varies[k] = false;
@@ -146,7 +162,7 @@ struct SharedLinear : FromChoices<SharedLinear<N, kShape>> {
   SharedA<N, kShape> a;
   D tables[N];
 
-  explicit SharedLinear(const Maps& m) : a(m) {
+  explicit SharedLinear(const Maps& m) : FromChoices<SharedLinear<N, kShape>>(m), a(m) {
     for (int r = 0; r < N; ++r) {
       alignas(sizeof(D)) double across[kLanes] = {};
       for (int i = 0; i < m.count; ++i) across[i] = m.coefficients[i * m.stride + N * N + r];
@@ -254,7 +270,27 @@ using SharedLinearDraws = SharedDraws<N, kShape, false>;
 template <int N, Shape kShape>
 using SharedLinearOffsets = SharedDraws<N, kShape, true>;
 
-template <int N, int G, class Coefficients>
+/// A batch into Job::records (kRecords): each point's record word, V::store_records's (its hit
+/// and its three levels), added to its pixel's record at once (V::add_record); a sum below its
+/// level wrapped, as in ChannelSink::add_levels.
+struct ToRecords {
+  static void add(const Job& job, const std::uint32_t* slots, const std::uint32_t* words, const float*, std::size_t n) {
+    std::uint32_t* const records = job.records;  // read once: the records' stores may alias job
+    std::uint64_t* const carry = job.carry;
+#pragma GCC unroll 4
+    for (std::size_t i = 0; i < n; ++i) {  // unrolled: the loop's own count and branch were a quarter of its work
+      const std::size_t pixel = slots[i];
+      if (const int wrapped = V::add_record(records + pixel * 4, words + 4 * i))
+        for (int c = 0; c < 3; ++c)
+          if (wrapped >> (1 + c) & 1) __atomic_fetch_add(carry + pixel * 3 + c, std::uint64_t(1) << 32, __ATOMIC_RELAXED);
+    }
+  }
+};
+
+/// kRecords: a 2D system of three channels whose points go to Job::records (N is 5): the
+/// channels' count known here, each step stores its points' record words, and the kernel adds
+/// them (ToRecords) where the sink would have (no call, and no transposes of levels there).
+template <int N, int G, class Coefficients, bool kRecords>
 void run(const Maps& m, const Job& job) {
   constexpr int kTerms = N < 3 ? N : 3;
   const Coefficients coefficients(m);
@@ -293,7 +329,7 @@ void run(const Maps& m, const Job& job) {
     scale[c] = V::set1(m.scale[c]);
   }
   const D steps = V::set1(m.steps), half = V::set1(0.5);
-  Batches batches(job, channels);
+  Batches<std::conditional_t<kRecords, ToRecords, ToSink>> batches(job, channels);
   for (std::uint64_t i = 0; i < job.points; ++i) {
     std::uint32_t* slots = batches.slots();
     std::uint32_t* levels = batches.levels();
@@ -315,17 +351,26 @@ void run(const Maps& m, const Job& job) {
       }
       const std::size_t at = filled + g * kLanes;
       screen.store(slots + at, px, py);
-      // The slots read back from the batch (loads cost less than extracting each lane).
-      for (int k = 0; k < kLanes; ++k) _mm_prefetch(job.counters + slots[at + k] * job.counter_bytes, _MM_HINT_T0);
+      // The slots read back from the batch (loads and scalar arithmetic, beside the vector work:
+      // the addresses computed in registers and extracted took as long).
+      if constexpr (kRecords) {
+        for (int k = 0; k < kLanes; ++k) _mm_prefetch(reinterpret_cast<const char*>(job.records + std::size_t(slots[at + k]) * 4), _MM_HINT_T0);
+      } else {
+        for (int k = 0; k < kLanes; ++k) _mm_prefetch(job.counters + slots[at + k] * job.counter_bytes, _MM_HINT_T0);
+      }
       // Accumulator::quantised: q < 0 ? 0 : min(q, steps) is max(q, 0) then the min (a zero of
       // either sign gives level 0 both ways), and the levels are below 2^31: truncation to 32 bits
       // is the conversion to 64.
-      for (int c = 0; c < channels; ++c) {
-        const D level = V::mul(V::sub(q.p[m.spatial + c], lo[c]), scale[c]);
-        const D clamped = V::min(V::max(level, zero), steps);
-        V::store_truncated(levels + c * kStride + at, V::add(clamped, half));
+      auto level = [&](int c, int at_c) {
+        const D scaled = V::mul(V::sub(q.p[at_c], lo[c]), scale[c]);
+        return V::add(V::min(V::max(scaled, zero), steps), half);
+      };
+      if constexpr (kRecords) {
+        V::store_records(levels + 4 * at, level(0, 2), level(1, 3), level(2, 4));
+      } else {
+        for (int c = 0; c < channels; ++c) V::store_truncated(levels + c * kStride + at, level(c, m.spatial + c));
       }
-      if constexpr (N >= 3)
+      if constexpr (N >= 3 && !kRecords)
         if (m.spatial == 3) {  // rounded to float as Accumulator::add_depth
           const D depth = V::add(V::add(V::mul(V::set1(m.toward[0]), q.p[0]), V::mul(V::set1(m.toward[1]), q.p[1])),
                                  V::mul(V::set1(m.toward[2]), q.p[2]));
@@ -337,11 +382,18 @@ void run(const Maps& m, const Job& job) {
   batches.finish();
 }
 
+template <int N, class Coefficients, bool kRecords>
+void run_groups(const Maps& m, const Job& job) {
+  if constexpr (kGroups > 1)
+    if (job.chains > kLanes) return run<N, kGroups, Coefficients, kRecords>(m, job);
+  run<N, 1, Coefficients, kRecords>(m, job);
+}
+
 template <int N, class Coefficients>
 void run_with(const Maps& m, const Job& job) {
-  if constexpr (kGroups > 1)
-    if (job.chains > kLanes) return run<N, kGroups, Coefficients>(m, job);
-  run<N, 1, Coefficients>(m, job);
+  if constexpr (N == 5)
+    if (job.records) return run_groups<N, Coefficients, true>(m, job);
+  run_groups<N, Coefficients, false>(m, job);
 }
 
 /// The kernel for the maps' linear parts' shape: diagonal (similitudes without rotation, in 2D

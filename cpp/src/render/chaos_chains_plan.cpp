@@ -125,7 +125,8 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
 }
 
 void Plan::run(std::uint64_t first, int count, std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
-               Flush flush, void* target, const void* counters, std::size_t counter_bytes) const {
+               Flush flush, void* target, const void* counters, std::size_t counter_bytes, std::uint32_t* records,
+               std::uint64_t* carry) const {
   Job job{};
   job.chains = count;
   const Point start = ifs_.start_point();
@@ -140,13 +141,15 @@ void Plan::run(std::uint64_t first, int count, std::uint64_t points, std::uint64
   job.counters = static_cast<const char*>(counters);
   job.counter_bytes = counter_bytes;
   std::vector<std::uint32_t> slots(2 * kStride);
-  std::vector<std::uint32_t> levels(2 * std::size_t(maps_.dim - maps_.spatial) * kStride + 1);
+  std::vector<std::uint32_t> levels(2 * std::size_t(maps_.dim - maps_.spatial + 1) * kStride + 1);
   std::vector<float> depths(maps_.spatial == 3 ? 2 * kStride : 0);
   job.slots = slots.data();
   job.levels = levels.data();
   job.depths = depths.empty() ? nullptr : depths.data();
   job.flush = flush;
   job.sink = target;
+  job.records = records;  // a 2D system of three channels' packed records, else null
+  job.carry = carry;
   kernel()(maps_, job);
 }
 

@@ -36,12 +36,14 @@ class Plan {
   /// Jobs [first, first + count) (count at most kMaxChains): each draws `points` points after
   /// `skip` unplotted ones, exactly as the general path's one-job loop does, into `sink`: its
   /// add_batch(slots, levels, depths, n) (levels and depths as Job::flush has them), and
-  /// counters() and counter_bytes(), where the kernel prefetches each pixel's counters.
+  /// counters() and counter_bytes(), where the kernel prefetches each pixel's counters; a 2D
+  /// system of three channels' batches go to the sink's packed_records() instead, where it has
+  /// them (Job::records).
   template <class Sink>
   void run(std::uint64_t first, int count, std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
            const Sink& sink) const {
     run(first, count, points, skip, seed, &flush<Sink>, const_cast<Sink*>(&sink), sink.counters(),
-        sink.counter_bytes());
+        sink.counter_bytes(), sink.packed_records(), sink.packed_carry());
   }
 
  private:
@@ -52,7 +54,8 @@ class Plan {
   }
   using Flush = void (*)(void*, const std::uint32_t*, const std::uint32_t*, const float*, std::size_t);
   void run(std::uint64_t first, int count, std::uint64_t points, std::uint64_t skip, std::uint64_t seed, Flush flush,
-           void* target, const void* counters, std::size_t counter_bytes) const;
+           void* target, const void* counters, std::size_t counter_bytes, std::uint32_t* records,
+           std::uint64_t* carry) const;
 
   const Ifs& ifs_;
   const MapChain& chain_;

@@ -6,10 +6,6 @@
 #include <cstddef>
 #include <cstdint>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include "ifsforge/render/accumulator.h"
 #include "chaos_chains.h"
 #include "chaos_lanes.h"
@@ -24,6 +20,8 @@ struct AccumulatorSink {
   void prefetch(std::size_t pixel) const { acc.prefetch(pixel); }
   const void* counters() const { return acc.hits(); }  // the chain lanes' prefetch (chaos_chains.h)
   std::size_t counter_bytes() const { return sizeof(std::uint64_t); }
+  std::uint32_t* packed_records() const { return nullptr; }  // the batches come to add_batch
+  std::uint64_t* packed_carry() const { return nullptr; }
   void add(std::size_t pixel, const double* channels, bool depth, double toward) const {
     acc.add(pixel, channels);
     if (depth) acc.add_depth(pixel, toward);
@@ -52,6 +50,8 @@ struct NarrowSink {
   void prefetch(std::size_t pixel) const { __builtin_prefetch(cells ? (void*)(cells + pixel) : (void*)(low + pixel), 1); }
   const void* counters() const { return cells ? (const void*)cells : (const void*)low; }
   std::size_t counter_bytes() const { return cells ? sizeof(HitDepth) : 1; }
+  std::uint32_t* packed_records() const { return nullptr; }  // the batches come to add_batch
+  std::uint64_t* packed_carry() const { return nullptr; }
   void add(std::size_t pixel, const double*, bool depth, double toward) const {
     if (!cells) {
       if (++low[pixel] == 0) __atomic_fetch_add(carry + pixel, 256, __ATOMIC_RELAXED);
@@ -89,6 +89,10 @@ struct ChannelSink {
   }
   const void* counters() const { return cells; }
   std::size_t counter_bytes() const { return sizeof(std::uint32_t) * (channels + 1); }
+  /// Three channels: a record is four 32-bit words, which the chain lanes add themselves
+  /// (chains::Job::records), in their own instruction set; other counts come to add_batch.
+  std::uint32_t* packed_records() const { return channels == 3 ? cells : nullptr; }
+  std::uint64_t* packed_carry() const { return channels == 3 ? carry : nullptr; }
   void add(std::size_t pixel, const double* values, bool, double) const {
     std::uint32_t levels[chains::kMaxDim];
     for (int c = 0; c < channels; ++c) levels[c] = static_cast<std::uint32_t>(acc->quantised(c, values[c]));
@@ -99,11 +103,7 @@ struct ChannelSink {
     switch (channels) {
       case 1: return add_batch<1>(slots, levels, n);
       case 2: return add_batch<2>(slots, levels, n);
-#if defined(__SSE2__)
-      case 3: return add_records(slots, levels, n);
-#else
       case 3: return add_batch<3>(slots, levels, n);
-#endif
       case 4: return add_batch<4>(slots, levels, n);
       default:
         for (std::size_t i = 0; i < n; ++i) add_levels(channels, slots[i], levels + i, chains::kStride);
@@ -113,35 +113,6 @@ struct ChannelSink {
   void add_batch(const std::uint32_t* slots, const std::uint32_t* levels, std::size_t n) const {
     for (std::size_t i = 0; i < n; ++i) add_levels(kChannels, slots[i], levels + i, chains::kStride);
   }
-#if defined(__SSE2__)
-  /// Three channels: a record (hits, three sums) is one 128-bit word, so four points' levels are
-  /// transposed into words (1, l0, l1, l2), each added to its record at once; a sum below its
-  /// level wrapped, as in add_levels (the hits never do: flushed first). The batch's buffers
-  /// hold whole groups of four (chains::kStride), so the last group's reads stay inside them.
-  void add_records(const std::uint32_t* slots, const std::uint32_t* levels, std::size_t n) const {
-    const __m128i one = _mm_set1_epi32(1), sign = _mm_set1_epi32(std::int32_t(0x80000000u));
-    for (std::size_t i = 0; i < n; i += 4) {
-      auto load = [&](int c) {
-        return _mm_loadu_si128(reinterpret_cast<const __m128i*>(levels + c * chains::kStride + i));
-      };
-      const __m128i l0 = load(0), l1 = load(1), l2 = load(2);
-      const __m128i low01 = _mm_unpacklo_epi32(one, l0), low23 = _mm_unpacklo_epi32(l1, l2);
-      const __m128i high01 = _mm_unpackhi_epi32(one, l0), high23 = _mm_unpackhi_epi32(l1, l2);
-      const __m128i words[4] = {_mm_unpacklo_epi64(low01, low23), _mm_unpackhi_epi64(low01, low23),
-                                _mm_unpacklo_epi64(high01, high23), _mm_unpackhi_epi64(high01, high23)};
-      for (std::size_t k = 0; k < 4 && i + k < n; ++k) {
-        const std::size_t pixel = slots[i + k];
-        __m128i* record = reinterpret_cast<__m128i*>(cells + pixel * 4);
-        const __m128i sum = _mm_add_epi32(_mm_loadu_si128(record), words[k]);
-        _mm_storeu_si128(record, sum);
-        const int wrapped = _mm_movemask_ps(
-            _mm_castsi128_ps(_mm_cmpgt_epi32(_mm_xor_si128(words[k], sign), _mm_xor_si128(sum, sign))));
-        for (int c = 0; c < 3; ++c)
-          if (wrapped >> (1 + c) & 1) __atomic_fetch_add(carry + pixel * 3 + c, std::uint64_t(1) << 32, __ATOMIC_RELAXED);
-      }
-    }
-  }
-#endif
   /// Channel c's level at levels[c * stride].
   void add_levels(int count, std::size_t pixel, const std::uint32_t* levels, std::size_t stride) const {
     std::uint32_t* cell = cells + pixel * (count + 1);
