@@ -172,7 +172,9 @@ TEST(Capabilities, EveryRandomPathCoversTheRecurrentSquaresLikeChaos) {
     if (x >= 0 && x < 1 && y > 0 && y <= 1) hit[std::size_t((1 - y) * 32) * 32 + std::size_t(x * 32)] = true;
   }
   for (std::size_t cell = 0; cell < hit.size(); ++cell)
-    if (chaos[cell]) EXPECT_TRUE(hit[cell]) << cell;
+    if (chaos[cell]) {
+      EXPECT_TRUE(hit[cell]) << cell;
+    }
 }
 
 TEST(Capabilities, EveryRendererRefusesByNameOrMatchesChaos) {
