@@ -43,28 +43,11 @@ class VoxelTable {
   /// with extremes, `points` holds the packed point in each of the kExtremes slots.
   void add(std::uint64_t key, std::uint64_t hits, std::uint64_t mass, const std::uint64_t* values,
            const std::uint64_t* points = nullptr) {
-    std::size_t slot = (key * kHash) >> shift_;
-    std::uint64_t* s = at(slot);
-    while (s[0] != kEmpty && s[0] != key) {
-      slot = (slot + 1) & mask_;
-      s = at(slot);
-    }
-    if (s[0] == kEmpty) {
-      // At most 3/4 full: linear probing still finds a voxel in ~2.5 slots, and the table
-      // stays half the size it would be at 1/2 (random adds miss the cache in proportion).
-      if (4 * (used_ + 1) > 3 * capacity_) {
-        grow();
-        add(key, hits, mass, values, points);
-        return;
-      }
-      s[0] = key;
-      ++used_;
-      for (int e = 0; e < extremes_; ++e) s[3 + channels_ + e] = points[e];
-    } else {
-      for (int e = 0; e < extremes_; ++e) {
-        std::uint64_t& p = s[3 + channels_ + e];
-        p = e % 2 ? std::max(p, points[e]) : std::min(p, points[e]);
-      }
+    bool fresh = false;
+    std::uint64_t* s = claim(key, stride_, fresh);
+    for (int e = 0; e < extremes_; ++e) {
+      std::uint64_t& p = s[3 + channels_ + e];
+      p = fresh ? points[e] : e % 2 ? std::max(p, points[e]) : std::min(p, points[e]);
     }
     s[1] += hits;
     s[2] += mass;
@@ -75,23 +58,8 @@ class VoxelTable {
   /// same probes, so the same slots and sums).
   template <int Channels>
   void add_hit(std::uint64_t key, const std::uint64_t* values) {
-    constexpr std::size_t stride = slot_words(Channels, false);
-    std::size_t slot = (key * kHash) >> shift_;
-    std::uint64_t* s = base_ + slot * stride;
-    while (s[0] != key) {
-      if (s[0] == kEmpty) {
-        if (4 * (used_ + 1) > 3 * capacity_) {
-          grow();
-          add_hit<Channels>(key, values);
-          return;
-        }
-        s[0] = key;
-        ++used_;
-        break;
-      }
-      slot = (slot + 1) & mask_;
-      s = base_ + slot * stride;
-    }
+    bool fresh = false;
+    std::uint64_t* s = claim(key, slot_words(Channels, false), fresh);
     s[1] += 1;
     s[2] += 1;
     for (int c = 0; c < Channels; ++c) s[3 + c] += values[c];
@@ -142,6 +110,32 @@ class VoxelTable {
 
  private:
   static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
+
+  /// The slot of voxel `key` (`stride` words a slot: stride_, or the same known when compiled),
+  /// its key written and `fresh` set if it is new. At most 3/4 full: linear probing still finds
+  /// a voxel in ~2.5 slots, and the table stays half the size it would be at 1/2 (random adds
+  /// miss the cache in proportion); a new voxel past that grows the table first.
+  std::uint64_t* claim(std::uint64_t key, std::size_t stride, bool& fresh) {
+    std::size_t slot = (key * kHash) >> shift_;
+    std::uint64_t* s = base_ + slot * stride;
+    while (s[0] != key) {
+      if (s[0] == kEmpty) {
+        if (4 * (used_ + 1) > 3 * capacity_) {
+          grow();
+          slot = (key * kHash) >> shift_;
+          s = base_ + slot * stride;
+          continue;
+        }
+        s[0] = key;
+        ++used_;
+        fresh = true;
+        break;
+      }
+      slot = (slot + 1) & mask_;
+      s = base_ + slot * stride;
+    }
+    return s;
+  }
 
   static constexpr std::size_t slot_words(int channels, bool extremes) {
     std::size_t words = 4;
