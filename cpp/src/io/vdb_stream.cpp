@@ -251,10 +251,11 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
       flushes.written();
     }, progress_range(progress, 0.7, 0.85));
   }
-  flushes.finish();
+  // The UUID, the write-back and the last flush while the last band's flush may still run.
   const std::string uuid = hash.uuid(end);
   file.write(kUuidOffset, uuid.data(), uuid.size());
   file.sync_pieces(end, progress_range(progress, 0.85, 1.0));
+  flushes.flush_and_finish();
   out.commit();
   return layout.voxels;
 }
