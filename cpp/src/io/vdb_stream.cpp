@@ -11,6 +11,9 @@
 #include <cstring>
 #include <map>
 #include <numeric>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/pages.h"
@@ -64,6 +67,13 @@ std::int64_t append_blosc_leaf(const LeafTopology& leaf, const char* values, con
   return static_cast<std::int64_t>(out.size() - before);
 }
 
+/// The heads of the file and its grids at their places, and where each grid's topology goes.
+struct Heads {
+  std::vector<std::pair<std::uint64_t, std::string>> bytes;
+  std::vector<std::pair<std::uint64_t, Encoding>> topologies;
+  std::uint64_t end = 0;  ///< where the file ends
+};
+
 /// A band's bytes of one grid, kept until the Blosc sizes of every band are known.
 struct KeptBytes {
   LargeVector<char> bytes;
@@ -106,32 +116,43 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
       constants[g].insert(constants[g].end(), stored, stored + (encodings[g].half ? 2 : 4));
   }
 
-  // The heads and topologies, once every leaf's size is known; returns where the file ends.
-  auto write_heads = [&](const std::vector<std::vector<std::int64_t>>& blosc_sizes,
-                         const std::vector<std::uint64_t>& buffer_bytes) {
-    const std::string head = file_head(meta, static_cast<std::int32_t>(grids.size()));
-    writer_of_file.write(0, head.data(), head.size());
-    std::uint64_t at = head.size();
-    // Grids of the same tile encoding share their topology's nodes and leaf masks.
-    std::map<bool, ZeroedVector<char>> nodes;
+  // The heads, once every leaf's size is known: their bytes and places, each grid's leaves' place
+  // (buffers) and where the file ends; the topologies' places, made when written (write_heads).
+  auto plan_heads = [&](const std::vector<std::vector<std::int64_t>>& blosc_sizes,
+                        const std::vector<std::uint64_t>& buffer_bytes) {
+    Heads heads;
+    heads.bytes.push_back({0, file_head(meta, static_cast<std::int32_t>(grids.size()))});
+    std::uint64_t at = heads.bytes.back().second.size();
+    std::map<bool, std::size_t> nodes;  // the topologies' sizes, by tile encoding (see write_heads)
     for (std::size_t g = 0; g < grids.size(); ++g) {
       GridHead grid = grid_head(grids[g], layout, compression, blosc_sizes[g]);
       std::string& bytes = grid.bytes;
       const Encoding& e = encodings[g];
-      auto tree = nodes.find(e.blosc && !e.half);
-      if (tree == nodes.end()) tree = nodes.emplace(e.blosc && !e.half, topology_nodes(layout, e)).first;
       bytes += topology_head(layout, e);
-      buffers[g] = at + bytes.size() + tree->second.size();
+      auto size = nodes.find(e.blosc && !e.half);
+      if (size == nodes.end()) size = nodes.emplace(e.blosc && !e.half, topology_nodes_size(layout, e)).first;
+      buffers[g] = at + bytes.size() + size->second;
       // The grid starts after its offsets (at its compression), its leaves after the topology.
       const std::int64_t offsets[3] = {static_cast<std::int64_t>(at + grid.offsets_at + 3 * sizeof(std::int64_t)),
                                        static_cast<std::int64_t>(buffers[g]),
                                        static_cast<std::int64_t>(buffers[g] + buffer_bytes[g])};
       std::memcpy(&bytes[grid.offsets_at], offsets, sizeof offsets);
-      writer_of_file.write(at, bytes.data(), bytes.size());
-      writer_of_file.write(at + bytes.size(), tree->second.data(), tree->second.size());
+      heads.topologies.push_back({at + bytes.size(), e});
+      heads.bytes.push_back({at, std::move(bytes)});
       at = buffers[g] + buffer_bytes[g];
     }
-    return at;
+    heads.end = at;
+    return heads;
+  };
+  auto write_heads = [&](const Heads& heads) {
+    for (const auto& [at, bytes] : heads.bytes) writer_of_file.write(at, bytes.data(), bytes.size());
+    // Grids of the same tile encoding share their topology's nodes and leaf masks.
+    std::map<bool, ZeroedVector<char>> nodes;
+    for (const auto& [at, e] : heads.topologies) {
+      auto tree = nodes.find(e.blosc && !e.half);
+      if (tree == nodes.end()) tree = nodes.emplace(e.blosc && !e.half, topology_nodes(layout, e)).first;
+      writer_of_file.write(at, tree->second.data(), tree->second.size());
+    }
   };
   // Writes runs of a band's leaves that sit next to each other in the file.
   auto write_runs = [&](const std::vector<std::size_t>& global, const LargeVector<char>& bytes,
@@ -146,11 +167,13 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
   };
 
   std::uint64_t end = 0;
+  Heads heads;  // without Blosc: planned now, written by a job beside the bands'
   if (!blosc) {
     std::vector<std::uint64_t> buffer_bytes;
     for (const Encoding& e : encodings)
       buffer_bytes.push_back((kLeafMaskBytes + 1) * std::uint64_t(leaves) + layout.voxels * e.value_bytes());
-    end = write_heads(std::vector<std::vector<std::int64_t>>(grids.size()), buffer_bytes);
+    heads = plan_heads(std::vector<std::vector<std::int64_t>>(grids.size()), buffer_bytes);
+    end = heads.end;
   }
   // Pass 2: every band's values, leaf by leaf, made where they are written: in pieces of
   // kChunk bytes (held in the cache until the write copies them), or kept until Blosc's sizes
@@ -163,7 +186,15 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
     largest_band = std::max(largest_band, voxels);
   }
   const std::size_t largest_leaf = kLeafMaskBytes + 1 + std::size_t(Leaf::SIZE) * 3 * 4;
-  parallel_jobs(bands, threads, [&](std::size_t b, int worker) {
+  // Without Blosc, job 0 writes the heads and topologies (a single thread's work between the passes
+  // otherwise), the others a band each.
+  const std::size_t first_band = blosc ? 0 : 1;
+  parallel_jobs(first_band + bands, threads, [&](std::size_t job, int worker) {
+    if (job < first_band) {
+      write_heads(heads);
+      return;
+    }
+    const std::size_t b = job - first_band;
     BandScratch& w = writer.scratch()[worker];
     const std::vector<std::size_t>& global = layout.band_leaves[b];
     std::vector<const LeafTopology*> leaves;
@@ -242,7 +273,9 @@ std::uint64_t write_vdb_bands(const std::string& path, const VoxelGrid& voxel_gr
       std::partial_sum(offsets[g].begin(), offsets[g].end(), offsets[g].begin());
       buffer_bytes[g] = offsets[g].back();
     }
-    end = write_heads(blosc_sizes, buffer_bytes);
+    const Heads planned = plan_heads(blosc_sizes, buffer_bytes);
+    write_heads(planned);
+    end = planned.end;
     parallel_jobs(bands, threads, [&](std::size_t b, int) {
       for (std::size_t g = 0; g < grids.size(); ++g)
         write_runs(layout.band_leaves[b], kept[b][g].bytes, kept[b][g].sizes,
