@@ -95,6 +95,15 @@ class BackgroundSync {
     if (thread_.joinable()) thread_.join();
     if (error_) throw FileError("cannot write '" + file_.shown() + "': " + std::strerror(error_));
   }
+  /// Once the whole file is written: its last flush (fsync: the commit's then finds nothing), on the
+  /// calling thread while the one running (if any) goes on, so that the disk's two cache flushes
+  /// overlap instead of following each other (both writer threads sleep through them); then
+  /// finish(). FileError if either failed.
+  void flush_and_finish() {
+    const int failed = ::fsync(file_.fd()) != 0 ? errno : 0;
+    finish();
+    if (failed) throw FileError("cannot write '" + file_.shown() + "': " + std::strerror(failed));
+  }
 
  private:
   const FileAt& file_;

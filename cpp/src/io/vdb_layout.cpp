@@ -51,26 +51,38 @@ std::string topology_head(const Layout& layout, const Encoding& e) {
   return out;
 }
 
-/// Depth first, every internal node (its origin if an upper one, child mask, an empty value
-/// mask, its tile values mask-compressed to nothing) and every leaf's value mask, into a buffer
-/// of zeros (only the set bytes are written).
-ZeroedVector<char> topology_nodes(const Layout& layout, const Encoding& e) {
-  // The tile values of an internal node: none active, all background.
-  std::string no_tiles(1, '\0');
+namespace {
+/// The tile values of an internal node of encoding e: none active, all background.
+std::string empty_tiles(const Encoding& e) {
+  std::string out(1, '\0');
   if (e.blosc && !e.half) {
     std::ostringstream empty;
     const float nothing = 0.0f;
     openvdb::io::bloscToStream(empty, reinterpret_cast<const char*>(&nothing), std::size_t(e.components) * 4, 0);
-    no_tiles += empty.str();
+    out += empty.str();
   }
+  return out;
+}
+}  // namespace
+
+std::size_t topology_nodes_size(const Layout& layout, const Encoding& e) {
   std::size_t uppers = 0, lowers = 0;
   for (std::size_t i = 0; i < layout.leaves.size(); ++i) {
     uppers += i == 0 || upper_of(layout.orders[i]) != upper_of(layout.orders[i - 1]);
     lowers += i == 0 || lower_of(layout.orders[i]) != lower_of(layout.orders[i - 1]);
   }
+  const std::size_t tiles = empty_tiles(e).size();
+  return uppers * (3 * sizeof(std::int32_t) + 2 * kUpperMaskBytes + tiles) + lowers * (2 * kLowerMaskBytes + tiles) +
+         layout.leaves.size() * kLeafMaskBytes;
+}
+
+/// Depth first, every internal node (its origin if an upper one, child mask, an empty value
+/// mask, its tile values mask-compressed to nothing) and every leaf's value mask, into a buffer
+/// of zeros (only the set bytes are written).
+ZeroedVector<char> topology_nodes(const Layout& layout, const Encoding& e) {
+  const std::string no_tiles = empty_tiles(e);
   ZeroedVector<char> out;
-  zeroed_large(out, uppers * (3 * sizeof(std::int32_t) + 2 * kUpperMaskBytes + no_tiles.size()) +
-                        lowers * (2 * kLowerMaskBytes + no_tiles.size()) + layout.leaves.size() * kLeafMaskBytes);
+  zeroed_large(out, topology_nodes_size(layout, e));
   char* at = out.data();
   for (std::size_t i = 0; i < layout.leaves.size();) {
     const std::uint64_t upper = upper_of(layout.orders[i]);

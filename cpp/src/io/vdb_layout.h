@@ -70,6 +70,8 @@ struct Encoding {
 /// of the same e.blosc && !e.half.
 std::string topology_head(const Layout& layout, const Encoding& e);
 ZeroedVector<char> topology_nodes(const Layout& layout, const Encoding& e);
+/// The size of topology_nodes(layout, e), known without making them.
+std::size_t topology_nodes_size(const Layout& layout, const Encoding& e);
 
 /// A grid's head: its descriptor, three stream offsets, compression, metadata and transform.
 struct GridHead {
