@@ -242,7 +242,8 @@ TEST(ChaosKernels, ChannelSumsWrapIntoTheSameBytes) {
 // 2.1e7 points 6 (on 1 thread, one register of chains and a part of another). Three more
 // triangles check the zero terms the lanes leave out (Maps::diagonal, blocked, planar): a sheared one (a shared a
 // off the diagonal: only the projection's zero terms go), one whose first offset is -0
-// (its diagonal's zero terms kept) and one whose channel enters x in one map only.
+// (its diagonal's zero terms kept) and one whose channel enters x in one map only; and a fern
+// whose hue takes x in its frond map only (its channels blocked, not by height: Maps::by_height).
 TEST(ChaosKernels, ChainLanesGiveTheBytesOfTheOneJobLoop) {
   const Ifs triangle = sample("sierpinski_triangle");
   std::vector<AffineMap> maps;
@@ -265,13 +266,24 @@ TEST(ChaosKernels, ChainLanesGiveTheBytesOfTheOneJobLoop) {
                           std::vector<double>{x, y, 0.25 + x});
     return Ifs("channel in x", ChannelLayout("xy+k"), copies, std::vector<double>(copies.size(), 1.0));
   };
+  auto fern_hue_from_x = [&] {
+    const Ifs fern = sample("colour5d_fern_hsi");
+    std::vector<AffineMap> copies;
+    for (std::size_t i = 0; i < fern.size(); ++i) {
+      std::vector<double> a = fern.map(i).matrix();
+      if (i == 1) a[2 * 5 + 0] = 0.01;  // a20: the hue drifts with x as well
+      copies.emplace_back(5, a, fern.map(i).offset());
+    }
+    return Ifs("fern, hue from x", fern.layout(), copies, fern.probabilities());
+  };
   const std::vector<std::pair<Ifs, std::uint64_t>> systems = {
       {sample("colour5d_sierpinski_rgb"), 9'000'000}, {nine, 21'000'000},
       {sample("recurrent_squares"), 9'000'000},       {sample("menger_sponge"), 9'000'000},
       {sample("recurrent_cubes"), 21'000'000},        {sample("volume_tetrahedron_alpha"), 9'000'000},
       {sample("rgba_carpet"), 9'000'000},             {sample("colour5d_fern_hsi"), 9'000'000},
       {halves(0.25, 0.0), 9'000'000},
-      {halves(0.0, -0.0), 9'000'000},                {channel_in_x(), 9'000'000}};
+      {halves(0.0, -0.0), 9'000'000},                {channel_in_x(), 9'000'000},
+      {fern_hue_from_x(), 9'000'000}};
   for (const auto& [ifs, iterations] : systems) {
     RenderOptions o;
     o.width = 160;

@@ -50,6 +50,9 @@ struct Maps {
   /// and its own (a colour system's channels: their own scale plus a geometric term), so that
   /// b + a x takes those terms only, in the general path's order.
   bool blocked;
+  /// Blocked with 2 spatial coordinates, and no channel row takes x: every map's a[r][0] is 0
+  /// for r >= 2 (colour that varies with height only, or not with the point at all).
+  bool by_height;
   /// Shared linear parts and more than kWidth maps, else null: per draw (row * count + column) a
   /// row of draw_row(dim) doubles: the choice's bits, column's b, then its alias's b (zero-padded),
   /// so that one row per lane gives both the map and its offsets, without a gather.

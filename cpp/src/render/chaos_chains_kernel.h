@@ -15,15 +15,18 @@ namespace ifsforge::chains {
 namespace {
 
 /// Which terms of the maps' linear parts are taken: all of them, the diagonal's
-/// (Maps::diagonal), or a blocked one's with 2 or 3 spatial coordinates (Maps::blocked).
-enum Shape { kDense, kDiagonal, kBlocked2, kBlocked3 };
+/// (Maps::diagonal), a blocked one's with 2 or 3 spatial coordinates (Maps::blocked), or a 2D
+/// blocked one's whose channels take the height only (Maps::by_height).
+enum Shape { kDense, kDiagonal, kBlocked2, kBlocked3, kHeight2 };
 
 /// Whether a linear part of shape kShape takes the term of row r, column c: a blocked row takes
-/// the spatial columns, and a channel row its own too.
+/// the spatial columns, and a channel row its own too; by height, a channel row takes y (column
+/// 1) and its own.
 template <Shape kShape>
 constexpr bool takes(int r, int c) {
   if constexpr (kShape == kDense) return true;
   if constexpr (kShape == kDiagonal) return r == c;
+  if constexpr (kShape == kHeight2) return r < 2 ? c < 2 : c == 1 || c == r;
   return c < (kShape == kBlocked2 ? 2 : 3) || c == r;
 }
 
@@ -88,19 +91,21 @@ struct FromChoices {
   }
 };
 
-/// Each lane's map's coefficients (a row by row, then b), for every lane at once. A coefficient
-/// that every map shares (the same bits: similitudes of one ratio share their a) is a constant;
-/// the others, with at most kLanes maps, come from registers that hold every map's (a permute
-/// each), else from each lane's row, loaded, the rows transposed four coefficients at a time
-/// (loads and shuffles cost less than gathers). Only the terms of the maps' shape are applied
-/// (and, from registers, fetched): a colour fern's channels are blocked in every map.
+/// Each lane's map's coefficients (a row by row, then b), for every lane at once. With at most
+/// kLanes maps, each comes from a register that holds every map's (a permute each, also for a
+/// coefficient every map shares: a branch per coefficient and step to take a constant instead
+/// cost the colour fern more than the permute); else from each lane's row, loaded, the rows
+/// transposed four coefficients at a time (loads and shuffles cost less than gathers), or a
+/// constant where every map shares all four (the same bits: similitudes of one ratio share
+/// their a). Only the terms of the maps' shape are applied (and, from registers, fetched): a
+/// colour fern's channels are blocked in every map, and take the height only.
 template <int N, bool kFew, Shape kShape>
 struct Coefficients : FromChoices<Coefficients<N, kFew, kShape>> {
   static constexpr int kCount = N * N + N;
   static constexpr int kPadded = (kCount + 3) / 4 * 4;  // whole rows of four, as Plan pads them
   D shared[kPadded];  // map 0's, broadcast
   D tables[kFew ? kCount : 1];
-  bool varies[kPadded];  // kFew: per coefficient; else per four
+  bool varies[kPadded];  // !kFew: per four, at the first (some map's bits differ from map 0's)
   const double* rows;
   long long stride;  // kPadded, as Plan lays the rows out
 
@@ -133,7 +138,7 @@ struct Coefficients : FromChoices<Coefficients<N, kFew, kShape>> {
       const V::Index index = V::index(map);
 #pragma GCC unroll 80
       for (int k = 0; k < kCount; ++k)  // only the terms the shape takes, and the offsets
-        if (k >= N * N || takes<kShape>(k / N, k % N)) out[k] = varies[k] ? V::lookup(tables[k], index) : shared[k];
+        if (k >= N * N || takes<kShape>(k / N, k % N)) out[k] = V::lookup(tables[k], index);
     } else {
       alignas(sizeof(D)) std::uint64_t at[kLanes];
       V::store(at, V::mul_low(map, V::set1(stride)));
@@ -330,6 +335,7 @@ void run(const Maps& m, const Job& job) {
   }
   const D steps = V::set1(m.steps), half = V::set1(0.5);
   Batches<std::conditional_t<kRecords, ToRecords, ToSink>> batches(job, channels);
+  const std::uint32_t* ahead[G] = {};  // each group's slots of the step before, to prefetch
   for (std::uint64_t i = 0; i < job.points; ++i) {
     std::uint32_t* slots = batches.slots();
     std::uint32_t* levels = batches.levels();
@@ -351,13 +357,19 @@ void run(const Maps& m, const Job& job) {
       }
       const std::size_t at = filled + g * kLanes;
       screen.store(slots + at, px, py);
-      // The slots read back from the batch (loads and scalar arithmetic, beside the vector work:
-      // the addresses computed in registers and extracted took as long).
-      if constexpr (kRecords) {
-        for (int k = 0; k < kLanes; ++k) _mm_prefetch(reinterpret_cast<const char*>(job.records + std::size_t(slots[at + k]) * 4), _MM_HINT_T0);
-      } else {
-        for (int k = 0; k < kLanes; ++k) _mm_prefetch(job.counters + slots[at + k] * job.counter_bytes, _MM_HINT_T0);
+      // The slots of the group's step before, read back from its batch (loads and scalar
+      // arithmetic, beside the vector work: the addresses computed in registers and extracted
+      // took as long). Not this step's, whose loads of the lanes just stored held up the step
+      // (perf put a quarter of the colour fern's samples on them; the fern's point cost 8% less
+      // with the step before's), and the batch reaches the counters a batch later either way.
+      if (const std::uint32_t* before = ahead[g]) {
+        if constexpr (kRecords) {
+          for (int k = 0; k < kLanes; ++k) _mm_prefetch(reinterpret_cast<const char*>(job.records + std::size_t(before[k]) * 4), _MM_HINT_T0);
+        } else {
+          for (int k = 0; k < kLanes; ++k) _mm_prefetch(job.counters + before[k] * job.counter_bytes, _MM_HINT_T0);
+        }
       }
+      ahead[g] = slots + at;
       // Accumulator::quantised: q < 0 ? 0 : min(q, steps) is max(q, 0) then the min (a zero of
       // either sign gives level 0 both ways), and the levels are below 2^31: truncation to 32 bits
       // is the conversion to 64.
@@ -397,11 +409,15 @@ void run_with(const Maps& m, const Job& job) {
 }
 
 /// The kernel for the maps' linear parts' shape: diagonal (similitudes without rotation, in 2D
-/// and 3D), blocked (a colour system's channels), or dense.
+/// and 3D), blocked (a colour system's channels; by height where they take no x), or dense.
 template <int N, template <int, Shape> class Kind>
 void run_shaped(const Maps& m, const Job& job) {
   if constexpr (N <= 3)
     if (m.diagonal) return run_with<N, Kind<N, kDiagonal>>(m, job);
+  // By height only with three channels (2D colour, whose records the kernel adds itself: the
+  // HSI fern's channels take y, seed 6.4.3): other widths take kBlocked2, the same bits.
+  if constexpr (N == 5)
+    if (m.by_height && m.spatial == 2) return run_with<N, Kind<N, kHeight2>>(m, job);
   if constexpr (N >= 3)
     if (m.blocked && m.spatial == 2) return run_with<N, Kind<N, kBlocked2>>(m, job);
   if constexpr (N >= 4)

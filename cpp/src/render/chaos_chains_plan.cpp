@@ -99,6 +99,8 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
   m.blocked = sparse && spatial < n;
   for (int r = 0; r < n; ++r)
     for (int c = spatial; c < n; ++c) m.blocked = m.blocked && (r == c || zero(r, c));
+  m.by_height = m.blocked && spatial == 2;
+  for (int r = spatial; r < n; ++r) m.by_height = m.by_height && zero(r, 0);
   m.draws = draws_.empty() ? nullptr : draws_.data();
   m.own_columns = own_columns;
   m.direct = direct;
