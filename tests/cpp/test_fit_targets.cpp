@@ -164,7 +164,8 @@ TEST(Fit3d, AStartThatSnapsOntoTheTargetNeedsNoSearch) {
   Fit3dOptions o;
   o.refine_raster = 32;
   o.final_generations = 50;
-  for (const AffineMap& m : test_systems::tetrahedron().maps())
+  const Ifs tetrahedron = test_systems::tetrahedron();  // named: the range-for over a temporary's maps() would dangle
+  for (const AffineMap& m : tetrahedron.maps())
     o.start.push_back(AffineMap(3, m.matrix(), {m.offset()[0] + 0.3 / 32, m.offset()[1], m.offset()[2] - 0.2 / 32}));
   const FitResult exact = fit_3d(t, o);
   EXPECT_EQ(exact.iou, 1.0);
