@@ -2,10 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <memory>
-#include <mutex>
-#include <optional>
 
 #include "ifsforge/core/error.h"
 #include "ifsforge/core/memory.h"
@@ -14,11 +10,11 @@
 #include "ifsforge/model/fixed_maps.h"
 #include "ifsforge/model/orbit.h"
 #include "ifsforge/render/accumulator.h"
-#include "chaos_chains_plan.h"
 #include "chaos_hits.h"
 #include "chaos_lanes.h"
 #include "chaos_sinks.h"
 #include "chaos_tiles.h"
+#include "chaos_workers.h"
 #include "polar_render.h"
 
 namespace ifsforge {
@@ -28,12 +24,13 @@ using lanes::HitDepth;
 using sinks::AccumulatorSink;
 using sinks::ChannelSink;
 using sinks::NarrowSink;
+using workers::ChannelJob;
+using workers::ChaosJob;
+using workers::ChaosSetup;
+using workers::JobPlan;
+using workers::tiled_counts;
 
 constexpr std::uint64_t kPointsPerJob = 1u << 22;
-
-struct JobPlan {
-  std::uint64_t jobs, points_per_job;
-};
 
 JobPlan plan_jobs(std::uint64_t total, std::uint64_t lanes) {
   const std::uint64_t jobs = std::max<std::uint64_t>(1, (total + kPointsPerJob - 1) / kPointsPerJob);
@@ -109,17 +106,11 @@ void chaos_job_fixed(const Ifs& ifs, const Frame& frame, const MapChain& chain, 
   for (std::uint64_t i = points > kAhead ? points - kAhead : 0; i < points; ++i) add(pending[i % kAhead]);
 }
 
-using ChaosJob = void (*)(const Ifs&, const Frame&, const MapChain&, std::uint64_t, std::uint64_t, std::uint64_t,
-                          std::uint64_t, Accumulator&);
-
 template <int N>
 void accumulator_job(const Ifs& ifs, const Frame& frame, const MapChain& chain, std::uint64_t points,
                      std::uint64_t skip, std::uint64_t seed, std::uint64_t job, Accumulator& acc) {
   chaos_job_fixed<N>(ifs, frame, chain, points, skip, seed, job, AccumulatorSink{acc});
 }
-
-using ChannelJob = void (*)(const Ifs&, const Frame&, const MapChain&, std::uint64_t, std::uint64_t, std::uint64_t,
-                            std::uint64_t, const ChannelSink&);
 
 ChannelJob channel_job_for(int dim) {
   static constexpr ChannelJob kJobs[] = {chaos_job_fixed<3, ChannelSink>, chaos_job_fixed<4, ChannelSink>,
@@ -201,20 +192,6 @@ lanes::Job lane_job(const Frame& frame, int n, const Point& start, std::uint64_t
   return j;
 }
 
-/// What every job of one render shares: the frame, the point count and its cut into jobs.
-struct ChaosSetup {
-  Frame frame;
-  JobPlan plan;
-  std::vector<double> lo, hi;  // channel ranges
-  bool simd = false;    // the lane kernels run the jobs
-  bool narrow = false;  // the jobs count into narrow per-worker counters (every lane job does)
-};
-
-/// Whether a render's 2D lane counts go through tiles (chaos_tiles.h).
-bool tiled_counts(bool simd, bool depth, std::size_t pixels) {
-  return simd && !depth && pixels >= lanes::tiled_from_pixels() && lanes::lane_tiles();
-}
-
 ChaosSetup chaos_setup(const Ifs& ifs, const RenderOptions& options, int threads) {
   ifs.require_attractor();
   const Frame frame = Frame::fit(ifs, options.width, options.height, options.window, options.view, Frame::kMargin, threads);
@@ -253,176 +230,42 @@ Accumulator empty_accumulator(const Ifs& ifs, const ChaosSetup& setup) {
 /// Whether a render's counts can skip the accumulator (chaos_hits.h): 2D lanes, 8-bit counters.
 bool lane_hits(const Ifs& ifs, const ChaosSetup& setup) { return setup.simd && ifs.spatial_dims() == 2; }
 
+/// A render's job functions (chaos_workers.h runs them).
+workers::Jobs chaos_jobs(const Ifs& ifs, const ChaosSetup& setup) {
+  const int n = ifs.spatial_dims() == 3 ? 3 : 2;
+  const bool packed = setup.narrow && !setup.lo.empty();
+  // Polar maps (3.3.3) take their own simple path: the affine kernels stay specialised.
+  return {ifs.polar() ? polar::chaos_job : chaos_job_for(ifs.dim()),
+          packed ? channel_job_for(ifs.dim()) : nullptr,
+          ifs.dim() == 2 ? chaos_job_fixed<2, NarrowSink> : chaos_job_fixed<3, NarrowSink>,
+          setup.simd ? pixel_maps(ifs, setup.frame, n) : lanes::Maps{},
+          setup.simd ? lanes::lane_kernel(n) : nullptr,
+          lane_job};
+}
+
 /// Runs jobs [first, last) on `threads` threads into one accumulator (integer sums: the same
-/// whatever the grouping of the jobs); with `direct` (where lane_hits), into it instead, and
-/// no accumulator.
-std::optional<Accumulator> chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const ChaosSetup& setup,
-                                            std::uint64_t first, std::uint64_t last, int threads,
-                                            sinks::LaneHits* direct = nullptr) {
-  const Frame& frame = setup.frame;
-  const JobPlan& plan = setup.plan;
-  const bool simd = setup.simd, narrow = setup.narrow;
-  const std::size_t pixels = std::size_t(frame.width()) * frame.height();
+/// whatever the grouping of the jobs).
+Accumulator chaos_accumulate(const Ifs& ifs, const RenderOptions& options, const ChaosSetup& setup,
+                             std::uint64_t first, std::uint64_t last, int threads) {
   // Narrow per-worker counters (the lanes, and the general path where setup.narrow) are flushed
   // into one wide accumulator (integer sums and a max: the order of flushes does not matter);
   // otherwise each worker adds into an accumulator of its own.
   std::vector<Accumulator> acc;
-  for (int t = 0; t < (direct ? 0 : narrow ? 1 : threads); ++t) acc.push_back(empty_accumulator(ifs, setup));
-  const MapChain chain(ifs);
-  // Polar maps (3.3.3) take their own simple path: the affine kernels stay specialised.
-  const ChaosJob scalar_job = ifs.polar() ? polar::chaos_job : chaos_job_for(ifs.dim());
-
-  // Per worker: 8-bit hits (32-bit hits beside depths in 3D; 32-bit hits and channel sums in
-  // 2D with channels) flushed into the wide accumulator: when the jobs are done (the wraps went
-  // there already), and also whenever a 32-bit hit counter could overflow.
-  const bool depth = ifs.spatial_dims() == 3;
-  const int channels = static_cast<int>(setup.lo.size()), stride = channels + 1;
-  const bool packed = narrow && channels > 0;
-  std::vector<ZeroedVector<std::uint8_t>> lows(narrow && !depth && !packed ? threads : 0);
-  std::vector<LargeVector<HitDepth>> cells(narrow && depth ? threads : 0);
-  std::vector<LargeVector<std::uint32_t>> records(packed ? threads : 0);
-  std::vector<std::uint64_t> pending(threads, 0);
-  // Adds pixels [from, to) of a worker's narrow counters to the wide totals.
-  auto add_lane = [&](int worker, std::size_t from, std::size_t to) {
-    std::uint64_t* hits = acc[0].hits();
-    if (packed) {
-      const std::uint32_t* r = records[worker].data();
-      std::uint64_t* sums = acc[0].sums();
-      for (std::size_t i = from; i < to; ++i) {
-        hits[i] += r[i * stride];
-        for (int c = 0; c < channels; ++c) sums[i * channels + c] += r[i * stride + 1 + c];
-      }
-    } else if (depth) {
-      const auto& c = cells[worker];
-      for (std::size_t i = from; i < to; ++i) {
-        hits[i] += c[i].hits;
-        acc[0].add_depth(i, c[i].depth);
-      }
-    } else {
-      const auto& low = lows[worker];
-      for (std::size_t i = from; i < to; ++i) hits[i] += low[i];
-    }
-  };
-  std::mutex flushing;
-  auto flush = [&](int worker) {  // 32-bit hits: before one could overflow
-    {
-      std::lock_guard<std::mutex> lock(flushing);
-      add_lane(worker, 0, pixels + 1);
-    }
-    if (packed)
-      std::fill(records[worker].begin(), records[worker].end(), 0u);
-    else
-      std::fill(cells[worker].begin(), cells[worker].end(), HitDepth{0, -std::numeric_limits<float>::infinity()});
-    pending[worker] = 0;
-  };
-  // Large 2D images: each worker bins its slots by tile and counts them tile by tile.
-  const bool tiled = tiled_counts(simd, depth, pixels);
-  std::vector<std::unique_ptr<lanes::TiledCounter>> tiles(tiled ? threads : 0);
-  std::vector<std::vector<std::uint32_t>> batches(tiled ? threads : 0);
-  const int n = depth ? 3 : 2;
-  const lanes::Maps maps = simd ? pixel_maps(ifs, frame, n) : lanes::Maps{};
-  const lanes::Kernel kernel = simd ? lanes::lane_kernel(n) : nullptr;
-  const Point start = ifs.start_point();
-  // The general path's affine jobs run side by side in the chain lanes, a task of up to 8 jobs
-  // (each job's chain and points unchanged: the same bytes); else one job per task. A task of
-  // one job takes the one-job loop: lanes that carry a single chain cost more than it.
-  const bool chained = !simd && !ifs.polar() && chains::enabled() && pixels < (std::size_t(1) << 31);
-  const std::unique_ptr<chains::Plan> chain_plan = chained ? std::make_unique<chains::Plan>(ifs, frame, chain, acc[0]) : nullptr;
-  const std::uint64_t per_task = chained ? chains::jobs_per_task(last - first, threads) : 1;
-
-  parallel_jobs(
-      (last - first + per_task - 1) / per_task, threads,
-      [&](std::size_t index, int worker) {
-        const std::uint64_t job = first + index * per_task;
-        const int count = static_cast<int>(std::min(per_task, last - job));
-        const bool side_by_side = chained && count > 1;
-        auto run_chains = [&](const auto& sink) {
-          chain_plan->run(job, count, plan.points_per_job, options.skip, options.seed, sink);
-        };
-        if (!narrow) {
-          if (side_by_side)
-            run_chains(AccumulatorSink{acc[worker]});
-          else
-            scalar_job(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, acc[worker]);
-          return;
-        }
-        if (depth && cells[worker].empty())
-          assign_large(cells[worker], pixels + 1, HitDepth{0, -std::numeric_limits<float>::infinity()});
-        if (!depth && !packed && lows[worker].empty()) zeroed_large(lows[worker], pixels + 1);
-        if (packed && records[worker].empty()) assign_large(records[worker], (pixels + 1) * stride, 0u);
-        // A 32-bit counter could overflow if one pixel took every point: flush first.
-        if ((depth || packed) && pending[worker] + count * plan.points_per_job >= 0xFFFFFFFFull) flush(worker);
-        pending[worker] += count * plan.points_per_job;
-        if (packed) {
-          const ChannelSink sink{records[worker].data(), acc[0].sums(), &acc[0], channels};
-          if (side_by_side)
-            run_chains(sink);
-          else
-            channel_job_for(ifs.dim())(ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, sink);
-          return;
-        }
-        const NarrowSink sink{depth ? nullptr : lows[worker].data(), direct ? direct->carry.data() : acc[0].hits(),
-                              depth ? cells[worker].data() : nullptr};
-        if (side_by_side) {
-          run_chains(sink);
-          return;
-        }
-        if (!simd) {
-          const int dim = ifs.dim();
-          (dim == 2 ? chaos_job_fixed<2, NarrowSink> : chaos_job_fixed<3, NarrowSink>)(
-              ifs, frame, chain, plan.points_per_job, options.skip, options.seed, job, sink);
-          return;
-        }
-        lanes::Job lane = lane_job(frame, n, start, plan.points_per_job, options.skip, options.seed, job);
-        lane.low = sink.low;
-        lane.carry = sink.carry;
-        lane.cells = sink.cells;
-        if (tiled) {
-          if (!tiles[worker]) {
-            tiles[worker] = std::make_unique<lanes::TiledCounter>(pixels + 1, lane.low);
-            batches[worker].resize(lanes::kTileBatch);
-          }
-          lane.batch = batches[worker].data();
-          lane.batch_size = lanes::kTileBatch;
-          lane.flush = lanes::TiledCounter::flush;
-          lane.sink = tiles[worker].get();
-        }
-        kernel(maps, lane);
-      },
-      options.progress);
-  // What the bins still hold, each worker's on a core of its own.
-  if (tiled)
-    parallel_jobs(tiles.size(), threads, [&](std::size_t t, int) {
-      if (tiles[t]) tiles[t]->drain();
-    });
-
-  // The wraps the tiles listed: 256 hits each.
-  for (auto& counter : tiles) {
-    if (!counter) continue;
-    std::vector<std::vector<std::uint16_t>> wraps = counter->take_wraps();
-    if (direct) {
-      direct->wraps.push_back(std::move(wraps));
-      continue;
-    }
-    for (std::size_t t = 0; t < wraps.size(); ++t)
-      for (std::uint16_t offset : wraps[t]) acc[0].hits()[(t << lanes::kTileShift) + offset] += 256;
-  }
-  if (direct) {  // the sums are made as the raster's density
-    direct->lows = std::move(lows);
-    return std::nullopt;
-  }
-  // The workers' counters into the totals in pixel bands on every core (sums and maxima: the
-  // same bytes for any split).
-  if (narrow) {
-    constexpr std::size_t kBand = 1 << 16;
-    parallel_jobs((pixels + 1 + kBand - 1) / kBand, threads, [&](std::size_t band, int) {
-      const std::size_t from = band * kBand, to = std::min(pixels + 1, from + kBand);
-      for (int t = 0; t < threads; ++t)
-        if (!(packed ? records[t].empty() : depth ? cells[t].empty() : lows[t].empty())) add_lane(t, from, to);
-    });
-  }
+  for (int t = 0; t < (setup.narrow ? 1 : threads); ++t) acc.push_back(empty_accumulator(ifs, setup));
+  workers::WorkerCounters counters(ifs, setup, threads, acc[0]);
+  workers::run_jobs(ifs, options, setup, chaos_jobs(ifs, setup), first, last, threads, acc, counters);
+  counters.total();
   for (std::size_t t = 1; t < acc.size(); ++t) acc[0].merge(acc[t]);
   return std::move(acc[0]);
+}
+
+/// Runs a 2D lane render's jobs (where lane_hits) into `hits`, and no accumulator.
+void chaos_lane_hits(const Ifs& ifs, const RenderOptions& options, const ChaosSetup& setup, int threads,
+                     sinks::LaneHits& hits) {
+  std::vector<Accumulator> none;
+  workers::WorkerCounters counters(ifs, setup, threads, hits);
+  workers::run_jobs(ifs, options, setup, chaos_jobs(ifs, setup), 0, setup.plan.jobs, threads, none, counters);
+  counters.hand_to(hits);
 }
 
 }  // namespace
@@ -443,12 +286,12 @@ Raster ChaosGame::draw(const Ifs& ifs, const RenderOptions& options) const {
   if (!options.distribute && lane_hits(ifs, setup)) {
     const std::size_t pixels = std::size_t(frame.width()) * frame.height();
     sinks::LaneHits hits(pixels + 1, !tiled_counts(setup.simd, false, pixels));
-    chaos_accumulate(ifs, options, setup, 0, setup.plan.jobs, threads, &hits);
+    chaos_lane_hits(ifs, options, setup, threads, hits);
     hits.finish(raster, frame.width(), frame.height(), threads);
   } else {
     // One accumulator either way (an 8 MB one at 1024^2: building a spare cost its page faults).
     Accumulator acc = options.distribute ? empty_accumulator(ifs, setup)
-                                         : *chaos_accumulate(ifs, options, setup, 0, setup.plan.jobs, threads);
+                                         : chaos_accumulate(ifs, options, setup, 0, setup.plan.jobs, threads);
     if (options.distribute)
       for (std::string_view bytes : options.distribute(0, setup.plan.jobs, options.depth)) acc.merge_encoded(bytes);
     acc.finish(raster, threads);
@@ -465,7 +308,7 @@ std::string ChaosGame::draw_jobs(const Ifs& ifs, const RenderOptions& options, s
   last = std::min(last, setup.plan.jobs);
   if (first >= last) return empty_accumulator(ifs, setup).encode();
   const int used = static_cast<int>(std::min<std::uint64_t>(threads, last - first));
-  return chaos_accumulate(ifs, options, setup, first, last, used)->encode();
+  return chaos_accumulate(ifs, options, setup, first, last, used).encode();
 }
 
 }  // namespace ifsforge
