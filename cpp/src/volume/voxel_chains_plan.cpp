@@ -15,7 +15,7 @@ static_assert(chains::kVoxelKeyBits == VoxelGrid::kKeyBits, "the lanes pack keys
 /// prefetched first. Not through VoxelBins, as the one-job loop adds into a large table: with
 /// the lanes' points the bins cost more than they saved (the tetrahedron at 1024³, 5e7 points, one
 /// thread, a fresh process: 5.5-6.2 CPU s through bins asked at each growth of the table,
-/// 3.1-3.2 s added directly, the one-job loop 3.4-3.8 s), for reasons not yet understood.
+/// 3.1-3.3 s added directly, the one-job loop 3.4-4.1 s), for reasons not yet understood.
 template <int Channels>
 void add_batch(void* sink, const std::uint64_t* keys, const std::uint64_t* values, std::size_t n) {
   VoxelTable& table = *static_cast<VoxelTable*>(sink);
