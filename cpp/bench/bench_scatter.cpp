@@ -138,8 +138,9 @@ int main(int argc, char** argv) {
   std::printf("\nThe random-iteration volume (ria) of the Sierpinski tetrahedron, %.3g points per run, one "
               "thread, best of %d: millions of points per CPU-second, whole (grid, tables, merge and volume "
               "included) and marginal (less a 1,024-point render's CPU time), each point added to the voxel "
-              "table as it comes (direct) or through bins by region (the default for tables of 4 MB or "
-              "more); the naive ceiling: as many increments of random 32-byte slots of a table's size (the "
+              "table as it comes (direct) or as the default does (the chain lanes, where the CPU has them: "
+              "batches added directly; else through bins by region for tables of 4 MB or more); the naive "
+              "ceiling: as many increments of random 32-byte slots of a table's size (the "
               "slots the tetrahedron's table ends with), in the same run.\n\n| volume | voxels | table | "
               "naive scatter | whole, direct | whole, default | marginal, direct | marginal, default | "
               "default (whole) / naive |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n",

@@ -9,6 +9,7 @@
 
 #include "ifsforge/io/ifs_json.h"
 #include "ifsforge/volume/volume_renderer.h"
+#include "instruction_sets.h"
 #include "sample_systems.h"
 
 namespace ifsforge {
@@ -61,7 +62,7 @@ std::uint64_t volume_bytes_digest(const Volume& v) {
 // the renderer before its tables were filled through bins that keep their points from job to
 // job (commit 747b584), on any thread count. Binned cases (the tables pass 4 MB) of a plain,
 // a coloured and a recurrent system, and the automatic stop (5 jobs in 3 rounds), whose rounds
-// read the tables between jobs.
+// read the tables between jobs; on every instruction set (issue 34, item 2: the chain lanes).
 TEST(VoxelBins, RandomIterationVolumesKeepTheirBytes) {
   struct Case {
     const char* name;
@@ -76,17 +77,21 @@ TEST(VoxelBins, RandomIterationVolumesKeepTheirBytes) {
       {"recurrent_cubes", 256, 2'500'000, VolumeDensity::Hits, 0x5d5ffa65a53a4ea7ull},
       {"recurrent_cubes", 128, 0, VolumeDensity::Hits, 0xd5ecf3d5625f9506ull},
   };
-  for (const Case& c : cases)
-    for (int threads : {1, 3}) {
-      VolumeOptions o;
-      o.resolution = c.resolution;
-      o.iterations = c.iterations;
-      o.seed = 3;
-      o.density = c.density;
-      o.threads = threads;
-      EXPECT_EQ(volume_bytes_digest(render_volume(sample(c.name), "ria", o)), c.digest)
-          << c.name << " " << c.iterations << " points, " << threads << " threads";
-    }
+  // Every instruction set the CPU has: the chain lanes (volume/voxel_chains.h) and the one-job loop.
+  for (const char* isa : instruction_sets::available())
+    for (const Case& c : cases)
+      for (int threads : {1, 3}) {
+        VolumeOptions o;
+        o.resolution = c.resolution;
+        o.iterations = c.iterations;
+        o.seed = 3;
+        o.density = c.density;
+        o.threads = threads;
+        setenv("IFSFORGE_ISA", isa, 1);
+        EXPECT_EQ(volume_bytes_digest(render_volume(sample(c.name), "ria", o)), c.digest)
+            << c.name << " " << c.iterations << " points, " << threads << " threads, " << isa;
+        unsetenv("IFSFORGE_ISA");
+      }
 }
 
 }  // namespace

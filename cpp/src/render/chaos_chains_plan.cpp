@@ -24,8 +24,23 @@ std::uint64_t jobs_per_task(std::uint64_t jobs, int threads) {
   return std::clamp<std::uint64_t>(share, 1, kMaxChains);
 }
 
-Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accumulator& accumulator)
-    : ifs_(ifs), chain_(chain) {
+Job start_chains(const Ifs& ifs, const MapChain& chain, std::uint64_t seed, std::uint64_t first, int count,
+                 std::uint64_t points, std::uint64_t skip) {
+  Job job{};
+  job.chains = count;
+  const Point start = ifs.start_point();
+  for (int c = 0; c < ifs.dim(); ++c) job.start[c] = start[c];
+  for (int k = 0; k < count; ++k) {
+    Rng rng(seed, first + k);  // the job's own stream, as the one-job loop draws it
+    job.map[k] = chain.start(rng);
+    for (int w = 0; w < 4; ++w) job.rng[k][w] = rng.state()[w];
+  }
+  job.points = points;
+  job.skip = skip;
+  return job;
+}
+
+MapTables::MapTables(const Ifs& ifs, const MapChain& chain) {
   const int n = ifs.dim(), count = static_cast<int>(ifs.size()), spatial = ifs.spatial_dims();
   const int stride = (n * n + n + 3) / 4 * 4;  // whole registers of four doubles
   coefficients_.assign(std::size_t(count) * stride, 0.0);
@@ -70,7 +85,7 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
   // Zero terms may be left out (Maps::diagonal, blocked, planar): every row of every map's a
   // sums to less than 1 in absolute value (each map shrinks the max norm, so from a finite start
   // no point overflows) and no b is -0.
-  bool sparse = true;
+  bool& sparse = sparse_;
   for (int i = 0; i < count; ++i)
     for (int r = 0; r < n; ++r) {
       const double* row = &coefficients_[std::size_t(i) * stride];
@@ -104,6 +119,13 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
   m.draws = draws_.empty() ? nullptr : draws_.data();
   m.own_columns = own_columns;
   m.direct = direct;
+}
+
+Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accumulator& accumulator)
+    : MapTables(ifs, chain), ifs_(ifs), chain_(chain) {
+  const int n = ifs.dim(), spatial = ifs.spatial_dims();
+  const bool sparse = sparse_;
+  Maps& m = maps_;
   // The general path's projection (chaos_game.cpp): the same doubles, the same zeros.
   const auto& proj = frame.projection();
   const double s = 1.0 / frame.pixel_size();
@@ -129,17 +151,7 @@ Plan::Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accu
 void Plan::run(std::uint64_t first, int count, std::uint64_t points, std::uint64_t skip, std::uint64_t seed,
                Flush flush, void* target, const void* counters, std::size_t counter_bytes, std::uint32_t* records,
                std::uint64_t* carry) const {
-  Job job{};
-  job.chains = count;
-  const Point start = ifs_.start_point();
-  for (int c = 0; c < maps_.dim; ++c) job.start[c] = start[c];
-  for (int k = 0; k < count; ++k) {
-    Rng rng(seed, first + k);  // the job's own stream, as the one-job loop draws it
-    job.map[k] = chain_.start(rng);
-    for (int w = 0; w < 4; ++w) job.rng[k][w] = rng.state()[w];
-  }
-  job.points = points;
-  job.skip = skip;
+  Job job = start_chains(ifs_, chain_, seed, first, count, points, skip);
   job.counters = static_cast<const char*>(counters);
   job.counter_bytes = counter_bytes;
   std::vector<std::uint32_t> slots(2 * kStride);

@@ -25,13 +25,36 @@ Kernel kernel();
 /// every thread still has a task.
 std::uint64_t jobs_per_task(std::uint64_t jobs, int threads);
 
+/// The chains of jobs [first, first + count) (count at most kMaxChains): the system's start
+/// point, each job's own stream (seed, job) after MapChain::start, as the one-job loop draws
+/// it; `points` points per chain after `skip` unplotted ones (where they go left unset).
+Job start_chains(const Ifs& ifs, const MapChain& chain, std::uint64_t seed, std::uint64_t first, int count,
+                 std::uint64_t points, std::uint64_t skip);
+
+/// A system's maps and its chain's draws as the kernels take them (Maps' fields up to `direct`;
+/// the frame's are left zero): the chaos game's Plan, and the random-iteration volume's lanes
+/// (volume/voxel_chains.h), which find voxels instead of pixels.
+class MapTables {
+ public:
+  MapTables(const Ifs& ifs, const MapChain& chain);
+  MapTables(const MapTables&) = delete;  // maps_ points into the tables
+  MapTables& operator=(const MapTables&) = delete;
+  const Maps& maps() const { return maps_; }
+
+ protected:
+  std::vector<double> coefficients_;
+  std::vector<std::uint64_t> choices_;
+  std::vector<double> draws_;
+  Maps maps_{};
+  /// Every map's rows shrink the max norm and no offset is -0: zero terms may be left out.
+  bool sparse_ = true;
+};
+
 /// One render's tables: the maps, the chain's draws, the frame's projection and the channels'
 /// quantisation (the accumulator's).
-class Plan {
+class Plan : MapTables {
  public:
   Plan(const Ifs& ifs, const Frame& frame, const MapChain& chain, const Accumulator& accumulator);
-  Plan(const Plan&) = delete;  // maps_ points into the tables
-  Plan& operator=(const Plan&) = delete;
 
   /// Jobs [first, first + count) (count at most kMaxChains): each draws `points` points after
   /// `skip` unplotted ones, exactly as the general path's one-job loop does, into `sink`: its
@@ -59,10 +82,6 @@ class Plan {
 
   const Ifs& ifs_;
   const MapChain& chain_;
-  std::vector<double> coefficients_;
-  std::vector<std::uint64_t> choices_;
-  std::vector<double> draws_;
-  Maps maps_{};
 };
 
 }  // namespace ifsforge::chains

@@ -11,6 +11,7 @@
 #include "ifsforge/model/orbit.h"
 #include "ifsforge/volume/volume_jobs.h"
 #include "voxel_bins.h"
+#include "voxel_chains_plan.h"
 #include "voxel_table.h"
 
 namespace ifsforge {
@@ -22,6 +23,8 @@ constexpr std::uint64_t kMaxAutoPoints = std::uint64_t(1) << 34;
 
 /// One job of the chaos game in N dimensions (a template parameter, so the map unrolls); the
 /// maps come from the walker's chain (model/orbit.h), a recurrent system's transitions followed.
+/// The one-job loop: where the CPU has vector lanes, the chain lanes (voxel_chains.h) draw the
+/// same points, several jobs at once.
 template <int N>
 void chaos_job(const Ifs& ifs, const MapChain& chain, const VoxelGrid& grid,
                const ChannelQuantizer& quantizer, std::uint64_t points, std::uint64_t seed,
@@ -126,6 +129,28 @@ ChaosJob chaos_job_for(int dim) {
   return kJobs[dim - 3];
 }
 
+/// Plots jobs [first, last) (job j: points [j, j + 1) * kPointsPerJob, capped at `limit`) into
+/// the workers' tables. In the chain lanes where the CPU has them: tasks of up to kMaxChains jobs
+/// side by side, those of a task of one count (only a render's last job may be shorter: it runs
+/// on its own), added to the tables directly (voxel_chains_plan.cpp says why); else a job a task
+/// in the one-job loop (through the bins where the table is large). The same points either way.
+void plot_jobs(const Ifs& ifs, const MapChain& chain, const VolumeSetup& setup, std::uint64_t seed,
+               std::uint64_t first, std::uint64_t last, std::uint64_t limit, int threads,
+               std::vector<VoxelTable>& tables, std::vector<VoxelBins>& bins, const ProgressCallback& progress) {
+  const VoxelChains lanes(ifs, chain, setup.grid, setup.quantizer);
+  const ChaosJob run = chaos_job_for(ifs.dim());
+  const std::uint64_t per_task = lanes.available() ? chains::jobs_per_task(last - first, threads) : 1;
+  auto count_of = [&](std::uint64_t job) { return std::min(kPointsPerJob, limit - job * kPointsPerJob); };
+  parallel_jobs((last - first + per_task - 1) / per_task, threads, [&](std::size_t k, int worker) {
+    const std::uint64_t begin = first + k * per_task, end = std::min(last, begin + per_task);
+    if (!lanes.available())
+      return run(ifs, chain, setup.grid, setup.quantizer, count_of(begin), seed, begin, tables[worker], bins[worker]);
+    const std::uint64_t full = count_of(end - 1) == count_of(begin) ? end : end - 1;
+    lanes.run(begin, static_cast<int>(full - begin), count_of(begin), kSkip, seed, tables[worker]);
+    if (full < end) lanes.run(full, 1, count_of(full), kSkip, seed, tables[worker]);
+  }, progress);
+}
+
 /// Drains every worker's bins into its table, each on a thread of its own.
 void drain_all(int dim, std::vector<VoxelTable>& tables, std::vector<VoxelBins>& bins, int threads) {
   using DrainJob = void (*)(VoxelTable&, VoxelBins&);
@@ -154,7 +179,6 @@ Volume RandomIterationVolume::draw(const Ifs& ifs, const VolumeOptions& options)
   check_memory(expected_voxels(ifs, options, setup, per_voxel, 0.0) * per_voxel,
                "random iteration into a " + std::to_string(options.resolution) + "^3 volume");
   const MapChain chain(ifs);
-  const ChaosJob run = chaos_job_for(ifs.dim());
   std::vector<VoxelTable> tables(setup.threads, VoxelTable(channels));
   std::vector<VoxelBins> bins(setup.threads, VoxelBins(channels));
   VoxelList total(channels);  // with `distribute`; otherwise the tables hold the points until the end
@@ -173,11 +197,7 @@ Volume RandomIterationVolume::draw(const Ifs& ifs, const VolumeOptions& options)
                     [&](std::size_t k, int) { lists[k + 1] = decode_volume_jobs(results[k]).voxels; });
       total = merge_voxel_lists(lists, setup.threads);
     } else {
-      parallel_jobs(last - first, setup.threads, [&](std::size_t k, int worker) {
-        const std::uint64_t job = first + k;
-        const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
-        run(ifs, chain, setup.grid, setup.quantizer, count, options.seed, job, tables[worker], bins[worker]);
-      }, progress);
+      plot_jobs(ifs, chain, setup, options.seed, first, last, limit, setup.threads, tables, bins, progress);
       drain_all(ifs.dim(), tables, bins, setup.threads);
     }
     points = std::min(limit, last * kPointsPerJob);
@@ -230,7 +250,6 @@ std::string RandomIterationVolume::draw_jobs(const Ifs& ifs, const VolumeOptions
   const VolumeSetup setup = prepare_volume(ifs, options);
   const int channels = ifs.dim() - 3;
   const MapChain chain(ifs);
-  const ChaosJob run = chaos_job_for(ifs.dim());
   // render()'s point cap: the requested count, or whole jobs while doubling.
   const std::uint64_t limit = options.iterations > 0 ? options.iterations : last * kPointsPerJob;
   last = std::min(last, (limit + kPointsPerJob - 1) / kPointsPerJob);
@@ -239,11 +258,7 @@ std::string RandomIterationVolume::draw_jobs(const Ifs& ifs, const VolumeOptions
   std::vector<VoxelBins> bins(std::max(1, threads), VoxelBins(channels));
   VolumeJobsResult out;
   if (first < last)
-    parallel_jobs(last - first, threads, [&](std::size_t k, int worker) {
-      const std::uint64_t job = first + k;
-      const std::uint64_t count = std::min(kPointsPerJob, limit - job * kPointsPerJob);
-      run(ifs, chain, setup.grid, setup.quantizer, count, options.seed, job, tables[worker], bins[worker]);
-    }, options.progress);
+    plot_jobs(ifs, chain, setup, options.seed, first, last, limit, threads, tables, bins, options.progress);
   drain_all(ifs.dim(), tables, bins, setup.threads);
   out.voxels = take_all(tables, setup.threads);
   for (std::uint64_t job = first; job < last; ++job) out.points += std::min(kPointsPerJob, limit - job * kPointsPerJob);

@@ -34,6 +34,8 @@ class ChannelQuantizer {
   }
   const std::vector<double>& lo() const { return lo_; }
   const std::vector<double>& hi() const { return hi_; }
+  /// @brief Levels per unit of each channel (0 where its range is empty).
+  const std::vector<double>& scale() const { return scale_; }
 
  private:
   std::vector<double> lo_, hi_, scale_;
